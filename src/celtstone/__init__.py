@@ -1,0 +1,50 @@
+"""celtstone: the Celt stone (rattleback) on a plane, rolling or rolling with sliding.
+
+Models of Zhuravlev-style friction on a Hertz contact after the paper "On the
+influence of sliding on the Celt rattleback motion" (see README).
+
+>>> import celtstone as cs
+>>> body = cs.load_body("kane_levinson_1982")
+>>> run = cs.simulate(cs.RollingModel(), body, cs.InitialState(omega=(0, 0, -5)), t_end=5.0)
+>>> run.dataset["spin"]  # doctest: +SKIP
+"""
+
+from celtstone.bodies import Body as Body
+from celtstone.bodies import Ellipsoid as Ellipsoid
+from celtstone.bodies import Paraboloid as Paraboloid
+from celtstone.bodies import list_bodies as list_bodies
+from celtstone.bodies import load_body as load_body
+from celtstone.errors import CeltstoneError as CeltstoneError
+from celtstone.errors import FrictionSingularityError as FrictionSingularityError
+from celtstone.errors import IntegrationError as IntegrationError
+from celtstone.errors import LiftOffError as LiftOffError
+from celtstone.errors import ParameterError as ParameterError
+from celtstone.integrate import simulate as simulate
+from celtstone.integrate import version as version
+from celtstone.models import MODELS as MODELS
+from celtstone.models import InitialState as InitialState
+from celtstone.models import RollingModel as RollingModel
+from celtstone.models import SlidingModel as SlidingModel
+from celtstone.models import model_from_name as model_from_name
+from celtstone.trajectory import Trajectory as Trajectory
+
+__all__ = [
+    "MODELS",
+    "Body",
+    "CeltstoneError",
+    "Ellipsoid",
+    "FrictionSingularityError",
+    "InitialState",
+    "IntegrationError",
+    "LiftOffError",
+    "Paraboloid",
+    "ParameterError",
+    "RollingModel",
+    "SlidingModel",
+    "Trajectory",
+    "list_bodies",
+    "load_body",
+    "model_from_name",
+    "simulate",
+    "version",
+]

@@ -1,0 +1,81 @@
+"""The rigid body: mass, central inertia tensor and convex surface."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from celtstone import schema
+from celtstone.bodies.shapes import Shape
+from celtstone.errors import ParameterError
+
+__all__ = ["Body"]
+
+Matrix3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+
+
+@dataclass(frozen=True)
+class Body:
+    """A convex rigid body on a horizontal plane.
+
+    Parameters
+    ----------
+    name : identifier, e.g. the parameter file's stem
+    mass : m [kg], > 0
+    inertia : central inertia tensor A in body axes [kg m²], 3x3, symmetric and
+        positive-definite, with principal moments obeying the triangle inequality
+    shape : the convex surface (:class:`Ellipsoid` or :class:`Paraboloid`)
+    gravity : g [m/s²], > 0
+    source : citation of the parameter set
+    notes : conversions made from the source
+    """
+
+    name: str
+    mass: float
+    inertia: Matrix3
+    shape: Shape
+    gravity: float = 9.81
+    source: str = ""
+    notes: str = ""
+    citation: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", schema.check("mass", self.mass))
+        object.__setattr__(self, "gravity", schema.check("gravity", self.gravity))
+        try:
+            tensor = np.asarray(self.inertia, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError("inertia", self.inertia, "a 3x3 matrix in kg m^2") from None
+        if tensor.shape != (3, 3) or not np.all(np.isfinite(tensor)):
+            raise ParameterError("inertia", self.inertia, "a finite 3x3 matrix in kg m^2")
+        if not np.allclose(tensor, tensor.T, rtol=1e-12, atol=0.0):
+            raise ParameterError("inertia", self.inertia, "a symmetric matrix (A = A^T)")
+        principal = np.linalg.eigvalsh(tensor)
+        if principal[0] <= 0.0:
+            raise ParameterError(
+                "inertia",
+                self.inertia,
+                "a positive-definite matrix",
+                f"its smallest principal moment is {principal[0]:.3g} kg m^2",
+            )
+        if principal[2] > principal[0] + principal[1] * (1 + 1e-12):
+            raise ParameterError(
+                "inertia",
+                self.inertia,
+                "principal moments with A3 <= A1 + A2 (a real mass distribution)",
+            )
+        object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row) for row in tensor))
+
+    @property
+    def inertia_array(self) -> np.ndarray:
+        """Central inertia tensor as a (3, 3) array [kg m²]."""
+        return np.array(self.inertia)
+
+    @property
+    def misalignment_angle(self) -> float:
+        """Angle from body axis 1 to the horizontal principal axis nearest it [rad]."""
+        _, vectors = np.linalg.eigh(self.inertia_array[:2, :2])
+        axis = vectors[:, np.argmax(np.abs(vectors[0]))]
+        axis = axis if axis[0] > 0 else -axis
+        return float(np.arctan2(axis[1], axis[0]))

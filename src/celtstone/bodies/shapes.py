@@ -1,0 +1,115 @@
+"""Convex surfaces a body can have, as plain numbers.
+
+Each shape knows its kernel code and its four shape parameters (see
+``celtstone.kernels.layout``), and the geometry of its rest contact point.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from celtstone import schema
+from celtstone.errors import ParameterError
+from celtstone.kernels import layout
+
+__all__ = ["Ellipsoid", "Paraboloid", "Shape"]
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    """Ellipsoid x²/a² + y²/b² + z²/c² = 1 about its centre O.
+
+    Parameters
+    ----------
+    semi_axes : (a, b, c), semi-axes along body axes 1, 2, 3 [m]
+    com_offset : h, distance of the centre of mass G below O along axis 3 [m];
+        G must lie inside the body, |h| < c.
+    """
+
+    semi_axes: tuple[float, float, float]
+    com_offset: float
+
+    kind = "ellipsoid"
+
+    def __post_init__(self) -> None:
+        if len(self.semi_axes) != 3:
+            raise ParameterError("semi_axes", self.semi_axes, "three numbers a, b, c in m")
+        axes = tuple(schema.check("semi_axes", value) for value in self.semi_axes)
+        object.__setattr__(self, "semi_axes", axes)
+        offset = float(self.com_offset)
+        c = axes[2]
+        if not -c < offset < c:
+            raise ParameterError(
+                "com_offset", self.com_offset, f"a number in (-{c:g}, {c:g}) m", "G inside the body"
+            )
+        object.__setattr__(self, "com_offset", offset)
+
+    @property
+    def code(self) -> int:
+        """Kernel shape code."""
+        return layout.SHAPE_ELLIPSOID
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(a, b, c, h) as the kernels read them [m]."""
+        a, b, c = self.semi_axes
+        return (a, b, c, self.com_offset)
+
+    @property
+    def rest_height(self) -> float:
+        """Height l of G above the contact point at rest, c - h [m]."""
+        return self.semi_axes[2] - self.com_offset
+
+    @property
+    def radii_of_curvature(self) -> tuple[float, float]:
+        """Radii of curvature ρ1 = a²/c, ρ2 = b²/c at the rest contact point [m]."""
+        a, b, c = self.semi_axes
+        return (a * a / c, b * b / c)
+
+
+@dataclass(frozen=True)
+class Paraboloid:
+    """Paraboloid cap z = x²/(2ρ1) + y²/(2ρ2) about the rest contact point.
+
+    Parameters
+    ----------
+    radii_of_curvature : (ρ1, ρ2), radii of curvature at the rest contact along
+        body axes 1, 2 [m]
+    com_height : l, height of the centre of mass above the rest contact [m]
+
+    Notes
+    -----
+    The cap is unbounded: the contact point exists for every n with n3 > 0; a run
+    stops with a clear status if the vertical turns by 90° or more.
+    """
+
+    radii_of_curvature: tuple[float, float]
+    com_height: float
+
+    kind = "paraboloid"
+
+    def __post_init__(self) -> None:
+        if len(self.radii_of_curvature) != 2:
+            raise ParameterError(
+                "radii_of_curvature", self.radii_of_curvature, "two numbers rho1, rho2 in m"
+            )
+        radii = tuple(schema.check("radii_of_curvature", r) for r in self.radii_of_curvature)
+        object.__setattr__(self, "radii_of_curvature", radii)
+        object.__setattr__(self, "com_height", schema.check("com_height", self.com_height))
+
+    @property
+    def code(self) -> int:
+        """Kernel shape code."""
+        return layout.SHAPE_PARABOLOID
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(ρ1, ρ2, l, 0) as the kernels read them [m]."""
+        rho1, rho2 = self.radii_of_curvature
+        return (rho1, rho2, self.com_height, 0.0)
+
+    @property
+    def rest_height(self) -> float:
+        """Height l of G above the contact point at rest [m]."""
+        return self.com_height
+
+
+Shape = Ellipsoid | Paraboloid

@@ -1,0 +1,55 @@
+"""``celtstone`` command: dispatch to subcommands, turn errors into one line and exit 2."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from celtstone import CeltstoneError, version
+from celtstone.cli import bodies, run
+
+SUBCOMMANDS = {"run": run, "bodies": bodies}
+
+EXIT_OK = 0
+EXIT_STOPPED = 3  # a run that stopped before t_end (lift-off, singular friction, ...)
+EXIT_USAGE = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors in one line, exit status 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"celtstone: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser."""
+    parser = _Parser(
+        prog="celtstone",
+        description="Simulate the Celt stone (rattleback): rolling, or rolling with sliding.",
+    )
+    parser.add_argument("--version", action="version", version=f"celtstone {version()}")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for name, module in SUBCOMMANDS.items():
+        sub = commands.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_args(sub)
+        sub.set_defaults(handler=module.handle)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:
+        return int(stop.code) if isinstance(stop.code, int) else EXIT_USAGE
+    try:
+        return int(args.handler(args))
+    except CeltstoneError as error:
+        print(f"celtstone: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("celtstone: interrupted; no partial output was written", file=sys.stderr)
+        return 130

@@ -1,0 +1,130 @@
+"""``celtstone run``: one simulation, summarised as text or JSON, saved as NetCDF or CSV."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+from celtstone import (
+    InitialState,
+    ParameterError,
+    load_body,
+    model_from_name,
+    simulate,
+)
+from celtstone.export import write
+from celtstone.schema import PARAMETERS
+
+HELP = "simulate one run of a body"
+
+
+def _numbers(name: str, count: int):  # type: ignore[no-untyped-def]
+    def parse(text: str) -> tuple[float, ...]:
+        try:
+            values = tuple(float(part) for part in text.split(","))
+        except ValueError:
+            raise ParameterError(name, text, f"{count} comma-separated numbers") from None
+        if len(values) != count or not all(math.isfinite(v) for v in values):
+            raise ParameterError(name, text, f"{count} comma-separated finite numbers")
+        return values
+
+    return parse
+
+
+def _number(name: str):  # type: ignore[no-untyped-def]
+    def parse(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise ParameterError(name, text, PARAMETERS[name].allowed) from None
+
+    return parse
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    """Options of ``celtstone run``; help text comes from ``schema``."""
+    p = PARAMETERS
+    parser.add_argument("--body", default="kane_levinson_1982", help="shipped body name or .toml path")
+    parser.add_argument("--model", default="rolling", help="rolling or sliding")
+    parser.add_argument(
+        "--omega", type=str, default="0,0,-5", metavar="W1,W2,W3", help=p["omega"].help()
+    )
+    parser.add_argument(
+        "--tilt", type=str, default="0.5,0.5", metavar="ALPHA,BETA", help=p["tilt"].help()
+    )
+    parser.add_argument("--t-end", type=str, default="10", help=p["t_end"].help())
+    parser.add_argument("--damping", type=str, default="0", help=p["damping"].help())
+    parser.add_argument(
+        "--friction-coefficient", type=str, default="0.35", help=p["friction_coefficient"].help()
+    )
+    parser.add_argument("--contact-radius", type=str, default="0.001", help=p["contact_radius"].help())
+    parser.add_argument(
+        "--normal-force", default="static", help="static (N = m g, the paper's) or dynamic"
+    )
+    parser.add_argument(
+        "--regularisation-speed", type=str, default="1e-6", help=p["regularisation_speed"].help()
+    )
+    parser.add_argument("--method", default=None, help="dop853 or radau5 (default by model)")
+    parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
+    parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
+    parser.add_argument("--samples", type=str, default=None, help=p["n_samples"].help())
+    parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    parser.add_argument("--out", default=None, metavar="FILE.nc|FILE.csv", help="save the run")
+
+
+def handle(args: argparse.Namespace) -> int:
+    """Run, print the summary, write ``--out``; exit 3 if the run stopped early."""
+    omega = _numbers("omega", 3)(args.omega)
+    tilt = _numbers("tilt", 2)(args.tilt)
+    settings = {
+        "damping": _number("damping")(args.damping),
+        "friction_coefficient": _number("friction_coefficient")(args.friction_coefficient),
+        "contact_radius": _number("contact_radius")(args.contact_radius),
+        "normal_force": args.normal_force,
+        "regularisation_speed": _number("regularisation_speed")(args.regularisation_speed),
+    }
+    t_end = _number("t_end")(args.t_end)
+    rtol = _number("rtol")(args.rtol)
+    atol = _number("atol")(args.atol)
+    n_samples = None
+    if args.samples is not None:
+        n_samples = int(_number("n_samples")(args.samples))
+    if args.out is not None and not args.out.lower().endswith((".nc", ".csv")):
+        raise ParameterError("out", args.out, "a file name ending in .nc or .csv")
+    model = model_from_name(args.model, **settings)
+    body = load_body(args.body)
+    state = InitialState(omega=omega, tilt=tilt)  # type: ignore[arg-type]
+    trajectory = simulate(
+        model, body, state, t_end, method=args.method, rtol=rtol, atol=atol, n_samples=n_samples
+    )
+    if args.out is not None:
+        write(trajectory.dataset, args.out)
+    summary = trajectory.summary()
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        _print_text(summary)
+    if not trajectory.ok:
+        print(f"celtstone: {trajectory.message}", file=sys.stderr)
+        return 3
+    return 0
+
+
+def _print_text(summary: dict) -> None:  # type: ignore[type-arg]
+    first = summary["first_reversal_time"]
+    lines = [
+        f"{summary['model']} run of {summary['body']}, t = 0 .. {summary['t_stop']:g} s "
+        f"({summary['status']})",
+        f"  spin: {summary['spin_initial']:.6g} -> {summary['spin_final']:.6g} rad/s; "
+        + (f"first reversal at {first:.6g} s" if first is not None else "no reversal"),
+        f"  spin zero crossings: {len(summary['spin_zero_crossings'])}",
+        f"  energy: {summary['energy_initial']:.8g} -> {summary['energy_final']:.8g} J, "
+        f"dissipated work {summary['dissipated_work']:.6g} J",
+        f"  max tilt {summary['max_tilt_deg']:.4g} deg, min normal force "
+        f"{summary['min_normal_force']:.6g} N, max slip speed {summary['max_slip_speed']:.3g} m/s",
+    ]
+    if summary["max_relative_energy_drift"] is not None:
+        lines.append(f"  max relative energy drift {summary['max_relative_energy_drift']:.3g}")
+    print("\n".join(lines))

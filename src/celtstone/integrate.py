@@ -1,0 +1,172 @@
+"""The one entry point: ``simulate(model, body, initial_state, t_end, ...)``."""
+
+from __future__ import annotations
+
+import difflib
+from importlib import metadata
+
+import numpy as np
+
+from celtstone import integrators, schema
+from celtstone.bodies import Body
+from celtstone.errors import ParameterError
+from celtstone.models import Model, initial_vector, kernel_parameters
+from celtstone.models import InitialState as InitialState
+from celtstone.trajectory import Trajectory, build_dataset
+
+__all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "SAMPLES_PER_SECOND", "simulate", "version"]
+
+DEFAULT_RTOL = 1e-10
+DEFAULT_ATOL = 1e-12
+SAMPLES_PER_SECOND = 200  # default output density [1/s]
+
+_STATUS_NAMES = {
+    integrators.STATUS_SUCCESS: "success",
+    integrators.STATUS_LIFT_OFF: "lift_off",
+    integrators.STATUS_SINGULAR: "friction_singular",
+    integrators.STATUS_OFF_SHAPE: "off_shape",
+    integrators.STATUS_MAX_STEPS: "max_steps",
+    integrators.STATUS_STEP_TOO_SMALL: "step_too_small",
+    integrators.STATUS_NOT_FINITE: "not_finite",
+}
+
+
+def version() -> str:
+    """The installed celtstone version."""
+    try:
+        return metadata.version("celtstone")
+    except metadata.PackageNotFoundError:  # pragma: no cover - running from a bare tree
+        return "unknown"
+
+
+def _method_name(model: Model, method: str | None) -> str:
+    name = model.default_method if method is None else method
+    if name not in integrators.METHODS:
+        close = difflib.get_close_matches(str(name), list(integrators.METHODS), n=1)
+        hint = f"did you mean {close[0]!r}?" if close else ""
+        raise ParameterError("method", name, "one of: " + ", ".join(integrators.METHODS), hint)
+    return name
+
+
+def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> np.ndarray:
+    if sample_times is not None:
+        times = np.asarray(sample_times, dtype=float)
+        if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
+            raise ParameterError("sample_times", sample_times, "a 1-D array of finite times in s")
+        if times[0] < 0.0 or times[-1] > t_end or np.any(np.diff(times) <= 0.0):
+            raise ParameterError(
+                "sample_times", sample_times, f"increasing times in [0, {t_end:g}] s"
+            )
+        return times
+    count = int(schema.check("n_samples", n_samples)) if n_samples is not None else None
+    if count is None:
+        count = max(201, int(round(t_end * SAMPLES_PER_SECOND)) + 1)
+    return np.linspace(0.0, t_end, count)
+
+
+def _status_message(status: str, code: int, raw: integrators.RawSolution) -> str:
+    if status == "success":
+        return "reached t_end"
+    text = integrators.STATUS_MESSAGES.get(code, "")
+    return f"stopped at t = {raw.t_stop:.6g} s: {text}"
+
+
+def simulate(
+    model: Model,
+    body: Body,
+    initial_state: InitialState,
+    t_end: float,
+    *,
+    method: str | None = None,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    n_samples: int | None = None,
+    sample_times: np.ndarray | None = None,
+    max_steps: int = 20_000_000,
+    max_crossings: int = 100_000,
+) -> Trajectory:
+    """Integrate ``model`` for ``body`` from ``initial_state`` over [0, t_end].
+
+    Parameters
+    ----------
+    model : :class:`RollingModel` or :class:`SlidingModel`
+    body : :class:`Body`
+    initial_state : :class:`InitialState` (the contact starts without slip)
+    t_end : duration [s], > 0
+    method : integrator name from ``integrators.METHODS`` ("dop853", "radau5");
+        default: dop853 for rolling, radau5 (stiff) for sliding
+    rtol, atol : relative and absolute local error tolerances
+    n_samples : number of equally spaced output samples (default 200 per second)
+    sample_times : explicit output times [s], increasing, in [0, t_end]
+    max_steps : largest number of steps before the run stops
+    max_crossings : largest number of spin zero crossings stored
+
+    Returns
+    -------
+    Trajectory
+        Also when the run stopped early (lift-off, singular friction, integrator
+        failure): ``status`` says why and the samples reach the stop time. Call
+        ``raise_for_status()`` to turn that into an exception.
+    """
+    t_end = schema.check("t_end", t_end)
+    rtol = schema.check("rtol", rtol)
+    atol = schema.check("atol", atol)
+    max_steps = int(schema.check("max_steps", max_steps))
+    method_name = _method_name(model, method)
+    times = _sample_times(t_end, n_samples, sample_times)
+    params = kernel_parameters(model, body)
+    y0 = initial_vector(initial_state)
+    raw = integrators.solve(
+        model.code,
+        method_name,
+        params,
+        y0,
+        t_end,
+        rtol=rtol,
+        atol=atol,
+        sample_times=times,
+        max_crossings=max_crossings,
+        max_steps=max_steps,
+    )
+    status = _STATUS_NAMES.get(raw.status, "failed")
+    message = _status_message(status, raw.status, raw)
+    attrs: dict[str, str | float | int] = {
+        "title": f"celtstone {model.name} run of {body.name}",
+        "software": "celtstone",
+        "celtstone_version": version(),
+        "body": body.name,
+        "body_source": body.source,
+        "body_notes": body.notes,
+        "body_mass": body.mass,
+        "body_gravity": body.gravity,
+        "body_inertia": str(np.array(body.inertia).tolist()),
+        "body_shape": body.shape.kind,
+        "body_shape_parameters": str(list(body.shape.kernel_parameters())),
+        "initial_omega": str(list(initial_state.omega)),
+        "initial_tilt_deg": str(list(initial_state.tilt)),
+        "t_end": t_end,
+        "method": method_name,
+        "rtol": rtol,
+        "atol": atol,
+        "status": status,
+        "message": message,
+        **model.attributes(),
+    }
+    dataset = build_dataset(
+        model.code, params, raw.sample_times, raw.samples, raw.crossings, attrs
+    )
+    statistics = {
+        "nfev": raw.nfev,
+        "njev": raw.njev,
+        "nlu": raw.nlu,
+        "n_accepted": raw.n_accepted,
+        "n_rejected": raw.n_rejected,
+    }
+    return Trajectory(
+        dataset=dataset,
+        status=status,
+        message=message,
+        t_stop=raw.t_stop,
+        min_normal_force=raw.min_normal_force,
+        statistics=statistics,
+    )

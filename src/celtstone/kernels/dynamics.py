@@ -1,0 +1,160 @@
+"""Accelerations of the two models: rolling (paper eq. 3–5) and sliding (eq. 6–12).
+
+All vectors are in body axes with origin at the centre of mass G; ``r`` is the
+vector from G to the contact point (the paper's r_CA).
+"""
+
+from __future__ import annotations
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.friction import pade_friction
+from celtstone.kernels.layout import (
+    NORMAL_FORCE_DYNAMIC,
+    P_CONTACT_RADIUS,
+    P_DAMPING,
+    P_FRICTION,
+    P_GRAVITY,
+    P_INERTIA,
+    P_MASS,
+    P_NORMAL_FORCE,
+    P_REGULARISATION,
+)
+from celtstone.kernels.vector import (
+    Mat,
+    Vec,
+    add,
+    add_outer,
+    cross,
+    dot,
+    matvec,
+    scale,
+    solve3,
+    sub,
+)
+
+
+@kernel
+def inertia_tensor(params) -> Mat:  # type: ignore[no-untyped-def]
+    """Central inertia tensor A as a row-major 9-tuple [kg m²]."""
+    i = P_INERTIA
+    return (
+        params[i],
+        params[i + 1],
+        params[i + 2],
+        params[i + 3],
+        params[i + 4],
+        params[i + 5],
+        params[i + 6],
+        params[i + 7],
+        params[i + 8],
+    )
+
+
+@kernel
+def centripetal_terms(omega: Vec, r: Vec, r_rate: Vec) -> Vec:
+    """ω × ṙ + ω × (ω × r): the part of -W_C not containing ω̇ (paper eq. 4, 7) [m/s²]."""
+    return add(cross(omega, r_rate), cross(omega, cross(omega, r)))
+
+
+@kernel
+def rolling_acceleration(
+    n: Vec, omega: Vec, r: Vec, r_rate: Vec, params
+) -> tuple[Vec, float, Vec, float]:  # type: ignore[no-untyped-def]
+    """Angular acceleration, normal force and contact force of rolling without sliding.
+
+    Returns
+    -------
+    omega_rate : dω/dt [rad/s²]
+    normal_force : vertical component of the reaction, N = R · n [N]
+    reaction : full contact reaction R in body axes [N]
+    determinant : determinant of the inertia tensor about the contact point [kg³ m⁶]
+
+    Notes
+    -----
+    Paper eq. (5): (A + m(r²E - r⊗r)) ω̇ = -ω × Aω + m r × (g n - ω × ṙ - ω × (ω × r)) - σω,
+    written with r = r_CA; the reaction follows from eq. (3): R = m(W_C + g n).
+    """
+    mass = params[P_MASS]
+    gravity = params[P_GRAVITY]
+    inertia = inertia_tensor(params)
+    centripetal = centripetal_terms(omega, r, r_rate)
+    torque = sub(
+        cross(matvec(inertia, omega), omega),
+        scale(params[P_DAMPING], omega),
+    )
+    torque = add(torque, scale(mass, cross(r, sub(scale(gravity, n), centripetal))))
+    r2 = dot(r, r)
+    matrix = (
+        inertia[0] + mass * (r2 - r[0] * r[0]),
+        inertia[1] - mass * r[0] * r[1],
+        inertia[2] - mass * r[0] * r[2],
+        inertia[3] - mass * r[1] * r[0],
+        inertia[4] + mass * (r2 - r[1] * r[1]),
+        inertia[5] - mass * r[1] * r[2],
+        inertia[6] - mass * r[2] * r[0],
+        inertia[7] - mass * r[2] * r[1],
+        inertia[8] + mass * (r2 - r[2] * r[2]),
+    )
+    omega_rate, determinant = solve3(matrix, torque)
+    # W_C = -ω̇ × r - ω × ṙ - ω × (ω × r); R = m W_C + m g n
+    acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal)
+    reaction = add(scale(mass, acceleration), scale(mass * gravity, n))
+    return omega_rate, dot(reaction, n), reaction, determinant
+
+
+@kernel
+def sliding_acceleration(
+    n: Vec, omega: Vec, slip_velocity: Vec, r: Vec, r_rate: Vec, params
+) -> tuple[Vec, Vec, float, Vec, float, float]:  # type: ignore[no-untyped-def]
+    """Angular and slip accelerations of rolling with sliding.
+
+    Returns
+    -------
+    omega_rate : dω/dt [rad/s²]
+    slip_rate : dV1/dt in body axes [m/s²]
+    normal_force : true vertical reaction N [N]
+    friction_force : F_fr [N]
+    friction_moment : M_fr, moment about n [N m]
+    determinant : determinant of the system matrix (≤ 0: no consistent solution)
+
+    Notes
+    -----
+    Paper eq. (8), (9), with r_AC2 = n × r_AC = r × n = d. The vertical reaction is
+    N = N0 - m d · ω̇, N0 = m g - m n · (ω × ṙ + ω × (ω × r)). Friction F = f N_f φ,
+    M = f N_f ψ (eq. 10, 12), with N_f = m g ("static", the paper's first
+    approximation) or N_f = N ("dynamic"), in which case the linear system
+    (A + m k ⊗ d) ω̇ = -ω × Aω + N0 k - σω, k = d + f (r × φ + ψ n), is solved exactly.
+    Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
+    """
+    mass = params[P_MASS]
+    gravity = params[P_GRAVITY]
+    friction_coefficient = params[P_FRICTION]
+    inertia = inertia_tensor(params)
+    centripetal = centripetal_terms(omega, r, r_rate)
+    lever = cross(r, n)
+    spin_rate = dot(omega, n)
+    force_unit, moment_unit = pade_friction(
+        slip_velocity, spin_rate, params[P_CONTACT_RADIUS], params[P_REGULARISATION]
+    )
+    normal_free = mass * gravity - mass * dot(n, centripetal)
+    friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
+    torque = sub(cross(matvec(inertia, omega), omega), scale(params[P_DAMPING], omega))
+    if params[P_NORMAL_FORCE] == NORMAL_FORCE_DYNAMIC:
+        coupling = add(lever, scale(friction_coefficient, friction_torque_unit))
+        matrix = add_outer(inertia, mass, coupling, lever)
+        omega_rate, determinant = solve3(matrix, add(torque, scale(normal_free, coupling)))
+        normal_force = normal_free - mass * dot(lever, omega_rate)
+        friction_normal = normal_force
+    else:
+        friction_normal = mass * gravity
+        torque = add(torque, scale(normal_free, lever))
+        torque = add(torque, scale(friction_coefficient * friction_normal, friction_torque_unit))
+        matrix = add_outer(inertia, mass, lever, lever)
+        omega_rate, determinant = solve3(matrix, torque)
+        normal_force = normal_free - mass * dot(lever, omega_rate)
+    friction_force = scale(friction_coefficient * friction_normal, force_unit)
+    friction_moment = friction_coefficient * friction_normal * moment_unit
+    tangential = add(cross(omega_rate, r), centripetal)
+    tangential = sub(tangential, scale(dot(tangential, n), n))
+    slip_rate = sub(add(scale(1.0 / mass, friction_force), tangential), cross(omega, slip_velocity))
+    return omega_rate, slip_rate, normal_force, friction_force, friction_moment, determinant

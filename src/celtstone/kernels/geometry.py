@@ -1,0 +1,95 @@
+"""Contact point r(n) of a convex surface and its rate of change.
+
+``r`` is the vector from the centre of mass G to the contact point A (the
+paper's r_CA = -r_AC), in body axes, for the surface point whose outward
+normal is -n. ``r_rate`` is dr/dt = (dr/dn) dn/dt, the paper's V_A^* (eq. 4).
+"""
+
+from __future__ import annotations
+
+import math
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import (
+    P_SHAPE,
+    P_SHAPE_0,
+    P_SHAPE_1,
+    P_SHAPE_2,
+    P_SHAPE_3,
+    SHAPE_ELLIPSOID,
+)
+from celtstone.kernels.vector import Vec
+
+
+@kernel
+def ellipsoid_contact(
+    n: Vec, n_rate: Vec, a: float, b: float, c: float, h: float
+) -> tuple[Vec, Vec]:
+    """Contact point and its rate for an ellipsoid, G a distance h below its centre.
+
+    Parameters
+    ----------
+    n, n_rate : upward vertical in body axes [1] and its time derivative [1/s]
+    a, b, c : semi-axes along body axes 1, 2, 3 [m]
+    h : distance of G below the centre along axis 3 [m]
+
+    Notes
+    -----
+    With Q = diag(a², b², c²) and s = sqrt(nᵀ Q n): r = -Q n / s + h e3, so
+    dr/dt = -Q ṅ / s + Q n (nᵀ Q ṅ) / s³. r is homogeneous of degree 0 in n.
+    """
+    qa, qb, qc = a * a, b * b, c * c
+    s2 = qa * n[0] * n[0] + qb * n[1] * n[1] + qc * n[2] * n[2]
+    s = math.sqrt(s2)
+    r = (-qa * n[0] / s, -qb * n[1] / s, -qc * n[2] / s + h)
+    projection = (qa * n[0] * n_rate[0] + qb * n[1] * n_rate[1] + qc * n[2] * n_rate[2]) / (s2 * s)
+    r_rate = (
+        -qa * n_rate[0] / s + qa * n[0] * projection,
+        -qb * n_rate[1] / s + qb * n[1] * projection,
+        -qc * n_rate[2] / s + qc * n[2] * projection,
+    )
+    return r, r_rate
+
+
+@kernel
+def paraboloid_contact(
+    n: Vec, n_rate: Vec, rho1: float, rho2: float, height: float
+) -> tuple[Vec, Vec]:
+    """Contact point and its rate for the paraboloid cap z = x²/(2ρ1) + y²/(2ρ2).
+
+    Parameters
+    ----------
+    n, n_rate : upward vertical in body axes [1] and its time derivative [1/s]
+    rho1, rho2 : radii of curvature at the rest contact along body axes 1, 2 [m]
+    height : height l of G above the rest contact point [m]
+
+    Notes
+    -----
+    The outward normal (x/ρ1, y/ρ2, -1) is parallel to -n, so x = -ρ1 n1/n3,
+    y = -ρ2 n2/n3; valid while n3 > 0.
+    """
+    x = -rho1 * n[0] / n[2]
+    y = -rho2 * n[1] / n[2]
+    z = 0.5 * x * x / rho1 + 0.5 * y * y / rho2
+    x_rate = -rho1 * (n_rate[0] * n[2] - n[0] * n_rate[2]) / (n[2] * n[2])
+    y_rate = -rho2 * (n_rate[1] * n[2] - n[1] * n_rate[2]) / (n[2] * n[2])
+    z_rate = x * x_rate / rho1 + y * y_rate / rho2
+    return (x, y, z - height), (x_rate, y_rate, z_rate)
+
+
+@kernel
+def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:  # type: ignore[no-untyped-def]
+    """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``."""
+    if params[P_SHAPE] == SHAPE_ELLIPSOID:
+        return ellipsoid_contact(
+            n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2], params[P_SHAPE_3]
+        )
+    return paraboloid_contact(n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2])
+
+
+@kernel
+def shape_is_valid(n: Vec, params) -> bool:  # type: ignore[no-untyped-def]
+    """Whether the contact point for n lies in the shape's domain."""
+    if params[P_SHAPE] == SHAPE_ELLIPSOID:
+        return True
+    return n[2] > 1e-3

@@ -1,0 +1,177 @@
+"""The full first-order system y' = f(t, y) of both models, on flat arrays.
+
+These are the functions the integrators call. ``model`` is a model code from
+``layout``; ``params`` and ``y`` follow the layouts documented there.
+"""
+
+from __future__ import annotations
+
+import math
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.dynamics import (
+    inertia_tensor,
+    rolling_acceleration,
+    sliding_acceleration,
+)
+from celtstone.kernels.geometry import contact, shape_is_valid
+from celtstone.kernels.layout import (
+    MODEL_ROLLING,
+    P_DAMPING,
+    P_GRAVITY,
+    P_MASS,
+    RHS_OFF_SHAPE,
+    RHS_OK,
+    RHS_SINGULAR,
+    Y_N,
+    Y_OMEGA,
+    Y_POSITION,
+    Y_QUAT,
+    Y_SLIP,
+    Y_WORK,
+)
+from celtstone.kernels.vector import Vec, cross, dot, matvec, rotate, sub
+
+# determinant of the system matrix relative to det(A) below which it counts as singular
+SINGULAR_RATIO = 1e-10
+
+
+@kernel
+def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:  # type: ignore[no-untyped-def]
+    """n, ω, V1 and the attitude quaternion from the state array."""
+    n = (y[Y_N], y[Y_N + 1], y[Y_N + 2])
+    omega = (y[Y_OMEGA], y[Y_OMEGA + 1], y[Y_OMEGA + 2])
+    slip = (y[Y_SLIP], y[Y_SLIP + 1], y[Y_SLIP + 2])
+    quat = (y[Y_QUAT], y[Y_QUAT + 1], y[Y_QUAT + 2], y[Y_QUAT + 3])
+    return n, omega, slip, quat
+
+
+@kernel
+def evaluate(model, y, params, dy):  # type: ignore[no-untyped-def]
+    """Fill ``dy`` with dy/dt and return (status, normal force [N], friction power [W]).
+
+    The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it.
+    """
+    n, omega, slip, quat = unpack(y)
+    n_rate = cross(n, omega)  # Poisson equation, paper eq. (3): ṅ = n × ω
+    r, r_rate = contact(n, n_rate, params)
+    status = RHS_OK
+    if not shape_is_valid(n, params):
+        status = RHS_OFF_SHAPE
+    inertia = inertia_tensor(params)
+    reference = inertia[0] * inertia[4] * inertia[8]
+    friction_power = 0.0
+    if model == MODEL_ROLLING:
+        omega_rate, normal_force, _, determinant = rolling_acceleration(
+            n, omega, r, r_rate, params
+        )
+        slip_rate = (0.0, 0.0, 0.0)
+        velocity = cross(r, omega)  # v_G = -ω × r
+    else:
+        omega_rate, slip_rate, normal_force, force, moment, determinant = sliding_acceleration(
+            n, omega, slip, r, r_rate, params
+        )
+        friction_power = dot(force, slip) + moment * dot(omega, n)
+        velocity = sub(slip, cross(omega, r))  # v_G = V1 - ω × r
+    if not determinant > SINGULAR_RATIO * reference:
+        status = RHS_SINGULAR
+    for k in range(3):
+        dy[Y_N + k] = n_rate[k]
+        dy[Y_OMEGA + k] = omega_rate[k]
+        dy[Y_SLIP + k] = slip_rate[k]
+    # quaternion kinematics q̇ = ½ q ⊗ (0, ω), ω in body axes
+    w, qx, qy, qz = quat
+    dy[Y_QUAT] = 0.5 * (-qx * omega[0] - qy * omega[1] - qz * omega[2])
+    dy[Y_QUAT + 1] = 0.5 * (w * omega[0] + qy * omega[2] - qz * omega[1])
+    dy[Y_QUAT + 2] = 0.5 * (w * omega[1] + qz * omega[0] - qx * omega[2])
+    dy[Y_QUAT + 3] = 0.5 * (w * omega[2] + qx * omega[1] - qy * omega[0])
+    velocity_space = rotate(quat, velocity)
+    dy[Y_POSITION] = velocity_space[0]
+    dy[Y_POSITION + 1] = velocity_space[1]
+    damping_power = params[P_DAMPING] * dot(omega, omega)
+    dy[Y_WORK] = damping_power - friction_power
+    return status, normal_force, friction_power
+
+
+@kernel
+def rhs(model, t, y, params, dy):  # type: ignore[no-untyped-def]
+    """Right-hand side of the state equation; returns the status code."""
+    status, _, _ = evaluate(model, y, params, dy)
+    return status
+
+
+@kernel
+def energy(model, y, params) -> float:  # type: ignore[no-untyped-def]
+    """Total mechanical energy, kinetic plus potential with the plane as zero [J].
+
+    E = ½ m |v_G|² + ½ ω · Aω + m g z_G, z_G = -r · n the height of G.
+    """
+    n, omega, slip, _ = unpack(y)
+    r, _ = contact(n, (0.0, 0.0, 0.0), params)
+    if model == MODEL_ROLLING:
+        velocity = cross(r, omega)
+    else:
+        velocity = sub(slip, cross(omega, r))
+    mass = params[P_MASS]
+    kinetic = 0.5 * mass * dot(velocity, velocity)
+    kinetic += 0.5 * dot(omega, matvec(inertia_tensor(params), omega))
+    return kinetic - mass * params[P_GRAVITY] * dot(r, n)
+
+
+N_DIAGNOSTICS = 12
+D_SPIN = 0  # ω · n [rad/s]
+D_ENERGY = 1  # total energy [J]
+D_NORMAL_FORCE = 2  # N [N]
+D_SLIP_SPEED = 3  # |V1| [m/s]
+D_TILT = 4  # angle between n and body axis 3 [rad]
+D_FRICTION_POWER = 5  # F · V1 + M Ω_n [W]
+D_SLIP_NORMAL = 6  # V1 · n [m/s]
+D_NORM_ERROR = 7  # |n| - 1 [1]
+D_CONTACT_X = 8  # contact point, space x [m]
+D_CONTACT_Y = 9  # contact point, space y [m]
+D_HEIGHT = 10  # height of G above the plane [m]
+D_STATUS = 11  # right-hand-side status code
+
+
+@kernel
+def diagnostics(model, y, params, out, work):  # type: ignore[no-untyped-def]
+    """Fill ``out`` (length N_DIAGNOSTICS) with derived quantities of state ``y``.
+
+    ``work`` is scratch of the state's length.
+    """
+    status, normal_force, friction_power = evaluate(model, y, params, work)
+    n, omega, slip, quat = unpack(y)
+    r, _ = contact(n, (0.0, 0.0, 0.0), params)
+    norm = math.sqrt(dot(n, n))
+    out[D_SPIN] = dot(omega, n)
+    out[D_ENERGY] = energy(model, y, params)
+    out[D_NORMAL_FORCE] = normal_force
+    out[D_SLIP_SPEED] = math.sqrt(dot(slip, slip)) if model != MODEL_ROLLING else 0.0
+    out[D_TILT] = math.acos(min(1.0, max(-1.0, n[2] / norm)))
+    out[D_FRICTION_POWER] = friction_power
+    out[D_SLIP_NORMAL] = dot(slip, n)
+    out[D_NORM_ERROR] = norm - 1.0
+    contact_space = rotate(quat, r)
+    out[D_CONTACT_X] = y[Y_POSITION] + contact_space[0]
+    out[D_CONTACT_Y] = y[Y_POSITION + 1] + contact_space[1]
+    out[D_HEIGHT] = -dot(r, n)
+    out[D_STATUS] = status
+
+
+@kernel
+def diagnostics_series(model, ys, params, out):  # type: ignore[no-untyped-def]
+    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS)."""
+    work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
+    for i in range(ys.shape[0]):
+        diagnostics(model, ys[i], params, out[i], work)
+
+
+@kernel
+def spin_and_normal_force(model, y, params, work) -> tuple[float, float, int]:  # type: ignore[no-untyped-def]
+    """Event quantities: spin ω · n [rad/s], normal force N [N], rhs status."""
+    status, normal_force, _ = evaluate(model, y, params, work)
+    return (
+        y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2],
+        normal_force,
+        status,
+    )

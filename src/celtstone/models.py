@@ -1,0 +1,211 @@
+"""The two models of the paper and the initial state, as frozen configurations.
+
+Validation happens here, once; ``kernel_parameters`` strips the meaning and
+returns the flat array the kernels read (layout in ``celtstone.kernels.layout``).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from celtstone import schema
+from celtstone.bodies import Body
+from celtstone.errors import ParameterError
+from celtstone.kernels import layout
+
+__all__ = [
+    "MODELS",
+    "NORMAL_FORCE_OPTIONS",
+    "InitialState",
+    "Model",
+    "RollingModel",
+    "SlidingModel",
+    "initial_vector",
+    "kernel_parameters",
+    "model_from_name",
+]
+
+NORMAL_FORCE_OPTIONS = {
+    "static": layout.NORMAL_FORCE_STATIC,
+    "dynamic": layout.NORMAL_FORCE_DYNAMIC,
+}
+
+
+def _choice(name: str, value: str, options: dict[str, int] | dict[str, type]) -> None:
+    if value not in options:
+        close = difflib.get_close_matches(str(value), list(options), n=1)
+        hint = f"did you mean {close[0]!r}?" if close else ""
+        raise ParameterError(name, value, "one of: " + ", ".join(options), hint)
+
+
+@dataclass(frozen=True)
+class RollingModel:
+    """Rolling without sliding, paper eq. (3)–(5); energy is conserved when σ = 0.
+
+    Parameters
+    ----------
+    damping : σ, viscous torque -σω [N m s], >= 0 (Kane & Levinson's optional term)
+    """
+
+    damping: float = 0.0
+
+    name: ClassVar[str] = "rolling"
+    code: ClassVar[int] = layout.MODEL_ROLLING
+    default_method: ClassVar[str] = "dop853"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "damping", schema.check("damping", self.damping))
+
+    @property
+    def friction_law(self) -> str:
+        """Name of the friction law (none: the contact does not slide)."""
+        return "none"
+
+    def attributes(self) -> dict[str, str | float]:
+        """The model's settings, for provenance attributes."""
+        return {"model": self.name, "damping": self.damping, "friction_law": self.friction_law}
+
+
+@dataclass(frozen=True)
+class SlidingModel:
+    """Rolling with sliding and pivoting friction, paper eq. (6)–(12).
+
+    Parameters
+    ----------
+    friction_coefficient : f [1], >= 0
+    contact_radius : ε, radius of the Hertz contact disk [m], > 0
+    normal_force : "static" (N = m g in the friction law, the paper's first
+        approximation) or "dynamic" (the consistent normal force)
+    damping : σ, viscous torque -σω [N m s], >= 0
+    regularisation_speed : δ, the slip speed below which friction turns viscous,
+        |V1| -> sqrt(|V1|² + δ²) [m/s], > 0 (treatment of paper eq. 11)
+    """
+
+    friction_coefficient: float = 0.35
+    contact_radius: float = 1e-3
+    normal_force: str = "static"
+    damping: float = 0.0
+    regularisation_speed: float = 1e-6
+
+    name: ClassVar[str] = "sliding"
+    code: ClassVar[int] = layout.MODEL_SLIDING
+    default_method: ClassVar[str] = "radau5"
+
+    def __post_init__(self) -> None:
+        for field in ("friction_coefficient", "contact_radius", "damping", "regularisation_speed"):
+            object.__setattr__(self, field, schema.check(field, getattr(self, field)))
+        _choice("normal_force", self.normal_force, NORMAL_FORCE_OPTIONS)
+
+    @property
+    def friction_law(self) -> str:
+        """Name of the friction law."""
+        return "zhuravlev_pade"
+
+    def attributes(self) -> dict[str, str | float]:
+        """The model's settings, for provenance attributes."""
+        return {
+            "model": self.name,
+            "damping": self.damping,
+            "friction_law": self.friction_law,
+            "friction_coefficient": self.friction_coefficient,
+            "contact_radius": self.contact_radius,
+            "normal_force_option": self.normal_force,
+            "regularisation_speed": self.regularisation_speed,
+        }
+
+
+Model = RollingModel | SlidingModel
+MODELS: dict[str, type[RollingModel] | type[SlidingModel]] = {
+    "rolling": RollingModel,
+    "sliding": SlidingModel,
+}
+
+
+def model_from_name(name: str, **settings: float | str) -> Model:
+    """Build a model by registry name; unknown names list the valid ones."""
+    _choice("model", name, MODELS)
+    cls = MODELS[name]
+    if cls is RollingModel:
+        settings = {k: v for k, v in settings.items() if k == "damping"}
+    return cls(**settings)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """Initial attitude and angular velocity; the contact starts without slip.
+
+    Parameters
+    ----------
+    omega : ω0, angular velocity in body axes [rad/s]
+    tilt : (α, β), Euler angles [deg]: the vertical in body axes is
+        n0 = (-cos α sin β, sin α, cos α cos β) (Kane & Levinson's convention)
+    """
+
+    omega: tuple[float, float, float] = (0.0, 0.0, -5.0)
+    tilt: tuple[float, float] = (0.5, 0.5)
+
+    def __post_init__(self) -> None:
+        if len(self.omega) != 3:
+            raise ParameterError("omega", self.omega, "three numbers W1,W2,W3 in rad/s")
+        if len(self.tilt) != 2:
+            raise ParameterError("tilt", self.tilt, "two numbers ALPHA,BETA in deg")
+        object.__setattr__(self, "omega", tuple(schema.check("omega", w) for w in self.omega))
+        object.__setattr__(self, "tilt", tuple(schema.check("tilt", t) for t in self.tilt))
+
+    @property
+    def vertical(self) -> tuple[float, float, float]:
+        """n0, the upward vertical in body axes [1]."""
+        alpha, beta = (math.radians(t) for t in self.tilt)
+        return (
+            -math.cos(alpha) * math.sin(beta),
+            math.sin(alpha),
+            math.cos(alpha) * math.cos(beta),
+        )
+
+    def mirrored(self) -> InitialState:
+        """The state mirrored in the plane x2 = 0 of the body (pairs with D -> -D)."""
+        w1, w2, w3 = self.omega
+        alpha, beta = self.tilt
+        return InitialState(omega=(-w1, w2, -w3), tilt=(-alpha, beta))
+
+
+def kernel_parameters(model: Model, body: Body) -> np.ndarray:
+    """Flat float64 parameter array for the kernels (layout in ``kernels.layout``)."""
+    params = np.zeros(layout.N_PARAMS)
+    params[layout.P_MASS] = body.mass
+    params[layout.P_GRAVITY] = body.gravity
+    params[layout.P_INERTIA : layout.P_INERTIA + 9] = np.ravel(body.inertia)
+    params[layout.P_SHAPE] = body.shape.code
+    params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = body.shape.kernel_parameters()
+    params[layout.P_DAMPING] = model.damping
+    if isinstance(model, SlidingModel):
+        params[layout.P_FRICTION] = model.friction_coefficient
+        params[layout.P_CONTACT_RADIUS] = model.contact_radius
+        params[layout.P_NORMAL_FORCE] = NORMAL_FORCE_OPTIONS[model.normal_force]
+        params[layout.P_REGULARISATION] = model.regularisation_speed
+    return params
+
+
+def initial_vector(state: InitialState) -> np.ndarray:
+    """Flat state array at t = 0: n0, ω0, V1 = 0, attitude, position 0, work 0.
+
+    The attitude quaternion is the smallest rotation taking n0 to the space
+    vertical e_z (heading 0).
+    """
+    y = np.zeros(layout.N_STATE)
+    n = np.array(state.vertical)
+    y[layout.Y_N : layout.Y_N + 3] = n
+    y[layout.Y_OMEGA : layout.Y_OMEGA + 3] = state.omega
+    axis = np.cross(n, [0.0, 0.0, 1.0])
+    sine = float(np.linalg.norm(axis))
+    angle = math.atan2(sine, float(n[2]))
+    quaternion = np.array([1.0, 0.0, 0.0, 0.0])
+    if sine > 0.0:
+        quaternion = np.concatenate([[math.cos(angle / 2)], axis / sine * math.sin(angle / 2)])
+    y[layout.Y_QUAT : layout.Y_QUAT + 4] = quaternion
+    return y

@@ -1,0 +1,128 @@
+"""One entry per user-settable quantity: symbol, SI unit, allowed range, meaning.
+
+This table is the single source of the unit and range of every parameter: the
+validators, the CLI help and the ``units`` attributes of exported data read it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from celtstone.errors import ParameterError
+
+__all__ = ["PARAMETERS", "VARIABLES", "Quantity", "check"]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A physical quantity: name, the paper's symbol, SI unit and allowed interval.
+
+    ``lower``/``upper`` bound the allowed values; ``lower_open``/``upper_open``
+    say whether the bound itself is excluded.
+    """
+
+    name: str
+    symbol: str
+    unit: str
+    description: str
+    lower: float = -math.inf
+    upper: float = math.inf
+    lower_open: bool = False
+    upper_open: bool = False
+
+    @property
+    def allowed(self) -> str:
+        """The allowed range in words, e.g. ``"> 0"`` or ``"in [0, 1)"``."""
+        has_lower = math.isfinite(self.lower)
+        has_upper = math.isfinite(self.upper)
+        if has_lower and has_upper:
+            left = "(" if self.lower_open else "["
+            right = ")" if self.upper_open else "]"
+            return f"a number in {left}{self.lower:g}, {self.upper:g}{right}"
+        if has_lower:
+            return f"a number {'>' if self.lower_open else '>='} {self.lower:g}"
+        if has_upper:
+            return f"a number {'<' if self.upper_open else '<='} {self.upper:g}"
+        return "a finite number"
+
+    def help(self) -> str:
+        """One line for CLI help: description, symbol, unit and range."""
+        unit = f" [{self.unit}]" if self.unit else ""
+        return f"{self.description} ({self.symbol}){unit}, {self.allowed}"
+
+
+def _q(name: str, symbol: str, unit: str, description: str, **bounds: float | bool) -> Quantity:
+    return Quantity(name, symbol, unit, description, **bounds)  # type: ignore[arg-type]
+
+
+_POSITIVE = {"lower": 0.0, "lower_open": True}
+_NON_NEGATIVE = {"lower": 0.0}
+
+PARAMETERS: dict[str, Quantity] = {
+    q.name: q
+    for q in [
+        _q("mass", "m", "kg", "mass of the body", **_POSITIVE),
+        _q("gravity", "g", "m/s^2", "gravitational acceleration", **_POSITIVE),
+        _q("inertia", "A", "kg m^2", "central inertia tensor, body axes"),
+        _q("semi_axes", "a, b, c", "m", "ellipsoid semi-axes along body axes 1, 2, 3", **_POSITIVE),
+        _q("com_offset", "h", "m", "distance of the centre of mass below the ellipsoid centre"),
+        _q("radii_of_curvature", "rho1, rho2", "m", "paraboloid radii of curvature", **_POSITIVE),
+        _q("com_height", "l", "m", "height of the centre of mass above the rest contact", **_POSITIVE),
+        _q("damping", "sigma", "N m s", "viscous torque coefficient, torque -sigma*omega", **_NON_NEGATIVE),
+        _q("friction_coefficient", "f", "", "Coulomb friction coefficient", **_NON_NEGATIVE),
+        _q("contact_radius", "epsilon", "m", "radius of the Hertz contact disk", **_POSITIVE),
+        _q("regularisation_speed", "delta", "m/s", "slip-speed scale regularising the singular state", **_POSITIVE),
+        _q("t_end", "t_end", "s", "duration of the run", **_POSITIVE),
+        _q("rtol", "rtol", "", "relative tolerance of the integrator", lower=1e-14, upper=1e-2),
+        _q("atol", "atol", "", "absolute tolerance of the integrator", **_POSITIVE),
+        _q("omega", "omega0", "rad/s", "initial angular velocity, body axes"),
+        _q("tilt", "alpha, beta", "deg", "initial Euler angles of the vertical in body axes", lower=-89.0, upper=89.0),
+        _q("max_steps", "max_steps", "", "largest number of integrator steps", lower=1.0),
+        _q("n_samples", "n_samples", "", "number of output samples", lower=2.0),
+    ]
+}
+
+VARIABLES: dict[str, tuple[str, str]] = {
+    # name: (unit, long name) of every variable a trajectory carries
+    "time": ("s", "time"),
+    "spin": ("rad/s", "spin omega . n about the vertical"),
+    "tilt": ("rad", "angle between the vertical and body axis 3"),
+    "energy": ("J", "kinetic plus potential energy, plane as zero"),
+    "dissipated_work": ("J", "work done by friction and damping since t = 0"),
+    "normal_force": ("N", "normal force N of the plane"),
+    "slip_speed": ("m/s", "sliding speed |V1| of the contact point"),
+    "friction_power": ("W", "friction power F . V1 + M Omega_n"),
+    "omega": ("rad/s", "angular velocity, body axes"),
+    "n": ("1", "upward vertical unit vector, body axes"),
+    "slip_velocity": ("m/s", "sliding velocity V1 of the contact point, body axes"),
+    "quaternion": ("1", "attitude quaternion (w, x, y, z), body to space"),
+    "com_position": ("m", "horizontal position of the centre of mass, space axes"),
+    "contact_position": ("m", "position of the contact point on the plane, space axes"),
+    "com_height": ("m", "height of the centre of mass above the plane"),
+    "spin_crossings": ("s", "times at which the spin changes sign"),
+}
+
+
+def check(name: str, value: float) -> float:
+    """Return ``value`` as float if it is finite and inside the range of ``name``.
+
+    Raises
+    ------
+    ParameterError
+        naming the parameter, the value and the allowed range.
+    """
+    quantity = PARAMETERS[name]
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, quantity.allowed) from None
+    ok = math.isfinite(number)
+    if ok and math.isfinite(quantity.lower):
+        ok = number > quantity.lower if quantity.lower_open else number >= quantity.lower
+    if ok and math.isfinite(quantity.upper):
+        ok = number < quantity.upper if quantity.upper_open else number <= quantity.upper
+    if not ok:
+        unit = f" {quantity.unit}" if quantity.unit else ""
+        raise ParameterError(name, value, quantity.allowed + unit)
+    return number

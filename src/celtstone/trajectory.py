@@ -1,0 +1,186 @@
+"""Trajectory: the sampled run as an ``xarray.Dataset`` plus its summary."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from celtstone.errors import (
+    CeltstoneError,
+    FrictionSingularityError,
+    IntegrationError,
+    LiftOffError,
+)
+from celtstone.kernels import layout
+from celtstone.kernels import system as kernel_system
+from celtstone.schema import VARIABLES
+
+__all__ = ["SUMMARY_KEYS", "Trajectory", "build_dataset"]
+
+SUMMARY_KEYS = (
+    "model",
+    "body",
+    "t_end",
+    "first_reversal_time",
+    "spin_zero_crossings",
+    "spin_initial",
+    "spin_final",
+    "energy_initial",
+    "energy_final",
+    "dissipated_work",
+    "max_relative_energy_drift",
+    "max_tilt_deg",
+    "min_normal_force",
+    "max_slip_speed",
+    "status",
+    "message",
+)
+
+_ERRORS: dict[str, type[CeltstoneError]] = {
+    "lift_off": LiftOffError,
+    "friction_singular": FrictionSingularityError,
+}
+
+
+def _variable(name: str, dims: tuple[str, ...], values: np.ndarray) -> xr.Variable:
+    unit, long_name = VARIABLES[name]
+    return xr.Variable(dims, values, attrs={"units": unit, "long_name": long_name})
+
+
+def build_dataset(
+    model_code: int,
+    params: np.ndarray,
+    times: np.ndarray,
+    states: np.ndarray,
+    crossings: np.ndarray,
+    attrs: dict[str, Any],
+) -> xr.Dataset:
+    """Dataset of a run from its sampled states (rows of the kernel state layout)."""
+    derived = np.empty((states.shape[0], kernel_system.N_DIAGNOSTICS))
+    if states.shape[0]:
+        kernel_system.diagnostics_series(model_code, states, params, derived)
+    time = ("time",)
+    n_slice = slice(layout.Y_N, layout.Y_N + 3)
+    variables = {
+        "spin": _variable("spin", time, derived[:, kernel_system.D_SPIN]),
+        "tilt": _variable("tilt", time, derived[:, kernel_system.D_TILT]),
+        "energy": _variable("energy", time, derived[:, kernel_system.D_ENERGY]),
+        "dissipated_work": _variable("dissipated_work", time, states[:, layout.Y_WORK]),
+        "normal_force": _variable("normal_force", time, derived[:, kernel_system.D_NORMAL_FORCE]),
+        "slip_speed": _variable("slip_speed", time, derived[:, kernel_system.D_SLIP_SPEED]),
+        "friction_power": _variable(
+            "friction_power", time, derived[:, kernel_system.D_FRICTION_POWER]
+        ),
+        "com_height": _variable("com_height", time, derived[:, kernel_system.D_HEIGHT]),
+        "omega": _variable(
+            "omega", ("time", "axis"), states[:, layout.Y_OMEGA : layout.Y_OMEGA + 3]
+        ),
+        "n": _variable("n", ("time", "axis"), states[:, n_slice]),
+        "slip_velocity": _variable(
+            "slip_velocity", ("time", "axis"), states[:, layout.Y_SLIP : layout.Y_SLIP + 3]
+        ),
+        "quaternion": _variable(
+            "quaternion", ("time", "component"), states[:, layout.Y_QUAT : layout.Y_QUAT + 4]
+        ),
+        "com_position": _variable(
+            "com_position",
+            ("time", "plane_axis"),
+            states[:, layout.Y_POSITION : layout.Y_POSITION + 2],
+        ),
+        "contact_position": _variable(
+            "contact_position",
+            ("time", "plane_axis"),
+            derived[:, kernel_system.D_CONTACT_X : kernel_system.D_CONTACT_Y + 1],
+        ),
+        "spin_crossings": _variable("spin_crossings", ("crossing",), crossings),
+    }
+    coords = {
+        "time": _variable("time", time, times),
+        "axis": ("axis", np.array([1, 2, 3]), {"long_name": "body axis"}),
+        "component": ("component", np.array(["w", "x", "y", "z"]), {"long_name": "quaternion"}),
+        "plane_axis": ("plane_axis", np.array(["x", "y"]), {"long_name": "space axis"}),
+    }
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _finite_or_none(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A finished run: the sampled ``dataset`` and the run's ``summary``.
+
+    ``status`` is ``"success"`` or why the run stopped early (``"lift_off"``,
+    ``"friction_singular"``, ``"off_shape"``, ``"max_steps"``,
+    ``"step_too_small"``, ``"not_finite"``); the samples reach ``t_stop``.
+    """
+
+    dataset: xr.Dataset
+    status: str
+    message: str
+    t_stop: float
+    min_normal_force: float
+    statistics: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """Whether the run reached ``t_end``."""
+        return self.status == "success"
+
+    def raise_for_status(self) -> Trajectory:
+        """Raise the matching :class:`CeltstoneError` unless the run succeeded."""
+        if not self.ok:
+            raise _ERRORS.get(self.status, IntegrationError)(self.message)
+        return self
+
+    @property
+    def spin_crossings(self) -> np.ndarray:
+        """Times at which the spin ω · n changes sign [s]."""
+        return np.asarray(self.dataset["spin_crossings"].values)
+
+    @property
+    def first_reversal_time(self) -> float | None:
+        """First sign change of the spin [s], None if it never changes sign."""
+        crossings = self.spin_crossings
+        return float(crossings[0]) if crossings.size else None
+
+    def summary(self) -> dict[str, Any]:
+        """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
+        ds = self.dataset
+        attrs = ds.attrs
+        energy = ds["energy"].values
+        energy0 = float(energy[0])
+        drift = None
+        if attrs["model"] == "rolling" and attrs["damping"] == 0.0:
+            drift = float(np.max(np.abs(energy - energy0)) / abs(energy0))
+        balance = float(np.max(np.abs(energy + ds["dissipated_work"].values - energy0)))
+        summary = {
+            "model": attrs["model"],
+            "body": attrs["body"],
+            "t_end": float(attrs["t_end"]),
+            "t_stop": float(self.t_stop),
+            "first_reversal_time": self.first_reversal_time,
+            "spin_zero_crossings": [float(t) for t in self.spin_crossings],
+            "spin_initial": float(ds["spin"].values[0]),
+            "spin_final": float(ds["spin"].values[-1]),
+            "energy_initial": energy0,
+            "energy_final": float(energy[-1]),
+            "dissipated_work": float(ds["dissipated_work"].values[-1]),
+            "max_relative_energy_drift": drift,
+            "max_energy_balance_error": balance,
+            "max_tilt_deg": float(np.degrees(np.max(ds["tilt"].values))),
+            "min_normal_force": _finite_or_none(
+                min(self.min_normal_force, float(np.min(ds["normal_force"].values)))
+            ),
+            "max_slip_speed": float(np.max(ds["slip_speed"].values)),
+            "status": self.status,
+            "message": self.message,
+        }
+        summary.update({k: attrs[k] for k in ("friction_law", "method", "rtol", "atol")})
+        summary["statistics"] = dict(self.statistics)
+        return summary
