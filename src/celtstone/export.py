@@ -12,9 +12,28 @@ import xarray as xr
 
 from celtstone.errors import ParameterError
 
-__all__ = ["FORMATS", "atomic_path", "to_csv", "write"]
+__all__ = ["FORMATS", "atomic_path", "check_target", "to_csv", "write"]
 
 FORMATS = (".nc", ".csv")
+
+
+def check_target(path: str | Path) -> Path:
+    """``path`` as a :class:`Path` if it can be written: a known suffix, an existing directory.
+
+    Call it before a long computation whose result goes to ``path``.
+
+    Raises
+    ------
+    ParameterError
+        for an unknown suffix or a directory that does not exist.
+    """
+    target = Path(path)
+    if target.suffix.lower() not in FORMATS:
+        raise ParameterError("out", str(path), "a file name ending in " + " or ".join(FORMATS))
+    directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise ParameterError("out", str(path), "a file in an existing directory")
+    return target
 
 
 @contextlib.contextmanager
@@ -64,10 +83,8 @@ def to_csv(dataset: xr.Dataset, path: Path) -> None:
 
 def write(dataset: xr.Dataset, path: str | Path) -> Path:
     """Write ``dataset`` to ``path`` (.nc NetCDF-4 or .csv), whole or not at all."""
-    target = Path(path)
+    target = check_target(path)
     suffix = target.suffix.lower()
-    if suffix not in FORMATS:
-        raise ParameterError("out", str(path), "a file name ending in " + " or ".join(FORMATS))
     with atomic_path(target) as temporary:
         if suffix == ".nc":
             dataset.to_netcdf(temporary, engine="netcdf4")

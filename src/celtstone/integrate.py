@@ -7,7 +7,8 @@ from importlib import metadata
 
 import numpy as np
 
-from celtstone import integrators, schema
+from celtstone import schema
+from celtstone import solvers as integrators
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
 from celtstone.models import Model, initial_vector, kernel_parameters

@@ -131,6 +131,12 @@ def model_from_name(name: str, **settings: float | str) -> Model:
     _choice("model", name, MODELS)
     cls = MODELS[name]
     if cls is RollingModel:
+        # the sliding settings do not apply, but a bad value is still refused
+        for key, value in settings.items():
+            if key == "normal_force":
+                _choice(key, str(value), NORMAL_FORCE_OPTIONS)
+            elif key != "damping" and key in schema.PARAMETERS:
+                schema.check(key, value)  # type: ignore[arg-type]
         settings = {k: v for k, v in settings.items() if k == "damping"}
     return cls(**settings)  # type: ignore[arg-type]
 

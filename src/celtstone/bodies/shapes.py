@@ -36,12 +36,14 @@ class Ellipsoid:
             raise ParameterError("semi_axes", self.semi_axes, "three numbers a, b, c in m")
         axes = tuple(schema.check("semi_axes", value) for value in self.semi_axes)
         object.__setattr__(self, "semi_axes", axes)
-        offset = float(self.com_offset)
         c = axes[2]
+        allowed = f"a number in (-{c:g}, {c:g}) m"
+        try:
+            offset = float(self.com_offset)
+        except (TypeError, ValueError):
+            raise ParameterError("com_offset", self.com_offset, allowed) from None
         if not -c < offset < c:
-            raise ParameterError(
-                "com_offset", self.com_offset, f"a number in (-{c:g}, {c:g}) m", "G inside the body"
-            )
+            raise ParameterError("com_offset", self.com_offset, allowed, "G inside the body")
         object.__setattr__(self, "com_offset", offset)
 
     @property

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 from celtstone import CeltstoneError, version
 from celtstone.cli import bodies, run
@@ -17,7 +19,17 @@ EXIT_USAGE = 2
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors in one line, exit status 2."""
+    """argparse that reports usage errors in one line, exit status 2.
+
+    Values such as ``-5,0,0``, ``-1e-12`` or ``-nan`` are values, not options:
+    argparse's own pattern only knows ``-5`` and ``-0.5``, so ``--omega -5,0,0``
+    would fail with "expected one argument" instead of being parsed (and
+    range-checked). No option of celtstone starts with ``-`` and a digit.
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(?:\d|\.\d|inf|nan)", re.IGNORECASE)
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(EXIT_USAGE, f"celtstone: error: {message}\n")

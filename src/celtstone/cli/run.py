@@ -14,13 +14,13 @@ from celtstone import (
     model_from_name,
     simulate,
 )
-from celtstone.export import write
-from celtstone.schema import PARAMETERS
+from celtstone.export import check_target, write
+from celtstone.schema import PARAMETERS, check
 
 HELP = "simulate one run of a body"
 
 
-def _numbers(name: str, count: int):  # type: ignore[no-untyped-def]
+def _numbers(name: str, count: int):
     def parse(text: str) -> tuple[float, ...]:
         try:
             values = tuple(float(part) for part in text.split(","))
@@ -33,7 +33,7 @@ def _numbers(name: str, count: int):  # type: ignore[no-untyped-def]
     return parse
 
 
-def _number(name: str):  # type: ignore[no-untyped-def]
+def _number(name: str):
     def parse(text: str) -> float:
         try:
             return float(text)
@@ -90,12 +90,12 @@ def handle(args: argparse.Namespace) -> int:
     atol = _number("atol")(args.atol)
     n_samples = None
     if args.samples is not None:
-        n_samples = int(_number("n_samples")(args.samples))
-    if args.out is not None and not args.out.lower().endswith((".nc", ".csv")):
-        raise ParameterError("out", args.out, "a file name ending in .nc or .csv")
+        n_samples = int(check("n_samples", _number("n_samples")(args.samples)))
+    if args.out is not None:
+        check_target(args.out)  # before the run, not after it
     model = model_from_name(args.model, **settings)
     body = load_body(args.body)
-    state = InitialState(omega=omega, tilt=tilt)  # type: ignore[arg-type]
+    state = InitialState(omega=omega, tilt=tilt)
     trajectory = simulate(
         model, body, state, t_end, method=args.method, rtol=rtol, atol=atol, n_samples=n_samples
     )
@@ -112,8 +112,11 @@ def handle(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_text(summary: dict) -> None:  # type: ignore[type-arg]
+def _print_text(summary: dict) -> None:
     first = summary["first_reversal_time"]
+    # None when the run has no finite value (the JSON summary's null)
+    normal = summary["min_normal_force"]
+    normal_text = f"{normal:.6g} N" if normal is not None else "unknown"
     lines = [
         f"{summary['model']} run of {summary['body']}, t = 0 .. {summary['t_stop']:g} s "
         f"({summary['status']})",
@@ -123,7 +126,7 @@ def _print_text(summary: dict) -> None:  # type: ignore[type-arg]
         f"  energy: {summary['energy_initial']:.8g} -> {summary['energy_final']:.8g} J, "
         f"dissipated work {summary['dissipated_work']:.6g} J",
         f"  max tilt {summary['max_tilt_deg']:.4g} deg, min normal force "
-        f"{summary['min_normal_force']:.6g} N, max slip speed {summary['max_slip_speed']:.3g} m/s",
+        f"{normal_text}, max slip speed {summary['max_slip_speed']:.3g} m/s",
     ]
     if summary["max_relative_energy_drift"] is not None:
         lines.append(f"  max relative energy drift {summary['max_relative_energy_drift']:.3g}")

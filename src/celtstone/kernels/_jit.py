@@ -17,4 +17,5 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 def kernel(function: F) -> F:
     """Compile ``function`` in nopython mode with the on-disk cache on."""
-    return njit(cache=True, error_model="numpy")(function)  # type: ignore[no-any-return]
+    compiled: F = njit(cache=True, error_model="numpy")(function)  # type: ignore[assignment]
+    return compiled

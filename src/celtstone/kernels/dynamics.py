@@ -34,7 +34,7 @@ from celtstone.kernels.vector import (
 
 
 @kernel
-def inertia_tensor(params) -> Mat:  # type: ignore[no-untyped-def]
+def inertia_tensor(params) -> Mat:
     """Central inertia tensor A as a row-major 9-tuple [kg m²]."""
     i = P_INERTIA
     return (
@@ -59,7 +59,7 @@ def centripetal_terms(omega: Vec, r: Vec, r_rate: Vec) -> Vec:
 @kernel
 def rolling_acceleration(
     n: Vec, omega: Vec, r: Vec, r_rate: Vec, params
-) -> tuple[Vec, float, Vec, float]:  # type: ignore[no-untyped-def]
+) -> tuple[Vec, float, Vec, float]:
     """Angular acceleration, normal force and contact force of rolling without sliding.
 
     Returns
@@ -105,7 +105,7 @@ def rolling_acceleration(
 @kernel
 def sliding_acceleration(
     n: Vec, omega: Vec, slip_velocity: Vec, r: Vec, r_rate: Vec, params
-) -> tuple[Vec, Vec, float, Vec, float, float]:  # type: ignore[no-untyped-def]
+) -> tuple[Vec, Vec, float, Vec, float, float]:
     """Angular and slip accelerations of rolling with sliding.
 
     Returns

@@ -78,7 +78,7 @@ def paraboloid_contact(
 
 
 @kernel
-def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:  # type: ignore[no-untyped-def]
+def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
     """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``."""
     if params[P_SHAPE] == SHAPE_ELLIPSOID:
         return ellipsoid_contact(
@@ -88,7 +88,7 @@ def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:  # type: ignore[no-
 
 
 @kernel
-def shape_is_valid(n: Vec, params) -> bool:  # type: ignore[no-untyped-def]
+def shape_is_valid(n: Vec, params) -> bool:
     """Whether the contact point for n lies in the shape's domain."""
     if params[P_SHAPE] == SHAPE_ELLIPSOID:
         return True

@@ -37,7 +37,7 @@ SINGULAR_RATIO = 1e-10
 
 
 @kernel
-def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:  # type: ignore[no-untyped-def]
+def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:
     """n, ω, V1 and the attitude quaternion from the state array."""
     n = (y[Y_N], y[Y_N + 1], y[Y_N + 2])
     omega = (y[Y_OMEGA], y[Y_OMEGA + 1], y[Y_OMEGA + 2])
@@ -47,7 +47,7 @@ def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:  # typ
 
 
 @kernel
-def evaluate(model, y, params, dy):  # type: ignore[no-untyped-def]
+def evaluate(model, y, params, dy):
     """Fill ``dy`` with dy/dt and return (status, normal force [N], friction power [W]).
 
     The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it.
@@ -94,14 +94,14 @@ def evaluate(model, y, params, dy):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def rhs(model, t, y, params, dy):  # type: ignore[no-untyped-def]
+def rhs(model, t, y, params, dy):
     """Right-hand side of the state equation; returns the status code."""
     status, _, _ = evaluate(model, y, params, dy)
     return status
 
 
 @kernel
-def energy(model, y, params) -> float:  # type: ignore[no-untyped-def]
+def energy(model, y, params) -> float:
     """Total mechanical energy, kinetic plus potential with the plane as zero [J].
 
     E = ½ m |v_G|² + ½ ω · Aω + m g z_G, z_G = -r · n the height of G.
@@ -134,7 +134,7 @@ D_STATUS = 11  # right-hand-side status code
 
 
 @kernel
-def diagnostics(model, y, params, out, work):  # type: ignore[no-untyped-def]
+def diagnostics(model, y, params, out, work):
     """Fill ``out`` (length N_DIAGNOSTICS) with derived quantities of state ``y``.
 
     ``work`` is scratch of the state's length.
@@ -159,7 +159,7 @@ def diagnostics(model, y, params, out, work):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def diagnostics_series(model, ys, params, out):  # type: ignore[no-untyped-def]
+def diagnostics_series(model, ys, params, out):
     """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS)."""
     work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
     for i in range(ys.shape[0]):
@@ -167,7 +167,7 @@ def diagnostics_series(model, ys, params, out):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def spin_and_normal_force(model, y, params, work) -> tuple[float, float, int]:  # type: ignore[no-untyped-def]
+def spin_and_normal_force(model, y, params, work) -> tuple[float, float, int]:
     """Event quantities: spin ω · n [rad/s], normal force N [N], rhs status."""
     status, normal_force, _ = evaluate(model, y, params, work)
     return (

@@ -1,0 +1,140 @@
+"""Compiled ODE integrators: DOP853 (non-stiff) and Radau IIA order 5 (stiff).
+
+``solve`` allocates the outputs and calls the compiled loop ``driver.integrate``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from celtstone.errors import ParameterError
+from celtstone.solvers.codes import (
+    METHOD_DOP853 as METHOD_DOP853,
+)
+from celtstone.solvers.codes import (
+    METHOD_RADAU5 as METHOD_RADAU5,
+)
+from celtstone.solvers.codes import (
+    METHODS as METHODS,
+)
+from celtstone.solvers.codes import (
+    STATUS_LIFT_OFF as STATUS_LIFT_OFF,
+)
+from celtstone.solvers.codes import (
+    STATUS_MAX_STEPS as STATUS_MAX_STEPS,
+)
+from celtstone.solvers.codes import (
+    STATUS_MESSAGES as STATUS_MESSAGES,
+)
+from celtstone.solvers.codes import (
+    STATUS_NOT_FINITE as STATUS_NOT_FINITE,
+)
+from celtstone.solvers.codes import (
+    STATUS_OFF_SHAPE as STATUS_OFF_SHAPE,
+)
+from celtstone.solvers.codes import (
+    STATUS_SINGULAR as STATUS_SINGULAR,
+)
+from celtstone.solvers.codes import (
+    STATUS_STEP_TOO_SMALL as STATUS_STEP_TOO_SMALL,
+)
+from celtstone.solvers.codes import (
+    STATUS_SUCCESS as STATUS_SUCCESS,
+)
+from celtstone.solvers.driver import integrate as integrate
+
+__all__ = [
+    "METHODS",
+    "METHOD_DOP853",
+    "METHOD_RADAU5",
+    "STATUS_LIFT_OFF",
+    "STATUS_MAX_STEPS",
+    "STATUS_MESSAGES",
+    "STATUS_NOT_FINITE",
+    "STATUS_OFF_SHAPE",
+    "STATUS_SINGULAR",
+    "STATUS_STEP_TOO_SMALL",
+    "STATUS_SUCCESS",
+    "RawSolution",
+    "integrate",
+    "solve",
+]
+
+
+@dataclass(frozen=True)
+class RawSolution:
+    """What the compiled loop returns, trimmed to what it filled (SI units)."""
+
+    status: int
+    t_stop: float
+    sample_times: np.ndarray
+    samples: np.ndarray
+    crossings: np.ndarray
+    n_crossings_total: int
+    min_normal_force: float
+    t_min_normal_force: float
+    nfev: int
+    njev: int
+    nlu: int
+    n_accepted: int
+    n_rejected: int
+
+
+def solve(
+    model: int,
+    method_name: str,
+    params: np.ndarray,
+    y0: np.ndarray,
+    t_end: float,
+    *,
+    rtol: float,
+    atol: float,
+    sample_times: np.ndarray,
+    max_crossings: int = 10_000,
+    first_step: float = 0.0,
+    max_step: float = 0.0,
+    max_steps: int = 10_000_000,
+    adaptive: bool = True,
+) -> RawSolution:
+    """Integrate the kernel system ``model`` from t = 0 to ``t_end`` with ``method_name``."""
+    if method_name not in METHODS:
+        raise ParameterError("method", method_name, "one of: " + ", ".join(METHODS))
+    times = np.ascontiguousarray(sample_times, dtype=np.float64)
+    samples = np.zeros((times.shape[0], y0.shape[0]))
+    crossings = np.zeros(max(int(max_crossings), 1))
+    stats = np.zeros(8, dtype=np.int64)
+    status, n_samples, n_crossings, t_stop, min_normal, t_min_normal = integrate(
+        int(model),
+        METHODS[method_name],
+        np.ascontiguousarray(params, dtype=np.float64),
+        np.ascontiguousarray(y0, dtype=np.float64),
+        float(t_end),
+        float(rtol),
+        float(atol),
+        float(first_step),
+        float(max_step),
+        int(max_steps),
+        bool(adaptive),
+        times,
+        samples,
+        crossings,
+        stats,
+    )
+    stored = min(int(n_crossings), crossings.shape[0])
+    return RawSolution(
+        status=int(status),
+        t_stop=float(t_stop),
+        sample_times=times[:n_samples].copy(),
+        samples=samples[:n_samples].copy(),
+        crossings=crossings[:stored].copy(),
+        n_crossings_total=int(n_crossings),
+        min_normal_force=float(min_normal),
+        t_min_normal_force=float(t_min_normal),
+        nfev=int(stats[0]),
+        njev=int(stats[1]),
+        nlu=int(stats[2]),
+        n_accepted=int(stats[3]),
+        n_rejected=int(stats[4]),
+    )

@@ -1,0 +1,1 @@
+"""Independent plain NumPy + SciPy oracle for the rattleback equations (no celtstone imports)."""
