@@ -18,8 +18,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import celtstone as cs  # noqa: E402
-from tests.oracle import rattleback as oracle  # noqa: E402
+import celtstone as cs
+from tests.oracle import rattleback as oracle
 
 TILT = (0.5, 0.5)
 
@@ -37,7 +37,9 @@ def best_time(function, repeats: int) -> float:  # type: ignore[no-untyped-def]
 def case(model_name: str, t_end: float, rtol: float, atol: float, repeats: int) -> dict:
     """Time one case with both implementations and compare their final spins."""
     body = cs.load_body("kane_levinson_1982")
-    settings = {"friction_coefficient": 0.35, "contact_radius": 1e-3} if model_name == "sliding" else {}
+    settings = (
+        {"friction_coefficient": 0.35, "contact_radius": 1e-3} if model_name == "sliding" else {}
+    )
     model = cs.model_from_name(model_name, **settings)
     state = cs.InitialState((0.0, 0.0, -5.0), TILT)
 
@@ -52,7 +54,13 @@ def case(model_name: str, t_end: float, rtol: float, atol: float, repeats: int) 
     y0 = oracle.initial_state(*TILT, (0.0, 0.0, -5.0), model_name)
     start = time.perf_counter()
     reference = oracle.simulate(
-        model_name, reference_body, y0, t_end, t_eval=np.array([t_end]), rtol=rtol, atol=atol,
+        model_name,
+        reference_body,
+        y0,
+        t_end,
+        t_eval=np.array([t_end]),
+        rtol=rtol,
+        atol=atol,
         **settings,
     )
     oracle_time = time.perf_counter() - start
@@ -85,9 +93,8 @@ def main() -> None:
         print(f"  celtstone        {r['celtstone_s']:9.4f} s  ({r['steps']} steps)")
         print(f"  SciPy + NumPy    {r['scipy_numpy_s']:9.4f} s")
         print(f"  ratio            {r['ratio']:9.1f} x")
-        print(
-            f"  final spin       {r['final_spin_celtstone']:.9f} vs {r['final_spin_scipy']:.9f} rad/s"
-        )
+        spins = f"{r['final_spin_celtstone']:.9f} vs {r['final_spin_scipy']:.9f}"
+        print(f"  final spin       {spins} rad/s")
 
 
 if __name__ == "__main__":

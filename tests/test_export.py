@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from tests.conftest import LITERATURE_TILT
 
 import celtstone as cs
 from celtstone import export
 from celtstone.cli.main import main
+from tests.conftest import LITERATURE_TILT
 
 # every time series of a run and its CSV columns (vectors split per component)
 CSV_COLUMNS = [

@@ -11,8 +11,8 @@ from celtstone import schema
 from celtstone import solvers as integrators
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
-from celtstone.models import Model, initial_vector, kernel_parameters
 from celtstone.models import InitialState as InitialState
+from celtstone.models import Model, initial_vector, kernel_parameters
 from celtstone.trajectory import Trajectory, build_dataset
 
 __all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "SAMPLES_PER_SECOND", "simulate", "version"]
@@ -61,7 +61,7 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
         return times
     count = int(schema.check("n_samples", n_samples)) if n_samples is not None else None
     if count is None:
-        count = max(201, int(round(t_end * SAMPLES_PER_SECOND)) + 1)
+        count = max(201, round(t_end * SAMPLES_PER_SECOND) + 1)
     return np.linspace(0.0, t_end, count)
 
 
@@ -153,9 +153,7 @@ def simulate(
         "message": message,
         **model.attributes(),
     }
-    dataset = build_dataset(
-        model.code, params, raw.sample_times, raw.samples, raw.crossings, attrs
-    )
+    dataset = build_dataset(model.code, params, raw.sample_times, raw.samples, raw.crossings, attrs)
     statistics = {
         "nfev": raw.nfev,
         "njev": raw.njev,

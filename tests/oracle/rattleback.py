@@ -145,14 +145,10 @@ def contact_jacobian(n: np.ndarray, body: dict[str, Any]) -> np.ndarray:
 def initial_vertical(alpha_deg: float, beta_deg: float) -> np.ndarray:
     """Upward vertical in body axes for Euler tilts alpha, beta [deg]."""
     alpha, beta = np.radians(alpha_deg), np.radians(beta_deg)
-    return np.array(
-        [-np.cos(alpha) * np.sin(beta), np.sin(alpha), np.cos(alpha) * np.cos(beta)]
-    )
+    return np.array([-np.cos(alpha) * np.sin(beta), np.sin(alpha), np.cos(alpha) * np.cos(beta)])
 
 
-def initial_state(
-    alpha_deg: float, beta_deg: float, omega0: Any, model: str
-) -> np.ndarray:
+def initial_state(alpha_deg: float, beta_deg: float, omega0: Any, model: str) -> np.ndarray:
     """Rolling start: (n, omega, W = 0), or (n, omega, V1 = 0, W = 0) for ``sliding``."""
     n = initial_vertical(alpha_deg, beta_deg)
     omega = np.asarray(omega0, dtype=float).reshape(3)

@@ -106,8 +106,13 @@ def test_aligned_axes_prefer_no_direction(kane_levinson: cs.Body, model: cs.Mode
     run_minus = cs.simulate(model, aligned, minus, 8.0)
     spin_plus, spin_minus = run_plus.dataset["spin"].values, run_minus.dataset["spin"].values
     assert np.max(np.abs(spin_plus + spin_minus)) < 1e-6 * 5.0
-    # and neither reverses: no preferred direction means no Celt effect
-    assert run_plus.first_reversal_time is None and run_minus.first_reversal_time is None
+    # no preferred direction means no Celt effect: rolling keeps its sense; sliding
+    # friction only brakes the spin, and what crosses zero once it has died is dither
+    if isinstance(model, cs.RollingModel):
+        assert run_plus.first_reversal_time is None
+    elif run_plus.first_reversal_time is not None:
+        after = run_plus.dataset["time"].values >= run_plus.first_reversal_time
+        assert np.max(np.abs(spin_plus[after])) < 0.02 * 5.0
 
 
 def test_frictionless_sliding_conserves_energy_and_vertical_momentum(

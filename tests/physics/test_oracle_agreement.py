@@ -43,7 +43,9 @@ def test_engine_agrees_with_oracle(
     spin_reference = np.array([oracle.spin(y) for y in reference.y.T])
     np.testing.assert_allclose(run.dataset["spin"].values, spin_reference, rtol=0, atol=1e-6)
     np.testing.assert_allclose(run.dataset["n"].values, reference.y[0:3].T, rtol=0, atol=1e-8)
-    energy_reference = np.array([oracle.energy(y, reference_body, model_name) for y in reference.y.T])
+    energy_reference = np.array(
+        [oracle.energy(y, reference_body, model_name) for y in reference.y.T]
+    )
     np.testing.assert_allclose(run.dataset["energy"].values, energy_reference, rtol=1e-8)
     if model_name == "sliding":
         np.testing.assert_allclose(

@@ -32,7 +32,7 @@ def list_bodies() -> dict[str, str]:
 
 def _citation(source: dict[str, Any]) -> str:
     parts = [str(source.get("authors", "")), f"({source.get('year', '')})"]
-    parts.append(f"\"{source.get('title', '')}\"")
+    parts.append(f'"{source.get("title", "")}"')
     journal = source.get("journal")
     if journal:
         parts.append(
@@ -48,7 +48,9 @@ def body_from_dict(name: str, data: dict[str, Any]) -> Body:
         body = data["body"]
         shape_data = dict(data["shape"])
     except KeyError as missing:
-        raise ParameterError("body file", name, f"a [body] and a [shape] table ({missing})") from None
+        raise ParameterError(
+            "body file", name, f"a [body] and a [shape] table ({missing})"
+        ) from None
     kind = shape_data.pop("kind", None)
     shape: Shape
     try:
@@ -72,7 +74,9 @@ def body_from_dict(name: str, data: dict[str, Any]) -> Body:
     except KeyError as missing:
         raise ParameterError("body file", name, f"the entry {missing}") from None
     except TypeError as error:
-        raise ParameterError("body file", name, f"numbers of the documented form ({error})") from None
+        raise ParameterError(
+            "body file", name, f"numbers of the documented form ({error})"
+        ) from None
 
 
 def load_body(name_or_path: str | Path) -> Body:
@@ -93,7 +97,9 @@ def load_body(name_or_path: str | Path) -> Body:
     else:
         entry = _DATA / f"{text}.toml"
         if not entry.is_file():
-            names = [e.name.removesuffix(".toml") for e in _DATA.iterdir() if e.name.endswith(".toml")]
+            names = [
+                e.name.removesuffix(".toml") for e in _DATA.iterdir() if e.name.endswith(".toml")
+            ]
             close = difflib.get_close_matches(text, names, n=1)
             hint = f"did you mean {close[0]!r}?" if close else ""
             raise ParameterError("body", text, "one of: " + ", ".join(sorted(names)), hint)

@@ -46,7 +46,9 @@ def _number(name: str):
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone run``; help text comes from ``schema``."""
     p = PARAMETERS
-    parser.add_argument("--body", default="kane_levinson_1982", help="shipped body name or .toml path")
+    parser.add_argument(
+        "--body", default="kane_levinson_1982", help="shipped body name or .toml path"
+    )
     parser.add_argument("--model", default="rolling", help="rolling or sliding")
     parser.add_argument(
         "--omega", type=str, default="0,0,-5", metavar="W1,W2,W3", help=p["omega"].help()
@@ -59,7 +61,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--friction-coefficient", type=str, default="0.35", help=p["friction_coefficient"].help()
     )
-    parser.add_argument("--contact-radius", type=str, default="0.001", help=p["contact_radius"].help())
+    parser.add_argument(
+        "--contact-radius", type=str, default="0.001", help=p["contact_radius"].help()
+    )
     parser.add_argument(
         "--normal-force", default="static", help="static (N = m g, the paper's) or dynamic"
     )

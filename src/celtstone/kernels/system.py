@@ -62,9 +62,7 @@ def evaluate(model, y, params, dy):
     reference = inertia[0] * inertia[4] * inertia[8]
     friction_power = 0.0
     if model == MODEL_ROLLING:
-        omega_rate, normal_force, _, determinant = rolling_acceleration(
-            n, omega, r, r_rate, params
-        )
+        omega_rate, normal_force, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
         slip_rate = (0.0, 0.0, 0.0)
         velocity = cross(r, omega)  # v_G = -ω × r
     else:

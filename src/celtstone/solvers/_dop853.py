@@ -28,7 +28,7 @@ DENSE_ROWS = 7
 
 
 @kernel
-def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):  # type: ignore[no-untyped-def]
+def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     """One trial step of size h from (t, y), ``stages[0]`` = f(t, y) on entry.
 
     Fills ``y_new`` and ``stages[12]`` = f(t + h, y_new); returns the scaled error norm.
@@ -64,7 +64,7 @@ def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch): 
 
 
 @kernel
-def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):  # type: ignore[no-untyped-def]
+def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):
     """Coefficients of the 7th-order interpolant over the accepted step (3 extra stages)."""
     n = y.shape[0]
     for s in range(N_STAGES + 1, N_STAGES_EXTENDED):
@@ -87,7 +87,7 @@ def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):  # type
 
 
 @kernel
-def dop853_interpolate(dense, y_old, x, out):  # type: ignore[no-untyped-def]
+def dop853_interpolate(dense, y_old, x, out):
     """State at the fraction x in [0, 1] of the step from the interpolant."""
     n = y_old.shape[0]
     for j in range(n):

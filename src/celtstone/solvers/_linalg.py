@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-
 from celtstone.kernels._jit import kernel
 
 
 @kernel
-def lu_factor(matrix, pivots):  # type: ignore[no-untyped-def]
+def lu_factor(matrix, pivots):
     """Factor ``matrix`` in place (L unit lower, U upper); return False if singular."""
     size = matrix.shape[0]
     for k in range(size):
@@ -34,7 +33,7 @@ def lu_factor(matrix, pivots):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def lu_solve(factored, pivots, rhs):  # type: ignore[no-untyped-def]
+def lu_solve(factored, pivots, rhs):
     """Solve in place with the factors of :func:`lu_factor`; ``rhs`` is overwritten."""
     size = factored.shape[0]
     for k in range(size):
@@ -51,5 +50,3 @@ def lu_solve(factored, pivots, rhs):  # type: ignore[no-untyped-def]
         for j in range(i + 1, size):
             total -= factored[i, j] * rhs[j]
         rhs[i] = total / factored[i, i]
-
-

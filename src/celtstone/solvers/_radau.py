@@ -14,9 +14,9 @@ import math
 import numpy as np
 from scipy.integrate._ivp import radau as _radau
 
-from celtstone.solvers._linalg import lu_factor, lu_solve
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
+from celtstone.solvers._linalg import lu_factor, lu_solve
 
 C = np.ascontiguousarray(_radau.C, dtype=np.float64)
 E = np.ascontiguousarray(_radau.E, dtype=np.float64)
@@ -34,7 +34,7 @@ SQRT_EPS = math.sqrt(np.finfo(np.float64).eps)
 
 
 @kernel
-def rms(values, scale):  # type: ignore[no-untyped-def]
+def rms(values, scale):
     """Root-mean-square of values / scale."""
     total = 0.0
     for j in range(values.shape[0]):
@@ -43,7 +43,7 @@ def rms(values, scale):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def jacobian(model, params, t, y, f, out, scratch, column):  # type: ignore[no-untyped-def]
+def jacobian(model, params, t, y, f, out, scratch, column):
     """Forward-difference Jacobian df/dy into ``out`` (n, n); N_STATE evaluations."""
     n = y.shape[0]
     for j in range(n):
@@ -59,7 +59,7 @@ def jacobian(model, params, t, y, f, out, scratch, column):  # type: ignore[no-u
 
 
 @kernel
-def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):  # type: ignore[no-untyped-def]
+def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):
     """LU of MU_REAL/h I - J and MU_COMPLEX/h I - J; False if either is singular."""
     n = jac.shape[0]
     real_shift = MU_REAL / h
@@ -76,9 +76,24 @@ def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):  #
 
 
 @kernel
-def solve_collocation(  # type: ignore[no-untyped-def]
-    model, params, t, y, h, stages, scale, tol, lu_real, pivots_real, lu_complex,
-    pivots_complex, work_w, work_f, scratch, real_rhs, complex_rhs,
+def solve_collocation(
+    model,
+    params,
+    t,
+    y,
+    h,
+    stages,
+    scale,
+    tol,
+    lu_real,
+    pivots_real,
+    lu_complex,
+    pivots_complex,
+    work_w,
+    work_f,
+    scratch,
+    real_rhs,
+    complex_rhs,
 ):
     """Simplified Newton for the collocation increments ``stages`` (3, n), in place.
 
@@ -90,7 +105,9 @@ def solve_collocation(  # type: ignore[no-untyped-def]
     # W = TI Z
     for i in range(3):
         for j in range(n):
-            work_w[i, j] = TI[i, 0] * stages[0, j] + TI[i, 1] * stages[1, j] + TI[i, 2] * stages[2, j]
+            work_w[i, j] = (
+                TI[i, 0] * stages[0, j] + TI[i, 1] * stages[1, j] + TI[i, 2] * stages[2, j]
+            )
     norm_old = -1.0
     rate = -1.0
     converged = False
@@ -135,7 +152,9 @@ def solve_collocation(  # type: ignore[no-untyped-def]
             work_w[2, j] += complex_rhs[j].imag
         for i in range(3):
             for j in range(n):
-                stages[i, j] = T[i, 0] * work_w[0, j] + T[i, 1] * work_w[1, j] + T[i, 2] * work_w[2, j]
+                stages[i, j] = (
+                    T[i, 0] * work_w[0, j] + T[i, 1] * work_w[1, j] + T[i, 2] * work_w[2, j]
+                )
         if norm == 0.0 or (rate >= 0.0 and rate / (1.0 - rate) * norm < tol):
             converged = True
             break
@@ -144,7 +163,7 @@ def solve_collocation(  # type: ignore[no-untyped-def]
 
 
 @kernel
-def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):  # type: ignore[no-untyped-def]
+def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
     """Gustafsson's predictive step-size factor (as SciPy's Radau)."""
     if error_norm_old < 0.0 or h_abs_old < 0.0 or error_norm == 0.0:
         multiplier = 1.0
@@ -156,7 +175,7 @@ def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):  # type: ignor
 
 
 @kernel
-def radau_dense(stages, dense):  # type: ignore[no-untyped-def]
+def radau_dense(stages, dense):
     """Collocation-polynomial coefficients Q = Z^T P, stored as ``dense[0:3]``."""
     n = stages.shape[1]
     for j in range(n):
@@ -165,7 +184,7 @@ def radau_dense(stages, dense):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def radau_interpolate(dense, y_old, x, out):  # type: ignore[no-untyped-def]
+def radau_interpolate(dense, y_old, x, out):
     """State at the fraction x of the step: y_old + Σ_k Q_k x^(k+1)."""
     for j in range(y_old.shape[0]):
         out[j] = y_old[j] + x * (dense[0, j] + x * (dense[1, j] + x * dense[2, j]))

@@ -13,6 +13,9 @@ import math
 
 import numpy as np
 
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import RHS_OFF_SHAPE, RHS_OK, Y_N, Y_OMEGA
+from celtstone.kernels.system import rhs, spin_and_normal_force
 from celtstone.solvers import _dop853 as dop
 from celtstone.solvers import _radau as rad
 from celtstone.solvers._linalg import lu_solve
@@ -26,9 +29,6 @@ from celtstone.solvers.codes import (
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
 )
-from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import RHS_OFF_SHAPE, RHS_OK, Y_N, Y_OMEGA
-from celtstone.kernels.system import rhs, spin_and_normal_force
 
 ROOT_TOLERANCE = 1e-12  # s, event location
 EVENT_SUBDIVISIONS = 4  # spin sign checks per step, to catch two crossings in one step
@@ -36,7 +36,7 @@ EPS = float(np.finfo(np.float64).eps)
 
 
 @kernel
-def rms_scaled(values, reference, other, rtol, atol):  # type: ignore[no-untyped-def]
+def rms_scaled(values, reference, other, rtol, atol):
     """RMS norm of values / (atol + max(|reference|, |other|) rtol)."""
     total = 0.0
     for j in range(values.shape[0]):
@@ -46,7 +46,7 @@ def rms_scaled(values, reference, other, rtol, atol):  # type: ignore[no-untyped
 
 
 @kernel
-def initial_step(model, params, y0, f0, order, rtol, atol, scratch, f1):  # type: ignore[no-untyped-def]
+def initial_step(model, params, y0, f0, order, rtol, atol, scratch, f1):
     """Hairer's starting step-size heuristic (Solving ODEs I, sec. II.4)."""
     d0 = rms_scaled(y0, y0, y0, rtol, atol)
     d1 = rms_scaled(f0, y0, y0, rtol, atol)
@@ -65,7 +65,7 @@ def initial_step(model, params, y0, f0, order, rtol, atol, scratch, f1):  # type
 
 
 @kernel
-def interpolate(method, dense, y_old, x, out):  # type: ignore[no-untyped-def]
+def interpolate(method, dense, y_old, x, out):
     """State at the fraction x of the last accepted step."""
     if method == METHOD_DOP853:
         dop.dop853_interpolate(dense, y_old, x, out)
@@ -74,13 +74,13 @@ def interpolate(method, dense, y_old, x, out):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def spin_of(y):  # type: ignore[no-untyped-def]
+def spin_of(y):
     """ω · n of a state [rad/s]."""
     return y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
 
 
 @kernel
-def event_value(kind, model, params, method, dense, y_old, x, point, work):  # type: ignore[no-untyped-def]
+def event_value(kind, model, params, method, dense, y_old, x, point, work):
     """Spin (kind 0) or normal force (kind 1) at the fraction x of the step."""
     interpolate(method, dense, y_old, x, point)
     if kind == 0:
@@ -90,7 +90,7 @@ def event_value(kind, model, params, method, dense, y_old, x, point, work):  # t
 
 
 @kernel
-def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, point, work):  # type: ignore[no-untyped-def]
+def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, point, work):
     """Illinois (modified regula falsi) root of an event function on [a, b] ⊂ [0, 1]."""
     tolerance = ROOT_TOLERANCE / max(abs(h), 1e-300)
     side = 0
@@ -118,7 +118,7 @@ def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, poin
 
 
 @kernel
-def _fill_samples(method, dense, y_old, t_old, h, t_limit, sample_times, samples, n_samples, y_end):  # type: ignore[no-untyped-def]
+def _fill_samples(method, dense, y_old, t_old, h, t_limit, sample_times, samples, n_samples, y_end):
     """Fill samples with times in (t_old, t_limit]; returns the new count."""
     while n_samples < sample_times.shape[0] and sample_times[n_samples] <= t_limit:
         time = sample_times[n_samples]
@@ -131,9 +131,22 @@ def _fill_samples(method, dense, y_old, t_old, h, t_limit, sample_times, samples
 
 
 @kernel
-def integrate(  # type: ignore[no-untyped-def]
-    model, method, params, y0, t_end, rtol, atol, first_step, max_step, max_steps, adaptive,
-    sample_times, samples, crossings, stats,
+def integrate(
+    model,
+    method,
+    params,
+    y0,
+    t_end,
+    rtol,
+    atol,
+    first_step,
+    max_step,
+    max_steps,
+    adaptive,
+    sample_times,
+    samples,
+    crossings,
+    stats,
 ):
     """Integrate from t = 0 to ``t_end``; see the module docstring.
 
@@ -294,9 +307,23 @@ def integrate(  # type: ignore[no-untyped-def]
                         if not factored:
                             break
                     converged, iterations, rate = rad.solve_collocation(
-                        model, params, t, y, h_try, collocation, scale, newton_tol,
-                        lu_real, pivots_real, lu_complex, pivots_complex,
-                        work_w, work_f, scratch, real_rhs, complex_rhs,
+                        model,
+                        params,
+                        t,
+                        y,
+                        h_try,
+                        collocation,
+                        scale,
+                        newton_tol,
+                        lu_real,
+                        pivots_real,
+                        lu_complex,
+                        pivots_complex,
+                        work_w,
+                        work_f,
+                        scratch,
+                        real_rhs,
+                        complex_rhs,
                     )
                     nfev += 3 * iterations
                     if not converged:
@@ -404,8 +431,19 @@ def integrate(  # type: ignore[no-untyped-def]
         t_limit = t_new
         if normal_new < 0.0:
             root = locate_root(
-                1, model, params, method, dense, y_old, 0.0, 1.0, normal_old, normal_new,
-                h_try, point, work,
+                1,
+                model,
+                params,
+                method,
+                dense,
+                y_old,
+                0.0,
+                1.0,
+                normal_old,
+                normal_new,
+                h_try,
+                point,
+                work,
             )
             t_limit = t_old + root * h_try
             result = STATUS_LIFT_OFF
@@ -424,8 +462,19 @@ def integrate(  # type: ignore[no-untyped-def]
                     root = x_b
                 else:
                     root = locate_root(
-                        0, model, params, method, dense, y_old, x_a, x_b, spin_a, spin_b,
-                        h_try, point, work,
+                        0,
+                        model,
+                        params,
+                        method,
+                        dense,
+                        y_old,
+                        x_a,
+                        x_b,
+                        spin_a,
+                        spin_b,
+                        h_try,
+                        point,
+                        work,
                     )
                 if n_crossings < crossings.shape[0]:
                     crossings[n_crossings] = t_old + root * h_try
@@ -456,5 +505,3 @@ def integrate(  # type: ignore[no-untyped-def]
     stats[3] = n_accepted
     stats[4] = n_rejected
     return result, n_samples, n_crossings, t, min_normal, t_min_normal
-
-
