@@ -301,11 +301,6 @@ def test_lift_off_exits_3_and_keeps_the_output(tmp_path: Path) -> None:
     assert ds["spin"].values[-1] == summary["spin_final"]
 
 
-@pytest.mark.xfail(
-    reason="the compiled driver's min_normal_force leaves out the lift-off event itself, "
-    "where N = 0 (it reports the minimum over the steps before it)",
-    strict=True,
-)
 def test_lift_off_run_reports_a_vanishing_minimum_normal_force() -> None:
     """A run stopped by lift-off ends where N crosses zero: its minimum is about 0, not m g."""
     result = Result(["run", "--omega", "0,60,0", "--tilt", "0,0", "--t-end", "1", "--json"])

@@ -175,7 +175,7 @@ class Trajectory:
             "max_energy_balance_error": balance,
             "max_tilt_deg": float(np.degrees(np.max(ds["tilt"].values))),
             "min_normal_force": _finite_or_none(
-                min(self.min_normal_force, float(np.min(ds["normal_force"].values)))
+                float(np.fmin(self.min_normal_force, np.nanmin(ds["normal_force"].values)))
             ),
             "max_slip_speed": float(np.max(ds["slip_speed"].values)),
             "status": self.status,

@@ -62,6 +62,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CeltstoneError as error:
         print(f"celtstone: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except OSError as error:
+        print(f"celtstone: error: cannot write output: {error}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("celtstone: interrupted; no partial output was written", file=sys.stderr)
         return 130

@@ -486,6 +486,8 @@ def integrate(
         )
         if result == STATUS_LIFT_OFF:
             t = t_limit
+            min_normal = min(min_normal, 0.0)  # N reaches zero at the located root
+            t_min_normal = t_limit
             break
         if normal_new < min_normal:
             min_normal = normal_new
