@@ -353,6 +353,24 @@ def normal_force(y: np.ndarray, body: dict[str, Any], model: str, **params: Any)
 # --------------------------------------------------------------------------- integration
 
 
+def numerical_jacobian(fun: Any, t: float, y: np.ndarray) -> np.ndarray:
+    """Central-difference Jacobian d fun/d y, step 1e-7 max(|y_j|, 1e-2) per component.
+
+    Handed to the implicit solvers: SciPy's own adaptive ``num_jac`` keeps enlarging its step
+    for the dissipated-work column (identically zero, nothing depends on W) until it
+    overflows and warns.
+    """
+    y = np.asarray(y, dtype=float)
+    jac = np.empty((y.size, y.size))
+    for j in range(y.size):
+        step = 1e-7 * max(abs(y[j]), 1e-2)
+        plus, minus = y.copy(), y.copy()
+        plus[j] += step
+        minus[j] -= step
+        jac[:, j] = (fun(t, plus) - fun(t, minus)) / (plus[j] - minus[j])
+    return jac
+
+
 def simulate(
     model: str,
     body: dict[str, Any],
@@ -367,7 +385,7 @@ def simulate(
     """Integrate with ``scipy.integrate.solve_ivp`` from t = 0 to ``t_end``.
 
     ``method`` defaults to "DOP853" for rolling and "Radau" for sliding (the friction law is
-    stiff near zero slip). ``params`` go to the right-hand side (damping; friction_coefficient,
+    stiff near zero slip); implicit methods get ``numerical_jacobian``. ``params`` go to the right-hand side (damping; friction_coefficient,
     contact_radius, normal_force, regularisation_speed). Returns SciPy's OdeResult.
     """
     if model == "rolling":
@@ -383,12 +401,10 @@ def simulate(
     def fun(t: float, y: np.ndarray) -> np.ndarray:
         return rhs(t, y, body, **params)
 
+    method = method or default_method
+    options: dict[str, Any] = {}
+    if method in ("Radau", "BDF", "LSODA"):
+        options["jac"] = lambda t, y: numerical_jacobian(fun, t, y)
     return solve_ivp(
-        fun,
-        (0.0, float(t_end)),
-        y0,
-        method=method or default_method,
-        t_eval=t_eval,
-        rtol=rtol,
-        atol=atol,
+        fun, (0.0, float(t_end)), y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, **options
     )
