@@ -38,7 +38,7 @@ def no_integration(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args: object, **kwargs: object) -> None:
         raise AssertionError("the integrator was called although the input is invalid")
 
-    monkeypatch.setattr(integrate_module.integrators, "solve", refuse)
+    monkeypatch.setattr(integrate_module.solvers, "solve", refuse)
 
 
 def _body(**changes: object) -> cs.Body:

@@ -7,8 +7,7 @@ from importlib import metadata
 
 import numpy as np
 
-from celtstone import schema
-from celtstone import solvers as integrators
+from celtstone import schema, solvers
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
 from celtstone.models import InitialState as InitialState
@@ -22,13 +21,13 @@ DEFAULT_ATOL = 1e-12
 SAMPLES_PER_SECOND = 200  # default output density [1/s]
 
 _STATUS_NAMES = {
-    integrators.STATUS_SUCCESS: "success",
-    integrators.STATUS_LIFT_OFF: "lift_off",
-    integrators.STATUS_SINGULAR: "friction_singular",
-    integrators.STATUS_OFF_SHAPE: "off_shape",
-    integrators.STATUS_MAX_STEPS: "max_steps",
-    integrators.STATUS_STEP_TOO_SMALL: "step_too_small",
-    integrators.STATUS_NOT_FINITE: "not_finite",
+    solvers.STATUS_SUCCESS: "success",
+    solvers.STATUS_LIFT_OFF: "lift_off",
+    solvers.STATUS_SINGULAR: "friction_singular",
+    solvers.STATUS_OFF_SHAPE: "off_shape",
+    solvers.STATUS_MAX_STEPS: "max_steps",
+    solvers.STATUS_STEP_TOO_SMALL: "step_too_small",
+    solvers.STATUS_NOT_FINITE: "not_finite",
 }
 
 
@@ -42,10 +41,10 @@ def version() -> str:
 
 def _method_name(model: Model, method: str | None) -> str:
     name = model.default_method if method is None else method
-    if name not in integrators.METHODS:
-        close = difflib.get_close_matches(str(name), list(integrators.METHODS), n=1)
+    if name not in solvers.METHODS:
+        close = difflib.get_close_matches(str(name), list(solvers.METHODS), n=1)
         hint = f"did you mean {close[0]!r}?" if close else ""
-        raise ParameterError("method", name, "one of: " + ", ".join(integrators.METHODS), hint)
+        raise ParameterError("method", name, "one of: " + ", ".join(solvers.METHODS), hint)
     return name
 
 
@@ -65,10 +64,10 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
     return np.linspace(0.0, t_end, count)
 
 
-def _status_message(status: str, code: int, raw: integrators.RawSolution) -> str:
+def _status_message(status: str, code: int, raw: solvers.RawSolution) -> str:
     if status == "success":
         return "reached t_end"
-    text = integrators.STATUS_MESSAGES.get(code, "")
+    text = solvers.STATUS_MESSAGES.get(code, "")
     return f"stopped at t = {raw.t_stop:.6g} s: {text}"
 
 
@@ -94,7 +93,7 @@ def simulate(
     body : :class:`Body`
     initial_state : :class:`InitialState` (the contact starts without slip)
     t_end : duration [s], > 0
-    method : integrator name from ``integrators.METHODS`` ("dop853", "radau5");
+    method : integrator name from ``solvers.METHODS`` ("dop853", "radau5");
         default: dop853 for rolling, radau5 (stiff) for sliding
     rtol, atol : relative and absolute local error tolerances
     n_samples : number of equally spaced output samples (default 200 per second)
@@ -117,7 +116,7 @@ def simulate(
     times = _sample_times(t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
     y0 = initial_vector(initial_state)
-    raw = integrators.solve(
+    raw = solvers.solve(
         model.code,
         method_name,
         params,

@@ -385,8 +385,9 @@ def simulate(
     """Integrate with ``scipy.integrate.solve_ivp`` from t = 0 to ``t_end``.
 
     ``method`` defaults to "DOP853" for rolling and "Radau" for sliding (the friction law is
-    stiff near zero slip); implicit methods get ``numerical_jacobian``. ``params`` go to the right-hand side (damping; friction_coefficient,
-    contact_radius, normal_force, regularisation_speed). Returns SciPy's OdeResult.
+    stiff near zero slip); implicit methods get ``numerical_jacobian``. ``params`` go to the
+    right-hand side (damping; friction_coefficient, contact_radius, normal_force,
+    regularisation_speed). Returns SciPy's OdeResult.
     """
     if model == "rolling":
         rhs, default_method = rhs_rolling, "DOP853"
