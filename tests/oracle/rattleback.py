@@ -235,7 +235,7 @@ def _sliding_terms(
     spin_rate = np.dot(omega, n)
     phi, psi = friction_shapes(v1, spin_rate, contact_radius, regularisation_speed)
     acceleration_free = np.cross(omega, r_dot) + np.cross(omega, np.cross(omega, r))
-    gyroscopic = -np.cross(omega, inertia @ omega) - damping * omega
+    free_torque = -np.cross(omega, inertia @ omega) - damping * omega  # gyroscopic + viscous
     n0 = m * g - m * np.dot(n, acceleration_free)  # N_true without its domega/dt term
 
     if normal_force == "static":
@@ -243,14 +243,14 @@ def _sliding_terms(
         friction = m * g * f * phi
         moment = m * g * f * psi
         lhs = inertia + m * np.outer(d, d)
-        rhs = gyroscopic + n0 * d + np.cross(r, friction) + moment * n
+        rhs = free_torque + n0 * d + np.cross(r, friction) + moment * n
         omega_dot = np.linalg.solve(lhs, rhs)
         normal = n0 - m * np.dot(d, omega_dot)
     elif normal_force == "dynamic":
         # F = N f phi, M = N f psi with N = N_true = n0 - m d.domega/dt: linear in domega/dt
         k = d + f * np.cross(r, phi) + f * psi * n
         lhs = inertia + m * np.outer(k, d)
-        rhs = gyroscopic + n0 * k
+        rhs = free_torque + n0 * k
         omega_dot = np.linalg.solve(lhs, rhs)
         normal = n0 - m * np.dot(d, omega_dot)
         friction = normal * f * phi
