@@ -28,6 +28,17 @@ DENSE_ROWS = 7
 
 
 @kernel
+def evaluate_stage(model, params, s, t, y, h, stages, scratch):
+    """Stage s: stages[s] = f(t + c_s h, y + h Σ_k a_sk stages[k])."""
+    for j in range(y.shape[0]):
+        total = 0.0
+        for k in range(s):
+            total += A[s, k] * stages[k, j]
+        scratch[j] = y[j] + h * total
+    rhs(model, t + C[s] * h, scratch, params, stages[s])
+
+
+@kernel
 def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     """One trial step of size h from (t, y), ``stages[0]`` = f(t, y) on entry.
 
@@ -35,12 +46,7 @@ def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     """
     n = y.shape[0]
     for s in range(1, N_STAGES):
-        for j in range(n):
-            total = 0.0
-            for k in range(s):
-                total += A[s, k] * stages[k, j]
-            scratch[j] = y[j] + h * total
-        rhs(model, t + C[s] * h, scratch, params, stages[s])
+        evaluate_stage(model, params, s, t, y, h, stages, scratch)
     for j in range(n):
         total = 0.0
         for k in range(N_STAGES):
@@ -68,12 +74,7 @@ def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):
     """Coefficients of the 7th-order interpolant over the accepted step (3 extra stages)."""
     n = y.shape[0]
     for s in range(N_STAGES + 1, N_STAGES_EXTENDED):
-        for j in range(n):
-            total = 0.0
-            for k in range(s):
-                total += A[s, k] * stages[k, j]
-            scratch[j] = y[j] + h * total
-        rhs(model, t + C[s] * h, scratch, params, stages[s])
+        evaluate_stage(model, params, s, t, y, h, stages, scratch)
     for j in range(n):
         delta = y_new[j] - y[j]
         dense[0, j] = delta

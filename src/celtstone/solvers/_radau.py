@@ -184,6 +184,20 @@ def radau_dense(stages, dense):
 
 
 @kernel
+def radau_predict(has_dense, dense, y_previous, t_previous, h_previous, t, h, y, stages, scratch):
+    """Newton's starting guess: the last step's collocation polynomial extrapolated to the
+    new stage times, minus y (zeros before the first step)."""
+    if not has_dense:
+        stages[:, :] = 0.0
+        return
+    for i in range(3):
+        x = (t + C[i] * h - t_previous) / h_previous
+        radau_interpolate(dense, y_previous, x, scratch)
+        for j in range(y.shape[0]):
+            stages[i, j] = scratch[j] - y[j]
+
+
+@kernel
 def radau_interpolate(dense, y_old, x, out):
     """State at the fraction x of the step: y_old + Σ_k Q_k x^(k+1)."""
     for j in range(y_old.shape[0]):

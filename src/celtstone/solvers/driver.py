@@ -285,14 +285,18 @@ def integrate(
                     result = STATUS_STEP_TOO_SMALL
                     break
                 h_try = min(h, t_end - t)
-                if has_dense:
-                    for i in range(3):
-                        x = (t + rad.C[i] * h_try - t_previous) / h_previous
-                        rad.radau_interpolate(dense, y_previous, x, scratch)
-                        for j in range(n):
-                            collocation[i, j] = scratch[j] - y[j]
-                else:
-                    collocation[:, :] = 0.0
+                rad.radau_predict(
+                    has_dense,
+                    dense,
+                    y_previous,
+                    t_previous,
+                    h_previous,
+                    t,
+                    h_try,
+                    y,
+                    collocation,
+                    scratch,
+                )
                 for j in range(n):
                     scale[j] = atol + abs(y[j]) * rtol
                 converged = False
@@ -334,14 +338,18 @@ def integrate(
                         nfev += n
                         current_jac = True
                         lu_valid = False
-                        if has_dense:
-                            for i in range(3):
-                                x = (t + rad.C[i] * h_try - t_previous) / h_previous
-                                rad.radau_interpolate(dense, y_previous, x, scratch)
-                                for j in range(n):
-                                    collocation[i, j] = scratch[j] - y[j]
-                        else:
-                            collocation[:, :] = 0.0
+                        rad.radau_predict(
+                            has_dense,
+                            dense,
+                            y_previous,
+                            t_previous,
+                            h_previous,
+                            t,
+                            h_try,
+                            y,
+                            collocation,
+                            scratch,
+                        )
                 if not converged:
                     h = 0.5 * h_try
                     lu_valid = False
