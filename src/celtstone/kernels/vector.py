@@ -65,16 +65,6 @@ def add_outer(m: Mat, s: float, u: Vec, v: Vec) -> Mat:
 
 
 @kernel
-def det3(m: Mat) -> float:
-    """Determinant of a 3x3 matrix."""
-    return (
-        m[0] * (m[4] * m[8] - m[5] * m[7])
-        - m[1] * (m[3] * m[8] - m[5] * m[6])
-        + m[2] * (m[3] * m[7] - m[4] * m[6])
-    )
-
-
-@kernel
 def solve3(m: Mat, b: Vec) -> tuple[Vec, float]:
     """Solve M x = b by the adjugate; returns (x, det M). x is zero when det M == 0."""
     c00 = m[4] * m[8] - m[5] * m[7]

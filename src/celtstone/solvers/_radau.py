@@ -34,15 +34,6 @@ SQRT_EPS = math.sqrt(np.finfo(np.float64).eps)
 
 
 @kernel
-def rms(values, scale):
-    """Root-mean-square of values / scale."""
-    total = 0.0
-    for j in range(values.shape[0]):
-        total += (values[j] / scale[j]) ** 2
-    return math.sqrt(total / values.shape[0])
-
-
-@kernel
 def jacobian(model, params, t, y, f, out, scratch, column):
     """Forward-difference Jacobian df/dy into ``out`` (n, n); N_STATE evaluations."""
     n = y.shape[0]
