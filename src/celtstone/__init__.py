@@ -9,6 +9,7 @@ influence of sliding on the Celt rattleback motion" (see README).
 >>> run.dataset["spin"]  # doctest: +SKIP
 """
 
+from celtstone.analysis import reversal_times as reversal_times
 from celtstone.bodies import Body as Body
 from celtstone.bodies import Ellipsoid as Ellipsoid
 from celtstone.bodies import Paraboloid as Paraboloid
@@ -45,6 +46,7 @@ __all__ = [
     "list_bodies",
     "load_body",
     "model_from_name",
+    "reversal_times",
     "simulate",
     "version",
 ]

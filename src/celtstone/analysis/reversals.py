@@ -1,0 +1,71 @@
+"""Spin reversals defined with hysteresis.
+
+Around a reversal the raw spin ω·n can cross zero several times within a few
+hundredths of a second (the rocking modulates it), and a sliding stone whose spin
+has died dithers around zero. A *reversal* here is a change of the sense of spin
+that is held: the spin leaves the band |ω·n| <= ``threshold`` on the opposite side
+from the one it last left it on. Its time is the last zero crossing before the
+spin leaves the band.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from celtstone.errors import ParameterError
+
+__all__ = ["reversal_times"]
+
+
+def reversal_times(
+    time: np.ndarray,
+    spin: np.ndarray,
+    threshold: float,
+    crossings: np.ndarray | None = None,
+) -> np.ndarray:
+    """Times [s] at which the sense of spin reverses, with hysteresis band ``threshold``.
+
+    Parameters
+    ----------
+    time : sample times [s], shape (k,), increasing
+    spin : spin ω·n at those times [rad/s], shape (k,)
+    threshold : half-width of the band around zero [rad/s], > 0
+    crossings : exact zero-crossing times [s] (``Trajectory.spin_crossings``); when
+        given, the reversal time is the last of them before the spin leaves the band,
+        otherwise the last sign change of the samples, linearly interpolated
+
+    Returns
+    -------
+    numpy.ndarray
+        reversal times [s], shape (r,)
+    """
+    time = np.asarray(time, dtype=float)
+    spin = np.asarray(spin, dtype=float)
+    if not threshold > 0.0:
+        raise ParameterError("threshold", threshold, "a number > 0 rad/s")
+    if time.shape != spin.shape or time.ndim != 1:
+        raise ParameterError("spin", spin.shape, f"an array of the shape of time {time.shape}")
+    sense = 0
+    reversals = []
+    for index in np.flatnonzero(np.abs(spin) > threshold):
+        current = 1 if spin[index] > 0 else -1
+        if sense != 0 and current != sense:
+            reversals.append(_last_zero_before(time, spin, int(index), crossings))
+        sense = current
+    return np.array(reversals)
+
+
+def _last_zero_before(
+    time: np.ndarray, spin: np.ndarray, index: int, crossings: np.ndarray | None
+) -> float:
+    if crossings is not None:
+        earlier = crossings[crossings <= time[index]]
+        if earlier.size:
+            return float(earlier[-1])
+    signs = np.sign(spin[: index + 1])
+    changes = np.flatnonzero(signs[:-1] * signs[1:] <= 0)
+    k = changes[-1]
+    if spin[k] == spin[k + 1]:
+        return float(time[k])
+    fraction = spin[k] / (spin[k] - spin[k + 1])
+    return float(time[k] + fraction * (time[k + 1] - time[k]))
