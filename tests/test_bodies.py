@@ -208,3 +208,35 @@ def test_moments_violating_the_triangle_inequality_are_rejected(
         cs.Body(name="random", mass=1.0, inertia=tensor.tolist(), shape=SHAPE)
     assert caught.value.name == "inertia"
     assert "A3 <= A1 + A2" in caught.value.allowed
+
+
+def test_toy_rattleback_follows_from_its_derivation() -> None:
+    """The toy's mass, G offset and inertia tensor follow from its [derivation] table:
+    a solid half-ellipsoid (volume 2πabc/3, G at 3c/8 below the centre, second moments
+    m a²/5, m b²/5, m c²/5 about the centre) plus two point masses μ at ±(x0, y0, 0),
+    moved to the common centre of mass (parallel-axis theorem)."""
+    import tomllib
+
+    text = resources.files("celtstone.bodies").joinpath("data/toy_rattleback_10cm.toml")
+    data = tomllib.loads(text.read_text(encoding="utf-8"))["derivation"]
+    a, b, c = data["semi_axes"]
+    mu = data["point_mass"]
+    x0, y0 = data["point_mass_position"]
+    shell = data["density"] * 2.0 / 3.0 * math.pi * a * b * c
+    mass = shell + 2.0 * mu
+    h = 3.0 * c / 8.0 * shell / mass
+    expected = np.array(
+        [
+            [shell * (b * b + c * c) / 5 + 2 * mu * y0 * y0 - mass * h * h, -2 * mu * x0 * y0, 0],
+            [-2 * mu * x0 * y0, shell * (a * a + c * c) / 5 + 2 * mu * x0 * x0 - mass * h * h, 0],
+            [0, 0, shell * (a * a + b * b) / 5 + 2 * mu * (x0 * x0 + y0 * y0)],
+        ]
+    )
+    toy = cs.load_body("toy_rattleback_10cm")
+    assert toy.mass == pytest.approx(mass, rel=1e-9)
+    assert toy.shape.com_offset == pytest.approx(h, rel=1e-8)
+    assert toy.shape.semi_axes == (a, b, c)
+    np.testing.assert_allclose(toy.inertia_array, expected, rtol=2e-6, atol=1e-12)
+    # a stable rest (l < rho2) and a misalignment of a few degrees, as in real toys
+    assert toy.shape.rest_height < toy.shape.radii_of_curvature[1]
+    assert 1.0 < math.degrees(abs(toy.misalignment_angle)) < 5.0

@@ -3,16 +3,29 @@
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
+import pandas as pd
 import xarray as xr
 
 from celtstone.errors import ParameterError
 
-__all__ = ["FORMATS", "atomic_path", "check_target", "to_csv", "write"]
+__all__ = [
+    "FORMATS",
+    "atomic_path",
+    "check_target",
+    "read_run",
+    "read_table",
+    "to_csv",
+    "write",
+    "write_json",
+    "write_table",
+]
 
 FORMATS = (".nc", ".csv")
 
@@ -91,3 +104,62 @@ def write(dataset: xr.Dataset, path: str | Path) -> Path:
         else:
             to_csv(dataset, temporary)
     return target
+
+
+def write_table(table: pd.DataFrame, path: str | Path, provenance: Mapping[str, Any]) -> Path:
+    """Write ``table`` as CSV, whole or not at all, after ``# key: value`` header lines.
+
+    ``provenance`` names the body source, model, friction law, tolerances and the
+    celtstone version; :func:`read_table` reads the file back.
+    """
+    target = Path(path)
+    with atomic_path(target) as temporary:
+        with open(temporary, "w", encoding="utf-8", newline="") as stream:
+            for key, value in provenance.items():
+                text = str(value).replace("\n", " ")
+                stream.write(f"# {key}: {text}\n")
+            table.to_csv(stream, index=False, float_format="%.12g")
+    return target
+
+
+def read_table(path: str | Path) -> tuple[pd.DataFrame, dict[str, str]]:
+    """A CSV written by :func:`write_table`: the table and its provenance header."""
+    provenance: dict[str, str] = {}
+    with open(path, encoding="utf-8") as stream:
+        for line in stream:
+            if not line.startswith("# "):
+                break
+            key, _, value = line[2:].rstrip("\n").partition(": ")
+            provenance[key] = value
+    return pd.read_csv(path, skiprows=len(provenance)), provenance
+
+
+def write_json(data: Any, path: str | Path) -> Path:
+    """Write ``data`` as indented JSON, whole or not at all."""
+    target = Path(path)
+    with atomic_path(target) as temporary:
+        temporary.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+    return target
+
+
+def read_run(path: str | Path) -> xr.Dataset:
+    """A run written by celtstone (``celtstone run --out RUN.nc``), loaded into memory.
+
+    Raises
+    ------
+    ParameterError
+        if ``path`` is not a readable NetCDF file with a celtstone run in it.
+    """
+    source = Path(path)
+    allowed = "an existing NetCDF file written by `celtstone run --out RUN.nc`"
+    if not source.is_file():
+        raise ParameterError("run", str(path), allowed)
+    try:
+        with xr.open_dataset(source, engine="netcdf4") as opened:
+            dataset = opened.load()
+    except (OSError, ValueError) as error:
+        raise ParameterError("run", str(path), allowed, f"cannot read it: {error}") from None
+    missing = [name for name in ("spin", "energy", "time") if name not in dataset.variables]
+    if dataset.attrs.get("software") != "celtstone" or missing:
+        raise ParameterError("run", str(path), allowed, "it is not a celtstone run")
+    return dataset

@@ -105,6 +105,13 @@ PARAMETERS: dict[str, Quantity] = {
         ),
         _q("max_steps", "max_steps", "", "largest number of integrator steps", lower=1.0),
         _q("n_samples", "n_samples", "", "number of output samples", lower=2.0),
+        _q(
+            "reversal_band",
+            "band",
+            "rad/s",
+            "half-width of the hysteresis band that defines a spin reversal",
+            **_POSITIVE,
+        ),
     ]
 }
 

@@ -11,10 +11,16 @@ spin leaves the band.
 from __future__ import annotations
 
 import numpy as np
+import xarray as xr
 
 from celtstone.errors import ParameterError
 
-__all__ = ["reversal_times"]
+__all__ = [
+    "REVERSAL_BAND_FRACTION",
+    "dataset_reversal_times",
+    "reversal_band",
+    "reversal_times",
+]
 
 
 def reversal_times(
@@ -69,3 +75,27 @@ def _last_zero_before(
         return float(time[k])
     fraction = spin[k] / (spin[k] - spin[k + 1])
     return float(time[k] + fraction * (time[k + 1] - time[k]))
+
+
+REVERSAL_BAND_FRACTION = 0.04
+"""Default half-width of the hysteresis band, as a fraction of the initial |spin|
+(0.2 rad/s for the Kane & Levinson start at 5 rad/s)."""
+
+
+def reversal_band(initial_spin: float) -> float:
+    """Default band half-width [rad/s]: ``REVERSAL_BAND_FRACTION`` |initial spin|.
+
+    Raises ParameterError for a start without spin (no sense to reverse).
+    """
+    band = REVERSAL_BAND_FRACTION * abs(float(initial_spin))
+    if not band > 0.0 or not np.isfinite(band):
+        raise ParameterError("initial spin", initial_spin, "a finite spin != 0 rad/s")
+    return band
+
+
+def dataset_reversal_times(dataset: xr.Dataset, threshold: float | None = None) -> np.ndarray:
+    """Reversal times [s] of a run's dataset; default band from its initial spin."""
+    spin = dataset["spin"].values
+    band = reversal_band(spin[0]) if threshold is None else threshold
+    crossings = dataset["spin_crossings"].values if "spin_crossings" in dataset else None
+    return reversal_times(dataset["time"].values, spin, band, crossings)

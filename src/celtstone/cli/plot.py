@@ -1,0 +1,36 @@
+"""``celtstone plot RUN.nc``: spin, tilt, energy, slip, normal force and contact track."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from celtstone.export import read_run
+from celtstone.plotting import plot_run, save_figure
+from celtstone.plotting.save import check_figure_target
+from celtstone.schema import check
+
+HELP = "plot a saved run (RUN.nc) to PNG or SVG"
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    """Options of ``celtstone plot``."""
+    parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
+    parser.add_argument(
+        "--out", default=None, metavar="FILE.png|FILE.svg", help="figure file (default: RUN.png)"
+    )
+    parser.add_argument(
+        "--band",
+        type=str,
+        default=None,
+        help="hysteresis band of a reversal [rad/s], > 0 (default: 4 %% of the initial spin)",
+    )
+
+
+def handle(args: argparse.Namespace) -> int:
+    """Draw the run and write the figure."""
+    target = check_figure_target(args.out or Path(args.run).with_suffix(".png"))
+    band = None if args.band is None else check("reversal_band", args.band)
+    figure = plot_run(read_run(args.run), threshold=band)
+    print(f"figure: {save_figure(figure, target)}")
+    return 0

@@ -1,0 +1,22 @@
+"""Figures of runs, comparisons and sweeps, drawn with matplotlib's object API.
+
+No pyplot and no global backend: every function returns a
+:class:`matplotlib.figure.Figure`; :func:`save_figure` writes it (PNG or SVG)
+whole or not at all.
+"""
+
+from celtstone.plotting.compare import plot_energy_budget as plot_energy_budget
+from celtstone.plotting.compare import plot_spin_comparison as plot_spin_comparison
+from celtstone.plotting.run import plot_run as plot_run
+from celtstone.plotting.save import FIGURE_FORMATS as FIGURE_FORMATS
+from celtstone.plotting.save import save_figure as save_figure
+from celtstone.plotting.threshold import plot_threshold as plot_threshold
+
+__all__ = [
+    "FIGURE_FORMATS",
+    "plot_energy_budget",
+    "plot_run",
+    "plot_spin_comparison",
+    "plot_threshold",
+    "save_figure",
+]

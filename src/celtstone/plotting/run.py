@@ -1,0 +1,83 @@
+"""One run at a glance: spin, tilt, energy, slip speed, normal force, contact track."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from celtstone.analysis import dataset_reversal_times
+from celtstone.plotting.labels import axis_label, run_title
+
+__all__ = ["mark_reversals", "plot_run"]
+
+_TIME_PANELS = ("spin", "tilt", "energy", "slip_speed", "normal_force")
+
+
+def mark_reversals(axes: Axes, times: Sequence[float] | np.ndarray, color: str = "0.4") -> None:
+    """Dashed vertical lines at the reversal times [s], labelled once in the legend."""
+    for index, time in enumerate(times):
+        axes.axvline(
+            float(time),
+            color=color,
+            linestyle="--",
+            linewidth=0.8,
+            label="reversal" if index == 0 else "_nolegend_",
+        )
+
+
+def _values(dataset: xr.Dataset, name: str) -> np.ndarray:
+    values = np.asarray(dataset[name].values, dtype=float)
+    return np.degrees(values) if name == "tilt" else values
+
+
+def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
+    """Six panels of a run; reversals (hysteresis band ``threshold`` [rad/s]) marked.
+
+    Panels: spin, tilt, energy (with the energy lost beside the friction work in
+    sliding), slip speed and normal force against time, and the contact point's
+    track on the plane.
+    """
+    figure = Figure(figsize=(11.0, 10.0), layout="constrained")
+    grid = figure.subplots(3, 2)
+    time = dataset["time"].values
+    reversals = dataset_reversal_times(dataset, threshold)
+    for axes, name in zip(grid.flat, _TIME_PANELS, strict=False):
+        axes.plot(time, _values(dataset, name), linewidth=1.0, label=name.replace("_", " "))
+        if name == "spin":
+            axes.axhline(0.0, color="black", linewidth=0.5)
+            mark_reversals(axes, reversals)
+        axes.set_xlabel(axis_label("time"))
+        axes.set_ylabel(axis_label(name))
+        axes.grid(alpha=0.3)
+    energy_axes = grid.flat[2]
+    lost = dataset["energy"].values[0] - dataset["energy"].values
+    if np.any(dataset["dissipated_work"].values != 0.0):
+        twin = energy_axes.twinx()
+        twin.plot(time, lost, color="tab:red", linewidth=1.0, label="energy lost")
+        twin.plot(
+            time,
+            dataset["dissipated_work"].values,
+            color="black",
+            linestyle=":",
+            linewidth=1.2,
+            label="friction work",
+        )
+        twin.set_ylabel("energy lost, friction work [J]")
+        twin.legend(loc="center right", fontsize="small")
+    track = grid.flat[5]
+    contact = dataset["contact_position"].values
+    track.plot(contact[:, 0], contact[:, 1], linewidth=0.8, label="contact point")
+    track.plot(contact[:1, 0], contact[:1, 1], "o", color="tab:green", label="start")
+    track.plot(contact[-1:, 0], contact[-1:, 1], "s", color="tab:red", label="end")
+    track.set_aspect("equal", adjustable="datalim")
+    track.set_xlabel(axis_label("contact_x"))
+    track.set_ylabel(axis_label("contact_y"))
+    track.grid(alpha=0.3)
+    for axes in grid.flat:
+        axes.legend(loc="upper right", fontsize="small")
+    figure.suptitle(run_title(dataset))
+    return figure

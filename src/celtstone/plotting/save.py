@@ -1,0 +1,34 @@
+"""Write a figure to PNG or SVG, whole or not at all."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from matplotlib.figure import Figure
+
+from celtstone.errors import ParameterError
+from celtstone.export import atomic_path
+
+__all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure"]
+
+FIGURE_FORMATS = (".png", ".svg")
+DPI = 150
+
+
+def check_figure_target(path: str | Path) -> Path:
+    """``path`` as a Path if it names a PNG or SVG file in an existing directory."""
+    target = Path(path)
+    if target.suffix.lower() not in FIGURE_FORMATS:
+        raise ParameterError("out", str(path), "a file name ending in .png or .svg")
+    directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise ParameterError("out", str(path), "a file in an existing directory")
+    return target
+
+
+def save_figure(figure: Figure, path: str | Path) -> Path:
+    """Save ``figure`` to ``path`` (.png at 150 dpi, or .svg) via a temporary file."""
+    target = check_figure_target(path)
+    with atomic_path(target) as temporary:
+        figure.savefig(temporary, format=target.suffix.lower()[1:], dpi=DPI)
+    return target

@@ -1,0 +1,90 @@
+"""Figure 2 analogue: spin against time, rolling and sliding at f = 0.35, 0.25, 0.15.
+
+Sliding runs use ε = 1 mm with N = m g (the paper's first approximation) and
+with the dynamic normal force, same body and start (paper section 4).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from celtstone.export import write_json, write_table
+from celtstone.models import Model
+from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure
+from celtstone.reproduce.cases import case_name, provenance, run_case, summarise
+from celtstone.reproduce.progress import Progress
+from celtstone.reproduce.study import Study
+
+__all__ = ["NORMAL_FORCES", "figure2", "figure2_models"]
+
+NORMAL_FORCES = ("static", "dynamic")
+
+
+def figure2_models(study: Study) -> list[Model]:
+    """Rolling, then sliding at each f with each normal-force option."""
+    models: list[Model] = [study.rolling()]
+    for friction in study.frictions:
+        models.extend(study.sliding(friction, normal) for normal in NORMAL_FORCES)
+    return models
+
+
+def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
+    """Run, write data, figures and table of Figure 2 for ``study``; return the numbers."""
+    body = study.load_body()
+    stem = f"fig2_{body.name}"
+    data = out / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    datasets = {}
+    cases = []
+    for model in figure2_models(study):
+        name = case_name(model)
+        progress.set_description(f"{stem}: {name}")
+        path = data / f"{stem}_{name}.nc"
+        trajectory = run_case(study, body, model, study.fig2_t_end, path)
+        datasets[name] = trajectory.dataset
+        cases.append(
+            {
+                "case": name,
+                "file": str(path.relative_to(out)),
+                **summarise(trajectory, body, study.band),
+            }
+        )
+        progress.update(1)
+    panels = [[datasets["rolling"]]] + [
+        [datasets[case_name(study.sliding(f, normal))] for normal in NORMAL_FORCES]
+        for f in study.frictions
+    ]
+    title = (
+        f"Figure 2 analogue, {body.name}: spin against time (ε = {study.contact_radius * 1e3:g} mm)"
+    )
+    figure = plot_spin_comparison(panels, title, threshold=study.band)
+    energy = plot_energy_budget(
+        [datasets["rolling"]]
+        + [datasets[case_name(study.sliding(f, "static"))] for f in study.frictions],
+        f"{body.name}: energy and energy budget, sliding with N = m g",
+    )
+    figures = []
+    for suffix in (".png", ".svg"):
+        figures.append(str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out)))
+        figures.append(str(save_figure(energy, out / f"{stem}_energy{suffix}").relative_to(out)))
+    table = pd.DataFrame(
+        [{k: v for k, v in case.items() if k != "reversal_times"} for case in cases]
+    )
+    header = provenance(study, body, t_end_s=study.fig2_t_end, target="fig2")
+    write_table(table, out / f"{stem}.csv", header)
+    result = {
+        "target": "fig2",
+        "study": study.describe(),
+        "body": body.name,
+        "t_end": study.fig2_t_end,
+        "band": study.band,
+        "frictions": list(study.frictions),
+        "cases": cases,
+        "figures": sorted(figures),
+        "table": f"{stem}.csv",
+    }
+    write_json(result, data / f"{stem}.json")
+    return result

@@ -1,0 +1,77 @@
+"""Figure 3 analogue: a long run, rolling against sliding at f = 0.35.
+
+The run is long enough for at least three reversals in rolling; the paper's
+statement is about the sign changes after the second one.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from celtstone.export import write_json, write_table
+from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure
+from celtstone.reproduce.cases import case_name, provenance, run_case, summarise
+from celtstone.reproduce.progress import Progress
+from celtstone.reproduce.study import Study
+
+__all__ = ["figure3"]
+
+
+def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
+    """Run, write data, figures and table of Figure 3 for ``study``; return the numbers."""
+    body = study.load_body()
+    stem = f"fig3_{body.name}"
+    data = out / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    datasets = []
+    cases = []
+    for model in (study.rolling(), study.sliding(study.fig3_friction, "static")):
+        name = case_name(model)
+        progress.set_description(f"{stem}: {name}")
+        path = data / f"{stem}_{name}.nc"
+        trajectory = run_case(study, body, model, study.fig3_t_end, path)
+        datasets.append(trajectory.dataset)
+        cases.append(
+            {
+                "case": name,
+                "file": str(path.relative_to(out)),
+                **summarise(trajectory, body, study.band),
+            }
+        )
+        progress.update(1)
+    title = (
+        f"Figure 3 analogue, {body.name}: long run, rolling and sliding f = {study.fig3_friction:g}"
+    )
+    figure = plot_spin_comparison([[d] for d in datasets], title, threshold=study.band, columns=1)
+    energy = plot_energy_budget(datasets, f"{body.name}: energy over the long run")
+    figures = []
+    for suffix in (".png", ".svg"):
+        figures.append(str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out)))
+        figures.append(str(save_figure(energy, out / f"{stem}_energy{suffix}").relative_to(out)))
+    table = pd.DataFrame(
+        [
+            {
+                **{k: v for k, v in case.items() if k != "reversal_times"},
+                "reversal_times": " ".join(f"{t:.6g}" for t in case["reversal_times"]),
+            }
+            for case in cases
+        ]
+    )
+    header = provenance(study, body, t_end_s=study.fig3_t_end, target="fig3")
+    write_table(table, out / f"{stem}.csv", header)
+    result = {
+        "target": "fig3",
+        "study": study.describe(),
+        "body": body.name,
+        "t_end": study.fig3_t_end,
+        "band": study.band,
+        "friction": study.fig3_friction,
+        "cases": cases,
+        "figures": sorted(figures),
+        "table": f"{stem}.csv",
+    }
+    write_json(result, data / f"{stem}.json")
+    return result

@@ -1,0 +1,164 @@
+"""The friction threshold: where the Celt reversal appears or disappears as f varies.
+
+Runs the study's f grid, then brackets every change between "reverses" and
+"does not reverse" on the grid by bisection down to ``bisection_tolerance``.
+A reversal is a change of the sense of spin held beyond the study's hysteresis
+band (``analysis.reversal_times``) within ``threshold_t_end``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from celtstone.bodies import Body
+from celtstone.export import write_json, write_table
+from celtstone.plotting import plot_threshold, save_figure
+from celtstone.reproduce.cases import provenance, run_case, summarise
+from celtstone.reproduce.progress import Progress
+from celtstone.reproduce.study import Study
+
+__all__ = ["bisection_steps", "threshold"]
+
+_COLUMNS = (
+    "friction_coefficient",
+    "source",
+    "reverses",
+    "first_reversal_time",
+    "reversal_count",
+    "peak_reversed_spin",
+    "energy_final",
+    "energy_rest",
+    "dissipated_work",
+    "max_budget_error",
+    "status",
+)
+
+
+def bisection_steps(width: float, tolerance: float) -> int:
+    """Halvings that shrink a bracket of ``width`` to at most ``tolerance``."""
+    return max(0, math.ceil(math.log2(width / tolerance))) if width > tolerance else 0
+
+
+def _point(study: Study, body: Body, friction: float, source: str) -> dict[str, Any]:
+    trajectory = run_case(study, body, study.sliding(friction), study.threshold_t_end, None)
+    case = summarise(trajectory, body, study.band)
+    first = case["first_reversal_time"]
+    return {
+        "friction_coefficient": float(friction),
+        "source": source,
+        "reverses": first is not None,
+        "first_reversal_time": first if first is not None else math.nan,
+        "reversal_count": len(case["reversal_times"]),
+        "peak_reversed_spin": case["peak_reversed_spin"],
+        "energy_final": case["energy_final"],
+        "energy_rest": case["energy_rest"],
+        "dissipated_work": case["dissipated_work"],
+        "max_budget_error": case["max_budget_error"],
+        "status": case["status"],
+    }
+
+
+def _bisect(
+    study: Study,
+    body: Body,
+    low: dict[str, Any],
+    high: dict[str, Any],
+    rows: list,
+    progress: Progress,
+) -> dict[str, Any]:
+    """Shrink [low, high] (opposite outcomes) to the tolerance; record every run."""
+    start = (low["friction_coefficient"], high["friction_coefficient"])
+    while high["friction_coefficient"] - low["friction_coefficient"] > study.bisection_tolerance:
+        middle = _point(
+            study,
+            body,
+            0.5 * (low["friction_coefficient"] + high["friction_coefficient"]),
+            "bisection",
+        )
+        rows.append(middle)
+        progress.update(1)
+        if middle["reverses"] == low["reverses"]:
+            low = middle
+        else:
+            high = middle
+    f_low, f_high = low["friction_coefficient"], high["friction_coefficient"]
+    return {
+        "kind": "appears" if high["reverses"] else "disappears",
+        "grid_bracket": list(start),
+        "bracket": [f_low, f_high],
+        "estimate": 0.5 * (f_low + f_high),
+    }
+
+
+def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
+    """Run the f grid and the bisections; write CSV, figure and numbers."""
+    body = study.load_body()
+    stem = f"threshold_{body.name}"
+    data = out / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    rows: list[dict[str, Any]] = []
+    for friction in study.friction_grid():
+        progress.set_description(f"{stem}: f = {friction:.3g}")
+        rows.append(_point(study, body, friction, "grid"))
+        progress.update(1)
+    grid_rows = list(rows)
+    pairs = [(a, b) for a, b in itertools.pairwise(grid_rows) if a["reverses"] != b["reverses"]]
+    if progress.total is not None:
+        widths = [b["friction_coefficient"] - a["friction_coefficient"] for a, b in pairs]
+        progress.total += sum(bisection_steps(w, study.bisection_tolerance) for w in widths)
+        progress.refresh()
+    progress.set_description(f"{stem}: bisection")
+    boundaries = [_bisect(study, body, a, b, rows, progress) for a, b in pairs]
+    table = pd.DataFrame(rows, columns=list(_COLUMNS)).sort_values("friction_coefficient")
+    header = provenance(
+        study,
+        body,
+        target="threshold",
+        t_end_s=study.threshold_t_end,
+        normal_force="static (N = m g)",
+        bisection_tolerance=study.bisection_tolerance,
+    )
+    write_table(table, out / f"{stem}.csv", header)
+    title = (
+        f"Threshold, {body.name}: sliding, ε = {study.contact_radius * 1e3:g} mm, N = m g, "
+        f"runs of {study.threshold_t_end:g} s"
+    )
+    figure = plot_threshold(table, title, [b["estimate"] for b in boundaries])
+    figures = [
+        str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out))
+        for suffix in (".png", ".svg")
+    ]
+    reversing = [r["friction_coefficient"] for r in rows if r["reverses"]]
+    appears = [b for b in boundaries if b["kind"] == "appears"]
+    result = {
+        "target": "threshold",
+        "study": study.describe(),
+        "body": body.name,
+        "t_end": study.threshold_t_end,
+        "band": study.band,
+        "grid": [float(f) for f in study.friction_grid()],
+        "grid_reverses": [bool(r["reverses"]) for r in grid_rows],
+        "boundaries": boundaries,
+        "lowest_reversing_f": min(appears, key=lambda b: b["estimate"])["bracket"][1]
+        if appears
+        else None,
+        "reverses_anywhere": bool(reversing),
+        "reversal_time_by_f": [
+            [
+                r["friction_coefficient"],
+                None if np.isnan(r["first_reversal_time"]) else r["first_reversal_time"],
+            ]
+            for r in grid_rows
+        ],
+        "energy_final_by_f": [[r["friction_coefficient"], r["energy_final"]] for r in grid_rows],
+        "figures": figures,
+        "table": f"{stem}.csv",
+    }
+    write_json(result, data / f"{stem}.json")
+    return result

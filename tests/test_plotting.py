@@ -1,0 +1,121 @@
+"""Figures drawn on the Agg backend, checked by their artists (lines, labels, titles)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.lines import Line2D
+
+import celtstone as cs
+from celtstone.cli.main import main
+from celtstone.export import write
+from celtstone.plotting import (
+    plot_energy_budget,
+    plot_run,
+    plot_spin_comparison,
+    plot_threshold,
+    save_figure,
+)
+
+
+@pytest.fixture(scope="module")
+def runs(kane_levinson: cs.Body) -> dict[str, cs.Trajectory]:
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0))
+    return {
+        "rolling": cs.simulate(cs.RollingModel(), kane_levinson, state, 4.0),
+        "sliding": cs.simulate(
+            cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3),
+            kane_levinson,
+            state,
+            4.0,
+            rtol=1e-8,
+            atol=1e-10,
+        ),
+    }
+
+
+def _vertical_lines(axes) -> list[Line2D]:
+    return [
+        line
+        for line in axes.get_lines()
+        if len(set(np.atleast_1d(line.get_xdata()))) == 1 and len(line.get_xdata()) == 2
+    ]
+
+
+def test_plot_run_panels_labels_and_reversals(runs: dict[str, cs.Trajectory]) -> None:
+    dataset = runs["sliding"].dataset
+    figure = plot_run(dataset)
+    axes = [a for a in figure.axes if a.get_visible()]
+    ylabels = [a.get_ylabel() for a in axes]
+    for expected in ("[rad/s]", "[deg]", "[J]", "[m/s]", "[N]", "[m]"):
+        assert any(expected in label for label in ylabels), expected
+    spin_axes = axes[0]
+    assert "spin" in spin_axes.get_ylabel()
+    reversals = cs.analysis.dataset_reversal_times(dataset)
+    assert reversals.size == 1
+    marks = _vertical_lines(spin_axes)
+    assert [float(m.get_xdata()[0]) for m in marks] == pytest.approx(list(reversals))
+    assert "kane_levinson_1982" in figure.get_suptitle()
+    assert "sliding f = 0.35" in figure.get_suptitle()
+    assert all(a.get_legend() is not None for a in axes[:6])
+    # sliding: energy lost and friction work drawn on the energy panel's twin
+    labels = {line.get_label() for a in axes for line in a.get_lines()}
+    assert {"energy lost", "friction work", "contact point"} <= labels
+
+
+def test_plot_run_rolling_has_no_budget_axis(runs: dict[str, cs.Trajectory]) -> None:
+    figure = plot_run(runs["rolling"].dataset)
+    assert len(figure.axes) == 6
+
+
+def test_spin_comparison_one_line_per_run(runs: dict[str, cs.Trajectory]) -> None:
+    datasets = [runs["rolling"].dataset, runs["sliding"].dataset]
+    figure = plot_spin_comparison([[datasets[0]], [datasets[1]]], "Figure 2 analogue")
+    first, second = figure.axes[:2]
+    assert first.get_xlabel() == "time $t$ [s]"
+    assert "rolling" in [line.get_label() for line in first.get_lines()]
+    assert any(line.get_label().startswith("sliding f = 0.35") for line in second.get_lines())
+    assert figure.get_suptitle() == "Figure 2 analogue"
+    budget = plot_energy_budget(datasets, "budget")
+    assert budget.axes[2].get_yscale() == "log"
+    assert len(budget.axes[0].get_lines()) == 2
+
+
+def test_threshold_plot_marks(tmp_path: Path) -> None:
+    table = pd.DataFrame(
+        {
+            "friction_coefficient": [0.1, 0.2, 0.3],
+            "first_reversal_time": [np.nan, 3.0, 2.0],
+            "energy_final": [0.099, 0.0985, 0.098],
+            "energy_rest": [0.0981] * 3,
+        }
+    )
+    figure = plot_threshold(table, "threshold", boundaries=[0.15])
+    time_axes = figure.axes[0]
+    reversing = time_axes.get_lines()[0]
+    assert list(reversing.get_xdata()) == [0.2, 0.3]
+    assert [float(v) for v in time_axes.get_lines()[1].get_xdata()] == [0.1]
+    assert any(float(line.get_xdata()[0]) == 0.15 for line in _vertical_lines(time_axes))
+    for suffix in (".png", ".svg"):
+        path = save_figure(figure, tmp_path / f"t{suffix}")
+        assert path.stat().st_size > 1000
+    with pytest.raises(cs.ParameterError, match=r"\.png or \.svg"):
+        save_figure(figure, tmp_path / "t.pdf")
+
+
+def test_cli_plot_and_export(runs: dict[str, cs.Trajectory], tmp_path: Path) -> None:
+    run_file = write(runs["sliding"].dataset, tmp_path / "run.nc")
+    assert main(["plot", str(run_file), "--out", str(tmp_path / "run.svg")]) == 0
+    assert (tmp_path / "run.svg").read_text().lstrip().startswith("<?xml")
+    assert main(["plot", str(run_file)]) == 0
+    assert (tmp_path / "run.png").exists()
+    assert main(["export", str(run_file), "--csv"]) == 0
+    table = pd.read_csv(tmp_path / "run.csv", comment="#")
+    assert table["spin"].to_numpy() == pytest.approx(runs["sliding"].dataset["spin"].values)
+    assert main(["export", str(run_file)]) == 2
+    assert main(["export", str(run_file), "--csv", "--out", str(tmp_path / "x.txt")]) == 2
+    assert main(["plot", str(tmp_path / "missing.nc")]) == 2
+    assert main(["plot", str(run_file), "--band", "0"]) == 2
