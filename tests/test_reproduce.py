@@ -283,3 +283,4 @@ def test_verdict_rules() -> None:
     assert judge_long_run(long_run([3, 17, 31, 45], [2, 9, 12, 15], 4, 4)).reproduced == "yes"
     assert judge_long_run(long_run([3, 17, 31], [2], 10, 500)).reproduced == "partly"
     assert judge_long_run(long_run([3, 17], [2], 10, 500)).reproduced == "no"
+    assert judge_long_run(long_run([3, 17, 31], [], 10, 500)).reproduced == "no"

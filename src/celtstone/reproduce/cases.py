@@ -84,6 +84,7 @@ def summarise(trajectory: Trajectory, body: Body, band: float) -> dict[str, Any]
         "raw_sign_changes": int(trajectory.spin_crossings.size),
         "first_raw_sign_change": trajectory.first_reversal_time,
         "peak_reversed_spin": float(np.max(sense * spin)),
+        "spin_initial": float(spin[0]),
         "spin_final": float(spin[-1]),
         "energy_initial": float(energy[0]),
         "energy_final": float(energy[-1]),

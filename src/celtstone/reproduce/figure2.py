@@ -81,6 +81,7 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         "body": body.name,
         "t_end": study.fig2_t_end,
         "band": study.band,
+        "contact_radius": study.contact_radius,
         "frictions": list(study.frictions),
         "cases": cases,
         "figures": sorted(figures),

@@ -189,7 +189,7 @@ def judge_long_run(fig3: dict[str, Any]) -> Verdict:
             "yes" if faster else "no",
             "" if faster else "sliding reversals are not more frequent",
         )
-    if sliding["raw_sign_changes"] > rolling["raw_sign_changes"]:
+    if s_times and sliding["raw_sign_changes"] > rolling["raw_sign_changes"]:
         return Verdict(
             ours,
             "partly",

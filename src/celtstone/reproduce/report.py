@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from celtstone.bodies import load_body
 from celtstone.export import atomic_path
 from celtstone.integrate import version
 from celtstone.reproduce.findings import (
@@ -79,23 +81,25 @@ _WHY = """\
 ## Why our numbers differ from the paper's
 
 The paper gives no body parameters, so no number of ours can be compared with its
-figures digit for digit; what can be compared is the direction of each effect. Our two
+figures digit for digit; what can be compared is the direction of each effect. Our
 bodies (`docs/bodies.md`) are the Kane & Levinson (1982) ellipsoid, a heavy (1 kg, 40 cm)
-benchmark, and a derived 10 cm, 14 g toy. With ε = 1 mm the sliding model has two ways to
-lose the reversal:
+benchmark, and a derived 10 cm, 14 g toy. With ε = 1 mm the sliding model has two ways
+to lose the reversal:
 
 * **small f**: the contact slides so easily that the tangential friction force cannot
   carry the coupling between rocking and spin that produces the Celt effect (in rolling
   the constraint force does it); the rocking energy is dissipated by slip instead;
-* **large f with a light body**: the pivoting moment M0 = 3π f N ε / 16 (eq. 12) brakes the
-  spin before the rocking instability has grown. For the toy, M0 at f = 0.35 is
-  3π·0.35·0.142·0.001/16 ≈ 2.9e-5 N m against a spin angular momentum of only
-  C ω ≈ 8.3e-6·5 ≈ 4.2e-5 N m s: the spin is gone in about 1.5 s.
+* **large f with a light body**: the pivoting moment M0 = 3π f N ε / 16 (eq. 12) brakes
+  the spin before the rocking instability has grown. The table gives, for f = 0.35, the
+  time C |ω0| / M0 in which M0 alone would stop the initial spin, beside the first
+  reversal time in rolling.
+
+{braking}
 
 The window of f in which the stone reverses therefore depends on the mass, the inertia,
 the curvatures and ε; the paper's "about 0.1" belongs to its (unpublished) body. A real
-toy of 14 g has a Hertz contact radius of order 0.1 mm, not 1 mm: we keep the paper's ε so
-the comparison is with the paper, and leave other ε to `celtstone sweep`.
+toy of 14 g has a Hertz contact radius of order 0.1 mm, not 1 mm: we keep the paper's ε
+so that the comparison is with the paper, and leave other ε to parameter sweeps.
 
 Reversal times: a *reversal* here is a change of the sense of spin held beyond a
 hysteresis band of 4 % of the initial spin (0.2 rad/s for ω0 = 5 rad/s); the raw spin
@@ -103,6 +107,30 @@ crosses zero several times within hundredths of a second around a reversal, and 
 sliding stone whose spin has died changes sign many times without reversing
 (`celtstone.analysis.reversal_times`).
 """
+
+BRAKING_FRICTION = 0.35
+
+
+def _braking_table(fig2: dict[str, dict[str, Any]]) -> str:
+    """Pivot braking time C|ω0|/M0 at f = 0.35 against the rolling reversal time."""
+    lines = [
+        "| body | M0 at f = 0.35 [N m] | C ω0 (magnitude) [N m s] | braking time [s] "
+        "| rolling reversal [s] |",
+        "|---|---|---|---|---|",
+    ]
+    for name, result in fig2.items():
+        body = load_body(name)
+        spin = abs(float(result["cases"][0]["spin_initial"]))
+        moment = 3.0 * math.pi * BRAKING_FRICTION * body.mass * body.gravity * 1e-3 / 16.0
+        moment *= result["contact_radius"] / 1e-3
+        momentum = body.inertia_array[2, 2] * spin
+        rolling = next(c for c in result["cases"] if c["model"] == "rolling")
+        first = rolling["first_reversal_time"]
+        lines.append(
+            f"| {name} | {moment:.3g} | {momentum:.3g} | {momentum / moment:.3g} | "
+            f"{'none' if first is None else f'{first:.3g}'} |"
+        )
+    return "\n".join(lines)
 
 
 def render_report(out: Path) -> str:
@@ -182,7 +210,7 @@ def render_report(out: Path) -> str:
         judge_long_run,
         lambda r: [f for f in r["figures"] if "_energy" not in f],
     )
-    lines.append(_WHY)
+    lines.append(_WHY.format(braking=_braking_table(fig2) if fig2 else "(run fig2 for the table)"))
     return "\n".join(lines)
 
 
