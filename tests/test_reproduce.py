@@ -32,6 +32,11 @@ from celtstone.reproduce.progress import progress_bar
 KL = Study(body="kane_levinson_1982")
 
 
+def _quick_kl(out: Path) -> list[str]:
+    """CLI options of a quick, silent reproduction of the K&L body into ``out``."""
+    return ["--quick", "--no-progress", "--out", str(out), "--body", "kane_levinson_1982"]
+
+
 def _quiet(total: int = 0):
     return progress_bar(total, "test", enabled=False)
 
@@ -138,21 +143,7 @@ def test_threshold_reduced_kane_levinson(tmp_path: Path) -> None:
 def test_reproduce_all_quick_writes_report(tmp_path: Path) -> None:
     """The CLI end to end in --quick form for one body: every target, a report with a
     table per finding and a verdict in each."""
-    assert (
-        main(
-            [
-                "reproduce",
-                "all",
-                "--quick",
-                "--no-progress",
-                "--out",
-                str(tmp_path),
-                "--body",
-                "kane_levinson_1982",
-            ]
-        )
-        == 0
-    )
+    assert main(["reproduce", "all", *_quick_kl(tmp_path)]) == 0
     report = (tmp_path / "report.md").read_text()
     assert "--quick" in report
     for heading in ("Figure 2", "threshold", "Figure 3", "energy budget"):
@@ -180,18 +171,7 @@ def test_interrupt_leaves_only_whole_files(tmp_path: Path, monkeypatch: pytest.M
         return original(*args, **kwargs)
 
     monkeypatch.setattr(reproduce_cases, "simulate", interrupted)
-    code = main(
-        [
-            "reproduce",
-            "fig2",
-            "--quick",
-            "--no-progress",
-            "--out",
-            str(tmp_path),
-            "--body",
-            "kane_levinson_1982",
-        ]
-    )
+    code = main(["reproduce", "fig2", *_quick_kl(tmp_path)])
     assert code == 130
     assert not list(tmp_path.rglob("*.part"))
     assert not (tmp_path / "report.md").exists()

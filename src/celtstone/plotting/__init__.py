@@ -10,6 +10,7 @@ from celtstone.plotting.compare import plot_spin_comparison as plot_spin_compari
 from celtstone.plotting.run import plot_run as plot_run
 from celtstone.plotting.save import FIGURE_FORMATS as FIGURE_FORMATS
 from celtstone.plotting.save import save_figure as save_figure
+from celtstone.plotting.save import save_figure_formats as save_figure_formats
 from celtstone.plotting.threshold import plot_threshold as plot_threshold
 
 __all__ = [
@@ -19,4 +20,5 @@ __all__ = [
     "plot_spin_comparison",
     "plot_threshold",
     "save_figure",
+    "save_figure_formats",
 ]

@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from celtstone.errors import ParameterError
 from celtstone.export import atomic_path
 
-__all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure"]
+__all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure", "save_figure_formats"]
 
 FIGURE_FORMATS = (".png", ".svg")
 DPI = 150
@@ -32,3 +32,11 @@ def save_figure(figure: Figure, path: str | Path) -> Path:
     with atomic_path(target) as temporary:
         figure.savefig(temporary, format=target.suffix.lower()[1:], dpi=DPI)
     return target
+
+
+def save_figure_formats(figure: Figure, directory: Path, stem: str) -> list[str]:
+    """Save ``figure`` as ``stem.png`` and ``stem.svg`` in ``directory``; relative names."""
+    return [
+        str(save_figure(figure, directory / f"{stem}{suffix}").relative_to(directory))
+        for suffix in FIGURE_FORMATS
+    ]

@@ -7,17 +7,25 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.bodies import Body
-from celtstone.export import write
+from celtstone.export import write, write_json, write_table
 from celtstone.integrate import simulate, version
 from celtstone.models import Model
 from celtstone.reproduce.study import Study
 from celtstone.trajectory import Trajectory
 
-__all__ = ["ENERGY_MONOTONE_TOLERANCE", "case_name", "provenance", "run_case", "summarise"]
+__all__ = [
+    "ENERGY_MONOTONE_TOLERANCE",
+    "case_name",
+    "provenance",
+    "run_case",
+    "save_results",
+    "summarise",
+]
 
 ENERGY_MONOTONE_TOLERANCE = 1e-9
 """Largest rise of the sampled energy between samples, relative to E(0), still
@@ -96,3 +104,38 @@ def summarise(trajectory: Trajectory, body: Body, band: float) -> dict[str, Any]
         "min_normal_force": _float_or_none(trajectory.min_normal_force),
         "max_slip_speed": float(np.max(dataset["slip_speed"].values)),
     }
+
+
+def save_results(
+    target: str,
+    study: Study,
+    body: Body,
+    out: Path,
+    cases: list[dict[str, Any]],
+    figures: list[str],
+    t_end: float,
+    **extra: Any,
+) -> dict[str, Any]:
+    """Write the cases' table (CSV with provenance) and numbers (JSON); return the numbers."""
+    stem = f"{target}_{body.name}"
+    table = pd.DataFrame(
+        [
+            {**case, "reversal_times": " ".join(f"{t:.6g}" for t in case["reversal_times"])}
+            for case in cases
+        ]
+    )
+    write_table(table, out / f"{stem}.csv", provenance(study, body, t_end_s=t_end, target=target))
+    result = {
+        "target": target,
+        "study": study.describe(),
+        "body": body.name,
+        "t_end": t_end,
+        "band": study.band,
+        "contact_radius": study.contact_radius,
+        **extra,
+        "cases": cases,
+        "figures": sorted(figures),
+        "table": f"{stem}.csv",
+    }
+    write_json(result, out / "data" / f"{stem}.json")
+    return result

@@ -9,12 +9,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import pandas as pd
-
-from celtstone.export import write_json, write_table
 from celtstone.models import Model
-from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure
-from celtstone.reproduce.cases import case_name, provenance, run_case, summarise
+from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
+from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
@@ -66,26 +63,8 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         + [datasets[case_name(study.sliding(f, "static"))] for f in study.frictions],
         f"{body.name}: energy and energy budget, sliding with N = m g",
     )
-    figures = []
-    for suffix in (".png", ".svg"):
-        figures.append(str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out)))
-        figures.append(str(save_figure(energy, out / f"{stem}_energy{suffix}").relative_to(out)))
-    table = pd.DataFrame(
-        [{k: v for k, v in case.items() if k != "reversal_times"} for case in cases]
+    figures = save_figure_formats(figure, out, stem)
+    figures += save_figure_formats(energy, out, f"{stem}_energy")
+    return save_results(
+        "fig2", study, body, out, cases, figures, study.fig2_t_end, frictions=list(study.frictions)
     )
-    header = provenance(study, body, t_end_s=study.fig2_t_end, target="fig2")
-    write_table(table, out / f"{stem}.csv", header)
-    result = {
-        "target": "fig2",
-        "study": study.describe(),
-        "body": body.name,
-        "t_end": study.fig2_t_end,
-        "band": study.band,
-        "contact_radius": study.contact_radius,
-        "frictions": list(study.frictions),
-        "cases": cases,
-        "figures": sorted(figures),
-        "table": f"{stem}.csv",
-    }
-    write_json(result, data / f"{stem}.json")
-    return result

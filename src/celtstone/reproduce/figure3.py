@@ -9,11 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import pandas as pd
-
-from celtstone.export import write_json, write_table
-from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure
-from celtstone.reproduce.cases import case_name, provenance, run_case, summarise
+from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
+from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
@@ -47,31 +44,8 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     )
     figure = plot_spin_comparison([[d] for d in datasets], title, threshold=study.band, columns=1)
     energy = plot_energy_budget(datasets, f"{body.name}: energy over the long run")
-    figures = []
-    for suffix in (".png", ".svg"):
-        figures.append(str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out)))
-        figures.append(str(save_figure(energy, out / f"{stem}_energy{suffix}").relative_to(out)))
-    table = pd.DataFrame(
-        [
-            {
-                **{k: v for k, v in case.items() if k != "reversal_times"},
-                "reversal_times": " ".join(f"{t:.6g}" for t in case["reversal_times"]),
-            }
-            for case in cases
-        ]
+    figures = save_figure_formats(figure, out, stem)
+    figures += save_figure_formats(energy, out, f"{stem}_energy")
+    return save_results(
+        "fig3", study, body, out, cases, figures, study.fig3_t_end, friction=study.fig3_friction
     )
-    header = provenance(study, body, t_end_s=study.fig3_t_end, target="fig3")
-    write_table(table, out / f"{stem}.csv", header)
-    result = {
-        "target": "fig3",
-        "study": study.describe(),
-        "body": body.name,
-        "t_end": study.fig3_t_end,
-        "band": study.band,
-        "friction": study.fig3_friction,
-        "cases": cases,
-        "figures": sorted(figures),
-        "table": f"{stem}.csv",
-    }
-    write_json(result, data / f"{stem}.json")
-    return result

@@ -18,7 +18,7 @@ import pandas as pd
 
 from celtstone.bodies import Body
 from celtstone.export import write_json, write_table
-from celtstone.plotting import plot_threshold, save_figure
+from celtstone.plotting import plot_threshold, save_figure_formats
 from celtstone.reproduce.cases import provenance, run_case, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
@@ -130,10 +130,7 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         f"runs of {study.threshold_t_end:g} s"
     )
     figure = plot_threshold(table, title, [b["estimate"] for b in boundaries])
-    figures = [
-        str(save_figure(figure, out / f"{stem}{suffix}").relative_to(out))
-        for suffix in (".png", ".svg")
-    ]
+    figures = save_figure_formats(figure, out, stem)
     reversing = [r["friction_coefficient"] for r in rows if r["reverses"]]
     appears = [b for b in boundaries if b["kind"] == "appears"]
     result = {
