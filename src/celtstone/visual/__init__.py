@@ -4,9 +4,9 @@ Layer above plotting and export; matplotlib and imageio are imported lazily, onl
 when a video is written.
 """
 
-from celtstone.visual.animate import VideoInfo as VideoInfo
-from celtstone.visual.animate import animate as animate
-from celtstone.visual.animate import animate_comparison as animate_comparison
+from celtstone.visual.animation import VideoInfo as VideoInfo
+from celtstone.visual.animation import animate as animate
+from celtstone.visual.animation import animate_comparison as animate_comparison
 from celtstone.visual.frames import PAGE_FRAME_LIMIT as PAGE_FRAME_LIMIT
 from celtstone.visual.frames import PLOT_BUCKETS as PLOT_BUCKETS
 from celtstone.visual.frames import VIDEO_FPS_LIMITS as VIDEO_FPS_LIMITS

@@ -3,10 +3,10 @@
 Limits (the README's "See it move" states them)
 -----------------------------------------------
 Video: at most ``VIDEO_FPS_LIMITS`` frames per second of playback (30 for mp4,
-15 for gif) and at most ``VIDEO_FRAME_LIMITS`` frames (1800 for mp4, 300 for
-gif). Real time by default; a run too long for the cap at real time plays at a
-lower frame rate, down to ``FPS_MIN`` = 10 fps, and beyond that faster than real
-time (the read-out says so).
+20 for gif, whose frame delays are whole centiseconds) and at most
+``VIDEO_FRAME_LIMITS`` frames (1800 for mp4, 300 for gif). Real time by default;
+a run too long for the cap at real time plays at a lower frame rate, down to
+``FPS_MIN`` = 10 fps, and beyond that faster than real time (the read-out says so).
 Page: at most 30 frames per simulated second and at most ``PAGE_FRAME_LIMIT`` =
 3000 frames; each plotted series keeps at most 2 × ``PLOT_BUCKETS`` points
 (the minimum and maximum of each bucket, so fast oscillations keep their envelope).
@@ -29,6 +29,7 @@ __all__ = [
     "PLOT_BUCKETS",
     "VIDEO_FPS_LIMITS",
     "VIDEO_FRAME_LIMITS",
+    "VIDEO_TICKS",
     "FramePlan",
     "envelope",
     "plan_frames",
@@ -36,7 +37,9 @@ __all__ = [
 
 FPS_MAX = 30.0
 FPS_MIN = 10.0
-VIDEO_FPS_LIMITS = {".mp4": FPS_MAX, ".gif": 15.0}
+VIDEO_FPS_LIMITS = {".mp4": FPS_MAX, ".gif": 20.0}
+# frame delays a format can store [s]: gif counts in centiseconds
+VIDEO_TICKS = {".mp4": 0.0, ".gif": 0.01}
 VIDEO_FRAME_LIMITS = {".mp4": 1800, ".gif": 300}
 PAGE_FRAME_LIMIT = 3000
 PLOT_BUCKETS = 1000
@@ -80,13 +83,15 @@ def plan_frames(
     speed: float = 1.0,
     fps: float = FPS_MAX,
     max_fps: float = FPS_MAX,
+    tick: float = 0.0,
 ) -> FramePlan:
     """Frames for playing samples at ``times`` [s] at ``speed`` × real time and ``fps``.
 
     Frames are equally spaced in simulated time, ``speed / fps`` apart, each showing
     the nearest sample. With more than ``max_frames`` frames the frame rate drops
     (real time kept) down to ``FPS_MIN``; below that, ``speed`` rises instead.
-    ``fps`` may not exceed ``max_fps``.
+    ``fps`` may not exceed ``max_fps``. With ``tick`` > 0 [s] the frame delay is
+    rounded up to a whole number of ticks (gif: 0.01 s).
     """
     speed = _positive("speed", speed, 1e6)
     fps = _positive("fps", fps, min(max_fps, FPS_MAX))
@@ -104,6 +109,8 @@ def plan_frames(
         if fps < FPS_MIN:
             fps = min(FPS_MIN, FPS_MAX)
             speed = span * fps / (max_frames - 1)
+    if tick > 0.0:
+        fps = 1.0 / (tick * math.ceil(round(1.0 / (fps * tick), 9)))
     step = speed / fps
     count = min(max_frames, math.floor(span / step * (1 + 1e-12)) + 1)
     wanted = times[0] + step * np.arange(count)

@@ -155,7 +155,8 @@ def _template() -> str:
 def render_page(dataset: xr.Dataset, label: str | None = None) -> tuple[str, dict[str, Any]]:
     """The page's HTML text and the data it inlines."""
     data = page_data(dataset, label)
-    payload = _dumps(data).replace("</", "<\\/")  # never close the script element early
+    # JSON escapes for <, >, &: the data can never end or open an element early
+    payload = _dumps(data).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
     page = _template().replace(_DATA_MARK, payload).replace(_TITLE_MARK, html.escape(data["label"]))
     return page, data
 

@@ -19,7 +19,13 @@ import xarray as xr
 from celtstone.errors import ParameterError
 from celtstone.export import atomic_path
 from celtstone.visual import scene
-from celtstone.visual.frames import VIDEO_FPS_LIMITS, VIDEO_FRAME_LIMITS, FramePlan, plan_frames
+from celtstone.visual.frames import (
+    VIDEO_FPS_LIMITS,
+    VIDEO_FRAME_LIMITS,
+    VIDEO_TICKS,
+    FramePlan,
+    plan_frames,
+)
 from celtstone.visual.runs import check_run, default_label
 
 __all__ = [
@@ -105,6 +111,15 @@ class _Panel:
         (self.contact,) = ax.plot([], [], [], "o", color="tab:red", ms=4, zorder=5)
         ax.set_title(label, fontsize=font + 1)
         self.readout = ax.text2D(0.03, 0.03, "", transform=ax.transAxes, fontsize=font)
+        # what changes from frame to frame, in drawing order
+        self.moving = [
+            self.trail,
+            self.body,
+            self.long_axis,
+            self.principal,
+            self.contact,
+            self.readout,
+        ]
         delta = math.degrees(self.geometry.misalignment_angle)
         ax.text2D(
             0.02,
@@ -198,11 +213,30 @@ def _grid_spacing(width: float) -> float:
 
 
 def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.ndarray]:
+    """RGB frames; the static scene (plane, grid, whole track, titles) is drawn once.
+
+    Each frame restores that background and draws only the moving artists on it,
+    in their z-order (blitting).
+    """
+    canvas = figure.canvas
+    for panel in panels:
+        panel.show(float(plan.times[0]), plan.speed)
+        for artist in panel.moving:
+            artist.set_visible(False)
+    canvas.draw()
+    background = canvas.copy_from_bbox(figure.bbox)
+    for panel in panels:
+        for artist in panel.moving:
+            artist.set_visible(True)
     for time in plan.times:
+        canvas.restore_region(background)
         for panel in panels:
             panel.show(float(time), plan.speed)
-        figure.canvas.draw()
-        yield np.asarray(figure.canvas.buffer_rgba())[..., :3].copy()
+            for artist in panel.moving:
+                if hasattr(artist, "do_3d_projection"):
+                    artist.do_3d_projection()
+                panel.ax.draw_artist(artist)
+        yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
 
 
 def _write(path: Path, suffix: str, frames: Iterator[np.ndarray], fps: float) -> None:
@@ -248,7 +282,7 @@ def animate_comparison(
     path : output file, .mp4 or .gif
     speed : simulated seconds per second of playback (1 = real time), > 0
     fps : frames per second of playback, in (0, 30] for mp4 (default 30),
-        (0, 15] for gif (default 15)
+        (0, 20] for gif (default 20; rounded down to a whole-centisecond delay)
     size : (width, height) [px] of the whole video; default 768 × 576 for one run
         (480 × 360 for gif), 640 (400) px wide per panel for several
 
@@ -274,6 +308,7 @@ def animate_comparison(
         speed=speed,
         fps=VIDEO_FPS_LIMITS[suffix] if fps is None else fps,
         max_fps=VIDEO_FPS_LIMITS[suffix],
+        tick=VIDEO_TICKS[suffix],
     )
     width, height = size if size is not None else _default_size(suffix, len(runs))
     if suffix == ".mp4" and (width % 16 or height % 16):
