@@ -254,9 +254,11 @@ def _write(path: Path, suffix: str, frames: Iterator[np.ndarray], fps: float) ->
                     ffmpeg_log_level="error",
                     output_params=["-f", "mp4"],
                 )
-                for frame in frames:
-                    writer.append_data(frame)
-                writer.close()
+                try:
+                    for frame in frames:
+                        writer.append_data(frame)
+                finally:
+                    writer.close()  # ffmpeg done before the temporary file is removed
         else:
             duration_ms = 1000.0 / fps
             with opener(temporary, "w", extension=".gif", plugin="pillow") as file:
