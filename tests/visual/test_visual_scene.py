@@ -169,3 +169,15 @@ def test_paraboloid_cap_holds_every_contact(rolling_runs: dict[str, xr.Dataset])
 def test_a_dataset_without_body_attributes_is_refused() -> None:
     with pytest.raises(cs.ParameterError, match="run"):
         scene.body_geometry(xr.Dataset(attrs={"body_shape": "cube"}))
+
+
+def test_extent_holds_the_body_and_the_track(rolling_run: xr.Dataset) -> None:
+    geometry = scene.body_geometry(rolling_run)
+    mesh = scene.surface_mesh(geometry)
+    rotations, centres = _space(rolling_run)
+    contacts = rolling_run["contact_position"].values
+    centre, reach, top = scene.extent(geometry, mesh, rotations, centres, contacts)
+    placed = scene.place(mesh.vertices, rotations, centres)
+    assert np.all(np.abs(placed[..., :2] - centre) <= reach)
+    assert np.all(np.abs(contacts - centre) <= reach)
+    assert placed[..., 2].max() < top < 1.1 * placed[..., 2].max()

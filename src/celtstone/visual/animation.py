@@ -24,6 +24,7 @@ from celtstone.visual.frames import (
     VIDEO_FRAME_LIMITS,
     VIDEO_TICKS,
     FramePlan,
+    nearest_samples,
     plan_frames,
 )
 from celtstone.visual.runs import check_run, default_label
@@ -71,14 +72,6 @@ def check_video_target(path: str | Path) -> Path:
     if not directory.is_dir():
         raise ParameterError("out", str(path), "a file in an existing directory")
     return target
-
-
-def _nearest(times: np.ndarray, wanted: np.ndarray) -> np.ndarray:
-    right = np.clip(np.searchsorted(times, wanted), 1, max(times.size - 1, 1))
-    if times.size == 1:
-        return np.zeros(wanted.size, dtype=np.int64)
-    left = right - 1
-    return np.where(wanted - times[left] <= times[right] - wanted, left, right)
 
 
 class _Panel:
@@ -135,16 +128,10 @@ class _Panel:
         return points[:, 0], points[:, 1], np.zeros(points.shape[0])
 
     def _limits(self) -> None:
-        half = self.geometry.half_length
-        xy = np.concatenate([self.contacts, self.centres[:, :2]])
-        centre = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
-        reach = max(1.15 * half, float(np.max(np.abs(xy - centre))) + 1.1 * half)
-        top = 0.0
-        for start in range(0, self.times.size, 512):
-            chunk = slice(start, start + 512)
-            placed = scene.place(self.mesh.vertices, self.rotations[chunk], self.centres[chunk])
-            top = max(top, float(placed[..., 2].max()))
-        self.centre, self.reach, self.top = centre, reach, 1.05 * top
+        centre, reach, top = scene.extent(
+            self.geometry, self.mesh, self.rotations, self.centres, self.contacts
+        )
+        self.centre, self.reach, self.top = centre, reach, top
         ax = self.ax
         ax.set_xlim(centre[0] - reach, centre[0] + reach)
         ax.set_ylim(centre[1] - reach, centre[1] + reach)
@@ -174,7 +161,7 @@ class _Panel:
 
     def show(self, time: float, speed: float) -> None:
         """Draw the sample nearest ``time`` [s]."""
-        i = int(_nearest(self.times, np.array([time]))[0])
+        i = int(nearest_samples(self.times, np.array([time]))[0])
         rotation, centre = self.rotations[i], self.centres[i]
         vertices = scene.place(self.mesh.vertices, rotation, centre)
         faces = vertices[self.mesh.triangles]

@@ -32,6 +32,7 @@ __all__ = [
     "VIDEO_TICKS",
     "FramePlan",
     "envelope",
+    "nearest_samples",
     "plan_frames",
 ]
 
@@ -113,11 +114,19 @@ def plan_frames(
         fps = 1.0 / (tick * math.ceil(round(1.0 / (fps * tick), 9)))
     step = speed / fps
     count = min(max_frames, math.floor(span / step * (1 + 1e-12)) + 1)
-    wanted = times[0] + step * np.arange(count)
+    nearest = nearest_samples(times, times[0] + step * np.arange(count))
+    return FramePlan(nearest, times[nearest], fps, speed)
+
+
+def nearest_samples(times: np.ndarray, wanted: np.ndarray) -> np.ndarray:
+    """Index of the sample of increasing ``times`` nearest each of ``wanted`` [s]."""
+    times = np.asarray(times, dtype=float)
+    wanted = np.asarray(wanted, dtype=float)
+    if times.size == 1:
+        return np.zeros(wanted.shape, dtype=np.int64)
     right = np.clip(np.searchsorted(times, wanted), 1, times.size - 1)
     left = right - 1
-    nearest = np.where(wanted - times[left] <= times[right] - wanted, left, right)
-    return FramePlan(nearest.astype(np.int64), times[nearest], fps, speed)
+    return np.where(wanted - times[left] <= times[right] - wanted, left, right).astype(np.int64)
 
 
 def envelope(

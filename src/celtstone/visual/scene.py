@@ -30,6 +30,7 @@ __all__ = [
     "body_geometry",
     "centre_positions",
     "contact_point_body",
+    "extent",
     "place",
     "rotation_matrices",
     "surface_mesh",
@@ -290,3 +291,28 @@ def place(points: np.ndarray, rotation: np.ndarray, centre: np.ndarray) -> np.nd
     """
     moved = np.einsum("...ij,kj->...ki", rotation, points)
     return moved + np.asarray(centre)[..., None, :]
+
+
+def extent(
+    geometry: BodyGeometry,
+    mesh: Mesh,
+    rotations: np.ndarray,
+    centres: np.ndarray,
+    contacts: np.ndarray,
+) -> tuple[np.ndarray, float, float]:
+    """Region to show: centre (x, y) [m], half width ``reach`` [m] and height ``top`` [m].
+
+    The square of half width ``reach`` about ``centre`` holds the contact track and
+    the body at every given attitude (rotations (f, 3, 3), centres (f, 3)); ``top``
+    is 5 % above the highest point of the drawn surface.
+    """
+    top = 0.0
+    for start in range(0, rotations.shape[0], 512):
+        chunk = slice(start, start + 512)
+        placed = place(mesh.vertices, rotations[chunk], centres[chunk])
+        top = max(top, float(placed[..., 2].max()))
+    xy = np.concatenate([contacts, centres[:, :2]])
+    centre = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+    half = geometry.half_length
+    reach = max(1.15 * half, float(np.max(np.abs(xy - centre))) + 1.1 * half)
+    return centre, reach, 1.05 * top

@@ -106,15 +106,7 @@ def page_data(dataset: xr.Dataset, label: str | None = None) -> dict[str, Any]:
     contacts = np.asarray(dataset["contact_position"].values, dtype=float)
     quaternions = np.asarray(dataset["quaternion"].values, dtype=float)
     quaternions = quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)
-    top = 0.0
-    for start in range(0, i.size, 512):
-        chunk = i[start : start + 512]
-        placed = scene.place(mesh.vertices, rotations[chunk], centres[chunk])
-        top = max(top, float(placed[..., 2].max()))
-    xy = np.concatenate([contacts, centres[:, :2]])
-    middle = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
-    half = geometry.half_length
-    reach = max(1.15 * half, float(np.max(np.abs(xy - middle))) + 1.1 * half)
+    middle, reach, top = scene.extent(geometry, mesh, rotations[i], centres[i], contacts)
     frames: dict[str, Any] = {
         "time": _Numbers(times[i]),
         "quaternion": _Numbers(quaternions[i]),
@@ -141,7 +133,7 @@ def page_data(dataset: xr.Dataset, label: str | None = None) -> dict[str, Any]:
         "marks": {name: _Numbers(points) for name, points in marks.items()},
         "frames": frames,
         "plots": plots,
-        "extent": {"centre": _Numbers(middle), "reach": reach, "top": 1.05 * top},
+        "extent": {"centre": _Numbers(middle), "reach": reach, "top": top},
         "limits": {"frames": PAGE_FRAME_LIMIT, "plot_points": 2 * PLOT_BUCKETS},
     }
 
