@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test lint bench clean
+.PHONY: install run test lint bench clean e2e
 
 install: $(STAMP)
 
@@ -28,6 +28,10 @@ lint: $(STAMP)
 
 test: lint
 	$(BIN)/python -m pytest -n 2 -m "not slow" tests
+
+# the viewer in headless Chromium alone (also part of `make test`; skipped without /usr/bin/chromium)
+e2e: $(STAMP)
+	$(BIN)/python -m pytest tests/e2e -rs
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_simulate.py

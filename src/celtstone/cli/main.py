@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from celtstone import CeltstoneError, version
-from celtstone.cli import bodies, export, plot, reproduce, run
+from celtstone.cli import animate, bodies, export, plot, reproduce, run, view
 
 SUBCOMMANDS = {
     "run": run,
@@ -17,6 +17,8 @@ SUBCOMMANDS = {
     "reproduce": reproduce,
     "plot": plot,
     "export": export,
+    "animate": animate,
+    "view": view,
 }
 
 EXIT_OK = 0

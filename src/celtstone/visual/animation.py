@@ -1,0 +1,350 @@
+"""3-D animation of runs: matplotlib (Agg) frames, encoded by imageio.
+
+mp4 goes through imageio's FFMPEG plugin with the ffmpeg binary bundled by
+imageio-ffmpeg (H.264, yuv420p); gif through imageio's pillow plugin. No system
+ffmpeg is needed. Files are written whole or not at all (``export.atomic_path``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from celtstone.errors import ParameterError
+from celtstone.export import atomic_path
+from celtstone.visual import scene
+from celtstone.visual.frames import (
+    VIDEO_FPS_LIMITS,
+    VIDEO_FRAME_LIMITS,
+    VIDEO_TICKS,
+    FramePlan,
+    nearest_samples,
+    plan_frames,
+)
+from celtstone.visual.runs import check_run, default_label
+
+__all__ = [
+    "VIDEO_FORMATS",
+    "VIDEO_SIZES",
+    "VideoInfo",
+    "animate",
+    "animate_comparison",
+    "check_video_target",
+]
+
+VIDEO_FORMATS = (".mp4", ".gif")
+# pixel size (width, height) of one panel; panels sit side by side.
+# mp4 sizes are multiples of 16 (H.264 macro blocks).
+VIDEO_SIZES = {".mp4": (768, 576), ".gif": (480, 360)}
+_PANEL_WIDTH_COMPARISON = {".mp4": 640, ".gif": 400}
+_DPI = 100.0
+_BODY_COLOUR = np.array([0.56, 0.60, 0.70])
+_LIGHT = np.array([-0.35, -0.55, 1.0]) / np.linalg.norm([-0.35, -0.55, 1.0])
+_AMBIENT = 0.3
+_ELEVATION, _AZIMUTH = 24.0, -58.0  # camera [deg]
+
+
+@dataclass(frozen=True)
+class VideoInfo:
+    """What was written: ``path``, ``frames`` count, ``fps`` [1/s], ``speed`` (simulated
+    seconds per playback second), ``size`` (width, height) [px] and ``bytes``."""
+
+    path: Path
+    frames: int
+    fps: float
+    speed: float
+    size: tuple[int, int]
+    bytes: int
+
+
+def check_video_target(path: str | Path) -> Path:
+    """``path`` if it ends in .mp4 or .gif and its directory exists, else ParameterError."""
+    target = Path(path)
+    if target.suffix.lower() not in VIDEO_FORMATS:
+        raise ParameterError("out", str(path), "a file name ending in .mp4 or .gif")
+    directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise ParameterError("out", str(path), "a file in an existing directory")
+    return target
+
+
+class _Panel:
+    """One body on its plane in one 3-D axes, updated frame by frame."""
+
+    def __init__(
+        self, figure: Any, position: int, count: int, dataset: xr.Dataset, label: str, font: float
+    ):
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        self.dataset = dataset
+        self.geometry = scene.body_geometry(dataset)
+        self.mesh = scene.surface_mesh(self.geometry, along=40, around=24)
+        self.marks = scene.axis_marks(self.geometry)
+        self.times = np.asarray(dataset["time"].values, dtype=float)
+        self.rotations = scene.rotation_matrices(dataset["quaternion"].values)
+        self.centres = scene.centre_positions(dataset)
+        self.contacts = np.asarray(dataset["contact_position"].values, dtype=float)
+        self.is_sliding = dataset.attrs.get("model") == "sliding"
+        ax = figure.add_subplot(1, count, position + 1, projection="3d", computed_zorder=False)
+        self.ax = ax
+        self._limits()
+        self._plane(Poly3DCollection)
+        ax.plot(*self._track(self.contacts), color="0.75", lw=0.8, zorder=1)
+        (self.trail,) = ax.plot([], [], [], color="tab:red", lw=1.2, zorder=2)
+        self.body = Poly3DCollection([], linewidth=0.3, zorder=3)
+        ax.add_collection3d(self.body)
+        (self.long_axis,) = ax.plot([], [], [], color="black", lw=1.8, zorder=4)
+        (self.principal,) = ax.plot([], [], [], color="tab:orange", lw=1.2, ls="--", zorder=4)
+        (self.contact,) = ax.plot([], [], [], "o", color="tab:red", ms=4, zorder=5)
+        ax.set_title(label, fontsize=font + 1)
+        self.readout = ax.text2D(0.03, 0.03, "", transform=ax.transAxes, fontsize=font)
+        # what changes from frame to frame, in drawing order
+        self.moving = [
+            self.trail,
+            self.body,
+            self.long_axis,
+            self.principal,
+            self.contact,
+            self.readout,
+        ]
+        delta = math.degrees(self.geometry.misalignment_angle)
+        ax.text2D(
+            0.02,
+            0.93,
+            f"— long axis    -- principal axis (δ = {delta:.2f}°)    — contact track",
+            transform=ax.transAxes,
+            fontsize=font - 2,
+            color="0.3",
+        )
+
+    @staticmethod
+    def _track(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return points[:, 0], points[:, 1], np.zeros(points.shape[0])
+
+    def _limits(self) -> None:
+        centre, reach, top = scene.extent(
+            self.geometry, self.mesh, self.rotations, self.centres, self.contacts
+        )
+        self.centre, self.reach, self.top = centre, reach, top
+        ax = self.ax
+        ax.set_xlim(centre[0] - reach, centre[0] + reach)
+        ax.set_ylim(centre[1] - reach, centre[1] + reach)
+        ax.set_zlim(0.0, self.top)
+        ax.set_box_aspect((2 * reach, 2 * reach, self.top), zoom=1.8)
+        ax.view_init(elev=_ELEVATION, azim=_AZIMUTH)
+        elevation, azimuth = math.radians(_ELEVATION), math.radians(_AZIMUTH)
+        # towards the camera; the box aspect equals the data ranges, so the scale is equal
+        self.eye = np.array(
+            [
+                math.cos(elevation) * math.cos(azimuth),
+                math.cos(elevation) * math.sin(azimuth),
+                math.sin(elevation),
+            ]
+        )
+        ax.set_axis_off()
+
+    def _plane(self, poly3d: Any) -> None:
+        (x0, x1), (y0, y1) = self.ax.get_xlim(), self.ax.get_ylim()
+        square = [[(x0, y0, 0.0), (x1, y0, 0.0), (x1, y1, 0.0), (x0, y1, 0.0)]]
+        self.ax.add_collection3d(poly3d(square, facecolor="0.93", edgecolor="0.7", zorder=0))
+        spacing = _grid_spacing(x1 - x0)
+        for x in np.arange(math.ceil(x0 / spacing), math.floor(x1 / spacing) + 1) * spacing:
+            self.ax.plot([x, x], [y0, y1], [0, 0], color="0.85", lw=0.5, zorder=0.5)
+        for y in np.arange(math.ceil(y0 / spacing), math.floor(y1 / spacing) + 1) * spacing:
+            self.ax.plot([x0, x1], [y, y], [0, 0], color="0.85", lw=0.5, zorder=0.5)
+
+    def show(self, time: float, speed: float) -> None:
+        """Draw the sample nearest ``time`` [s]."""
+        i = int(nearest_samples(self.times, np.array([time]))[0])
+        rotation, centre = self.rotations[i], self.centres[i]
+        vertices = scene.place(self.mesh.vertices, rotation, centre)
+        faces = vertices[self.mesh.triangles]
+        normals = np.cross(faces[:, 1] - faces[:, 0], faces[:, 2] - faces[:, 0])
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        front = normals @ self.eye > 0.0  # the body is convex: back faces are hidden
+        light = _AMBIENT + (1 - _AMBIENT) * np.clip(normals[front] @ _LIGHT, 0.0, None)
+        colours = np.clip(light[:, None] * _BODY_COLOUR, 0.0, 1.0)
+        self.body.set_verts(faces[front])
+        self.body.set_facecolor(colours)
+        self.body.set_edgecolor(colours)  # hides the seams between antialiased triangles
+        for line, name in ((self.long_axis, "long_axis"), (self.principal, "principal_axis")):
+            points = scene.place(self.marks[name], rotation, centre)
+            line.set_data_3d(points[:, 0], points[:, 1], points[:, 2])
+        self.trail.set_data_3d(*self._track(self.contacts[: i + 1]))
+        x, y = self.contacts[i]
+        self.contact.set_data_3d([x], [y], [0.0])
+        ds = self.dataset
+        lines = [
+            f"t = {self.times[i]:.2f} s"
+            + ("" if speed == 1.0 else f"  (playback {speed:.3g} × real time)"),
+            f"spin = {float(ds['spin'].values[i]):+.2f} rad/s"
+            f"  tilt = {math.degrees(float(ds['tilt'].values[i])):.2f}°",
+        ]
+        if self.is_sliding:
+            lines.append(f"slip speed = {1e3 * float(ds['slip_speed'].values[i]):.2f} mm/s")
+        text = "\n".join(lines)
+        self.readout.set_text(text)
+
+
+def _grid_spacing(width: float) -> float:
+    """A round grid spacing (1, 2 or 5 × 10^k m) giving about 8 lines across ``width``."""
+    raw = width / 8.0
+    power = 10.0 ** math.floor(math.log10(raw))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= raw)
+
+
+def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.ndarray]:
+    """RGB frames; the static scene (plane, grid, whole track, titles) is drawn once.
+
+    Each frame restores that background and draws only the moving artists on it,
+    in their z-order (blitting).
+    """
+    canvas = figure.canvas
+    for panel in panels:
+        panel.show(float(plan.times[0]), plan.speed)
+        for artist in panel.moving:
+            artist.set_visible(False)
+    canvas.draw()
+    background = canvas.copy_from_bbox(figure.bbox)
+    for panel in panels:
+        for artist in panel.moving:
+            artist.set_visible(True)
+    for time in plan.times:
+        canvas.restore_region(background)
+        for panel in panels:
+            panel.show(float(time), plan.speed)
+            for artist in panel.moving:
+                if hasattr(artist, "do_3d_projection"):
+                    artist.do_3d_projection()
+                panel.ax.draw_artist(artist)
+        yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
+
+
+def _write(path: Path, suffix: str, frames: Iterator[np.ndarray], fps: float) -> None:
+    import imageio.v3 as iio
+
+    opener: Any = iio.imopen  # plugin-specific keywords are beyond imageio's type stubs
+    with atomic_path(path) as temporary:
+        if suffix == ".mp4":
+            with opener(temporary, "w", extension=".mp4", plugin="FFMPEG") as file:
+                writer = file.legacy_get_writer(
+                    fps=fps,
+                    codec="libx264",
+                    pixelformat="yuv420p",
+                    macro_block_size=16,
+                    ffmpeg_log_level="error",
+                    output_params=["-f", "mp4"],
+                )
+                try:
+                    for frame in frames:
+                        writer.append_data(frame)
+                finally:
+                    writer.close()  # ffmpeg done before the temporary file is removed
+        else:
+            duration_ms = 1000.0 / fps
+            with opener(temporary, "w", extension=".gif", plugin="pillow") as file:
+                for frame in frames:
+                    file.write(frame, duration=duration_ms, loop=0, is_batch=False)
+
+
+def animate_comparison(
+    datasets: Sequence[xr.Dataset],
+    labels: Sequence[str],
+    path: str | Path,
+    *,
+    speed: float = 1.0,
+    fps: float | None = None,
+    size: tuple[int, int] | None = None,
+) -> VideoInfo:
+    """Animate runs side by side on a common clock (e.g. rolling beside sliding, Figure 2).
+
+    Parameters
+    ----------
+    datasets : runs (``Trajectory.dataset`` or files read by ``load_run``)
+    labels : one panel title per run
+    path : output file, .mp4 or .gif
+    speed : simulated seconds per second of playback (1 = real time), > 0
+    fps : frames per second of playback, in (0, 30] for mp4 (default 30),
+        (0, 20] for gif (default 20; rounded down to a whole-centisecond delay)
+    size : (width, height) [px] of the whole video; default 768 × 576 for one run
+        (480 × 360 for gif), 640 (400) px wide per panel for several
+
+    Returns
+    -------
+    VideoInfo
+        The frame count and rate actually used: see ``frames`` for the caps.
+
+    Notes
+    -----
+    The clock runs over the shortest run; each panel shows its sample nearest to
+    the frame's time.
+    """
+    target = check_video_target(path)
+    suffix = target.suffix.lower()
+    if len(datasets) == 0 or len(datasets) != len(labels):
+        raise ParameterError("labels", list(labels), "one label per dataset, at least one")
+    runs = [check_run(ds, "datasets") for ds in datasets]
+    clock = min(runs, key=lambda ds: float(ds["time"].values[-1] - ds["time"].values[0]))
+    plan = plan_frames(
+        clock["time"].values,
+        max_frames=VIDEO_FRAME_LIMITS[suffix],
+        speed=speed,
+        fps=VIDEO_FPS_LIMITS[suffix] if fps is None else fps,
+        max_fps=VIDEO_FPS_LIMITS[suffix],
+        tick=VIDEO_TICKS[suffix],
+    )
+    width, height = size if size is not None else _default_size(suffix, len(runs))
+    if suffix == ".mp4" and (width % 16 or height % 16):
+        raise ParameterError("size", (width, height), "multiples of 16 pixels for mp4")
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
+    figure.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.95, wspace=0.0)
+    font = 9.0 if width / len(runs) >= 600 else 7.0
+    panels = [
+        _Panel(figure, i, len(runs), ds, label, font)
+        for i, (ds, label) in enumerate(zip(runs, labels, strict=True))
+    ]
+    FigureCanvasAgg(figure)
+    _write(target, suffix, _frames(figure, panels, plan), plan.fps)
+    return VideoInfo(
+        path=target,
+        frames=plan.count,
+        fps=plan.fps,
+        speed=plan.speed,
+        size=(width, height),
+        bytes=target.stat().st_size,
+    )
+
+
+def _default_size(suffix: str, panels: int) -> tuple[int, int]:
+    width, height = VIDEO_SIZES[suffix]
+    if panels > 1:
+        width = panels * _PANEL_WIDTH_COMPARISON[suffix]
+    return width, height
+
+
+def animate(
+    dataset: xr.Dataset,
+    path: str | Path,
+    *,
+    speed: float = 1.0,
+    fps: float | None = None,
+    size: tuple[int, int] | None = None,
+    label: str | None = None,
+) -> VideoInfo:
+    """Animate one run in 3-D: shaded body, plane, contact track and read-out.
+
+    See :func:`animate_comparison` for the parameters; ``label`` defaults to the
+    model and body of the run.
+    """
+    title = label if label is not None else default_label(dataset)
+    return animate_comparison([dataset], [title], path, speed=speed, fps=fps, size=size)

@@ -1,0 +1,169 @@
+"""One self-contained HTML page for a run: 3-D body, time slider, play, linked plots.
+
+The page is the template ``templates/viewer.html`` with the run's data inlined
+as JSON and a hand-written 2-D canvas renderer inlined as JavaScript: it loads
+nothing from the network and opens from the file system (see docs/decisions.md).
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from celtstone.errors import ParameterError
+from celtstone.export import atomic_path
+from celtstone.visual import scene
+from celtstone.visual.frames import FPS_MAX, PAGE_FRAME_LIMIT, PLOT_BUCKETS, envelope, plan_frames
+from celtstone.visual.runs import check_run, default_label
+
+__all__ = ["PAGE_SIZE_LIMIT", "PageInfo", "check_page_target", "page_data", "write_viewer"]
+
+# The page of any run stays below this size [bytes]. Worst case of the caps, at most
+# 13 characters a number: 3000 frames x 14 numbers (0.55 MB) + 4 plots x 2000 points
+# x 2 (0.21 MB) + the mesh (0.11 MB) + the template (16 kB) = 0.88 MB.
+PAGE_SIZE_LIMIT = 1_000_000
+_DATA_MARK = "/*__CELTSTONE_DATA__*/"
+_TITLE_MARK = "__CELTSTONE_TITLE__"
+_DIGITS = 6  # significant digits of the inlined numbers
+
+# (variable, label, unit, scale): the linked plots against time
+PLOTS = (
+    ("spin", "spin ω·n", "rad/s", 1.0),
+    ("tilt", "tilt", "deg", 180.0 / math.pi),
+    ("energy", "energy", "J", 1.0),
+    ("slip_speed", "slip speed |V1|", "m/s", 1.0),
+)
+
+
+@dataclass(frozen=True)
+class PageInfo:
+    """What was written: ``path``, animation ``frames``, ``plot_points`` (most in a
+    series) and ``bytes``."""
+
+    path: Path
+    frames: int
+    plot_points: int
+    bytes: int
+
+
+def check_page_target(path: str | Path) -> Path:
+    """``path`` if it ends in .html and its directory exists, else ParameterError."""
+    target = Path(path)
+    if target.suffix.lower() not in (".html", ".htm"):
+        raise ParameterError("out", str(path), "a file name ending in .html")
+    directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise ParameterError("out", str(path), "a file in an existing directory")
+    return target
+
+
+class _Numbers:
+    """A float array that serialises as a compact JSON list (``_DIGITS`` significant digits)."""
+
+    def __init__(self, values: Any) -> None:
+        self.values = np.asarray(values, dtype=float).ravel()
+
+    def json(self) -> str:
+        parts = (f"{v:.{_DIGITS}g}" if math.isfinite(v) else "null" for v in self.values)
+        return "[" + ",".join(parts) + "]"
+
+
+def _dumps(value: Any) -> str:
+    """JSON of nested dicts/lists with :class:`_Numbers` leaves."""
+    if isinstance(value, _Numbers):
+        return value.json()
+    if isinstance(value, dict):
+        return "{" + ",".join(f"{json.dumps(k)}:{_dumps(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list | tuple):
+        return "[" + ",".join(_dumps(v) for v in value) + "]"
+    return json.dumps(value)
+
+
+def page_data(dataset: xr.Dataset, label: str | None = None) -> dict[str, Any]:
+    """The data the page inlines: mesh, marks, frames, contact track and plot series.
+
+    Frames: at most 30 per simulated second and ``PAGE_FRAME_LIMIT`` in all;
+    plots: at most 2 × ``PLOT_BUCKETS`` points per series (``frames.envelope``).
+    Lengths in m, times in s, angles in the units the plots name.
+    """
+    dataset = check_run(dataset)
+    geometry = scene.body_geometry(dataset)
+    mesh = scene.surface_mesh(geometry)
+    marks = scene.axis_marks(geometry)
+    times = np.asarray(dataset["time"].values, dtype=float)
+    plan = plan_frames(times, max_frames=PAGE_FRAME_LIMIT, speed=1.0, fps=FPS_MAX)
+    i = plan.indices
+    rotations = scene.rotation_matrices(dataset["quaternion"].values)
+    centres = scene.centre_positions(dataset)
+    contacts = np.asarray(dataset["contact_position"].values, dtype=float)
+    quaternions = np.asarray(dataset["quaternion"].values, dtype=float)
+    quaternions = quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)
+    middle, reach, top = scene.extent(geometry, mesh, rotations[i], centres[i], contacts)
+    frames: dict[str, Any] = {
+        "time": _Numbers(times[i]),
+        "quaternion": _Numbers(quaternions[i]),
+        "centre": _Numbers(centres[i]),
+        "contact": _Numbers(contacts[i]),
+    }
+    plots = []
+    for name, text, unit, scale in PLOTS:
+        values = np.asarray(dataset[name].values, dtype=float) * scale
+        frames[name] = _Numbers(values[i])
+        t, v = envelope(times, values, PLOT_BUCKETS)
+        plots.append(
+            {"name": name, "label": text, "unit": unit, "time": _Numbers(t), "value": _Numbers(v)}
+        )
+    return {
+        "label": label if label is not None else default_label(dataset),
+        "title": str(dataset.attrs.get("title", "celtstone run")),
+        "model": str(dataset.attrs.get("model", "")),
+        "misalignment_deg": math.degrees(geometry.misalignment_angle),
+        "mesh": {
+            "vertices": _Numbers(mesh.vertices),
+            "triangles": [int(k) for k in mesh.triangles.ravel()],
+        },
+        "marks": {name: _Numbers(points) for name, points in marks.items()},
+        "frames": frames,
+        "plots": plots,
+        "extent": {"centre": _Numbers(middle), "reach": reach, "top": top},
+        "limits": {"frames": PAGE_FRAME_LIMIT, "plot_points": 2 * PLOT_BUCKETS},
+    }
+
+
+def _template() -> str:
+    return (
+        resources.files("celtstone.visual")
+        .joinpath("templates/viewer.html")
+        .read_text(encoding="utf-8")
+    )
+
+
+def render_page(dataset: xr.Dataset, label: str | None = None) -> tuple[str, dict[str, Any]]:
+    """The page's HTML text and the data it inlines."""
+    data = page_data(dataset, label)
+    # JSON escapes for <, >, &: the data can never end or open an element early
+    payload = _dumps(data).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+    page = _template().replace(_DATA_MARK, payload).replace(_TITLE_MARK, html.escape(data["label"]))
+    return page, data
+
+
+def write_viewer(dataset: xr.Dataset, path: str | Path, *, label: str | None = None) -> PageInfo:
+    """Write the interactive page of a run to ``path`` (.html), whole or not at all."""
+    target = check_page_target(path)
+    page, data = render_page(dataset, label)
+    with atomic_path(target) as temporary:
+        temporary.write_text(page, encoding="utf-8")
+    return PageInfo(
+        path=target,
+        frames=int(data["frames"]["time"].values.size),
+        plot_points=max(int(p["time"].values.size) for p in data["plots"]),
+        bytes=target.stat().st_size,
+    )

@@ -1,0 +1,118 @@
+"""Videos read back with imageio: frame counts and sizes as planned, the body moves."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import imageio.v3 as iio
+import imageio_ffmpeg
+import numpy as np
+import pytest
+import xarray as xr
+
+import celtstone as cs
+from celtstone.visual import VIDEO_FRAME_LIMITS, animate, animate_comparison
+from celtstone.visual import animation as animate_module
+
+# the 100 s run's mp4 at the default 768 x 576 stays below this (README "See it move")
+MP4_SIZE_LIMIT = 20e6  # bytes
+RAW_RGB = ("-f", "rawvideo", "-pix_fmt", "rgb24", "-")
+
+
+def _read_mp4(path: Path, width: int, height: int) -> tuple[np.ndarray, float]:
+    """All frames (k, height, width, 3) decoded by the bundled ffmpeg, and the duration [s]."""
+    decoded = subprocess.run(
+        [imageio_ffmpeg.get_ffmpeg_exe(), "-v", "error", "-i", str(path), *RAW_RGB],
+        capture_output=True,
+        check=True,
+    ).stdout
+    frames = np.frombuffer(decoded, np.uint8).reshape(-1, height, width, 3)
+    _, seconds = imageio_ffmpeg.count_frames_and_secs(str(path))
+    return frames, seconds
+
+
+def _read(path: Path, size: tuple[int, int]) -> np.ndarray:
+    if path.suffix == ".mp4":
+        return _read_mp4(path, *size)[0]
+    return iio.imread(path, index=None)
+
+
+def test_mp4_has_the_planned_frames_and_size(sliding_run: xr.Dataset, tmp_path: Path) -> None:
+    # 2 s at real time, 30 fps: 61 frames
+    info = animate(sliding_run, tmp_path / "run.mp4", size=(320, 240))
+    frames, seconds = _read_mp4(info.path, 320, 240)
+    assert info.frames == 61
+    assert frames.shape == (61, 240, 320, 3)
+    assert seconds == pytest.approx(61 / 30.0, abs=0.01)  # ffmpeg reports 0.01 s
+    assert info.bytes == info.path.stat().st_size
+    # the body turns: first and last frames differ
+    assert np.mean(np.abs(frames[0].astype(float) - frames[-1].astype(float)) > 40) > 1e-3
+
+
+def test_gif_slow_motion(rolling_runs: dict[str, xr.Dataset], tmp_path: Path) -> None:
+    rolling_run = rolling_runs["kane_levinson_1982_paraboloid"]
+    # first 4 s at speed 2 -> 2 s of playback at 20 fps: 41 frames of 50 ms
+    info = animate(rolling_run, tmp_path / "run.gif", speed=2.0, size=(240, 180))
+    frames = _read(info.path, info.size)
+    assert (info.frames, info.fps, info.speed) == (41, 20.0, 2.0)
+    assert frames.shape[:3] == (41, 180, 240)
+    assert iio.immeta(info.path)["duration"] == 50
+    # 12 fps asked: gif delays are whole centiseconds, so 90 ms (11.1 fps), 23 frames
+    info = animate(rolling_run, tmp_path / "run.gif", speed=2.0, fps=12.0, size=(240, 180))
+    assert info.fps == pytest.approx(1 / 0.09)
+    assert info.frames == 23  # floor(2 s / 0.09 s) + 1
+    assert iio.immeta(info.path)["duration"] == 90
+
+
+def test_comparison_side_by_side_on_the_shortest_clock(
+    rolling_runs: dict[str, xr.Dataset], sliding_run: xr.Dataset, tmp_path: Path
+) -> None:
+    rolling_run = rolling_runs["kane_levinson_1982"]
+    info = animate_comparison(
+        [rolling_run, sliding_run],
+        ["rolling", "sliding, f = 0.35"],
+        tmp_path / "figure2.mp4",
+        speed=2.0,
+        size=(480, 192),
+    )
+    # clock: the 2 s sliding run, at speed 2 and 30 fps -> 31 frames
+    assert _read(info.path, info.size).shape == (31, 192, 480, 3)
+
+
+def test_bad_targets_and_sizes_are_refused(sliding_run: xr.Dataset, tmp_path: Path) -> None:
+    with pytest.raises(cs.ParameterError, match="out"):
+        animate(sliding_run, tmp_path / "run.avi")
+    with pytest.raises(cs.ParameterError, match="out"):
+        animate(sliding_run, tmp_path / "missing" / "run.mp4")
+    with pytest.raises(cs.ParameterError, match="size"):
+        animate(sliding_run, tmp_path / "run.mp4", size=(300, 200))
+    with pytest.raises(cs.ParameterError, match="labels"):
+        animate_comparison([sliding_run], [], tmp_path / "run.mp4")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_interrupted_video_leaves_no_file(
+    sliding_run: xr.Dataset, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    calls = []
+    original = animate_module._Panel.show
+
+    def failing(self: object, time: float, speed: float) -> None:
+        calls.append(time)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        original(self, time, speed)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(animate_module._Panel, "show", failing)
+    with pytest.raises(KeyboardInterrupt):
+        animate(sliding_run, tmp_path / "run.mp4", size=(160, 128))
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+def test_100_s_run_video_stays_within_the_limits(long_run: xr.Dataset, tmp_path: Path) -> None:
+    info = animate(long_run, tmp_path / "long.mp4")
+    assert info.frames == VIDEO_FRAME_LIMITS[".mp4"]
+    assert _read(info.path, info.size).shape[0] == info.frames
+    assert info.bytes < MP4_SIZE_LIMIT
