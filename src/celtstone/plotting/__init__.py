@@ -1,0 +1,1 @@
+"""Figures from celtstone results; the only package that imports matplotlib, lazily."""
