@@ -15,6 +15,7 @@ from celtstone.analysis import spin_stability as spin_stability
 from celtstone.bodies import Body as Body
 from celtstone.bodies import Ellipsoid as Ellipsoid
 from celtstone.bodies import Paraboloid as Paraboloid
+from celtstone.bodies import Superellipsoid as Superellipsoid
 from celtstone.bodies import list_bodies as list_bodies
 from celtstone.bodies import load_body as load_body
 from celtstone.errors import CeltstoneError as CeltstoneError
@@ -45,6 +46,7 @@ __all__ = [
     "RollingModel",
     "SlidingModel",
     "SpinStability",
+    "Superellipsoid",
     "Trajectory",
     "list_bodies",
     "load_body",

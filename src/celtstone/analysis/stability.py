@@ -65,6 +65,14 @@ def _steady_state(spin_rate: float) -> np.ndarray:
 
 
 def _check_body(body: Body) -> None:
+    radii = getattr(body.shape, "radii_of_curvature", (0.0, 0.0))
+    if not all(math.isfinite(radius) for radius in radii):
+        raise ParameterError(
+            "body",
+            body.name,
+            "a shape with finite radii of curvature at the rest contact",
+            "a superellipsoid with exponent > 2 is flat there and has no linearisation",
+        )
     inertia = body.inertia
     if inertia[0][2] != 0.0 or inertia[1][2] != 0.0:
         raise ParameterError(
