@@ -9,10 +9,13 @@ influence of sliding on the Celt rattleback motion" (see README).
 >>> run.dataset["spin"]  # doctest: +SKIP
 """
 
+from celtstone.analysis import SpinStability as SpinStability
 from celtstone.analysis import reversal_times as reversal_times
+from celtstone.analysis import spin_stability as spin_stability
 from celtstone.bodies import Body as Body
 from celtstone.bodies import Ellipsoid as Ellipsoid
 from celtstone.bodies import Paraboloid as Paraboloid
+from celtstone.bodies import Superellipsoid as Superellipsoid
 from celtstone.bodies import list_bodies as list_bodies
 from celtstone.bodies import load_body as load_body
 from celtstone.errors import CeltstoneError as CeltstoneError
@@ -42,11 +45,14 @@ __all__ = [
     "ParameterError",
     "RollingModel",
     "SlidingModel",
+    "SpinStability",
+    "Superellipsoid",
     "Trajectory",
     "list_bodies",
     "load_body",
     "model_from_name",
     "reversal_times",
     "simulate",
+    "spin_stability",
     "version",
 ]

@@ -6,7 +6,7 @@ import contextlib
 import json
 import os
 import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -30,22 +30,24 @@ __all__ = [
 FORMATS = (".nc", ".csv")
 
 
-def check_target(path: str | Path) -> Path:
-    """``path`` as a :class:`Path` if it can be written: a known suffix, an existing directory.
-
-    Call it before a long computation whose result goes to ``path``.
+def check_target(
+    path: str | Path, formats: Sequence[str] = FORMATS, parameter: str = "out"
+) -> Path:
+    """``path`` as a :class:`Path` if it can be written: a suffix in ``formats``, an existing
+    directory. Call it before a long computation whose result goes to ``path``.
 
     Raises
     ------
     ParameterError
-        for an unknown suffix or a directory that does not exist.
+        naming ``parameter``, for another suffix or a directory that does not exist.
     """
     target = Path(path)
-    if target.suffix.lower() not in FORMATS:
-        raise ParameterError("out", str(path), "a file name ending in " + " or ".join(FORMATS))
+    if target.suffix.lower() not in formats:
+        allowed = "a file name ending in " + " or ".join(formats)
+        raise ParameterError(parameter, str(path), allowed)
     directory = target.parent if str(target.parent) else Path(".")
     if not directory.is_dir():
-        raise ParameterError("out", str(path), "a file in an existing directory")
+        raise ParameterError(parameter, str(path), "a file in an existing directory")
     return target
 
 

@@ -152,6 +152,8 @@ def simulate(
         "message": message,
         **model.attributes(),
     }
+    if hasattr(body.shape, "exponent"):  # superellipsoid: its fifth shape parameter
+        attrs["body_shape_exponent"] = body.shape.exponent
     dataset = build_dataset(model.code, params, raw.sample_times, raw.samples, raw.crossings, attrs)
     statistics = {
         "nfev": raw.nfev,

@@ -188,6 +188,7 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
     params[layout.P_INERTIA : layout.P_INERTIA + 9] = np.ravel(body.inertia)
     params[layout.P_SHAPE] = body.shape.code
     params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = body.shape.kernel_parameters()
+    params[layout.P_SHAPE_4] = getattr(body.shape, "exponent", 0.0)  # superellipsoid only
     params[layout.P_DAMPING] = model.damping
     if isinstance(model, SlidingModel):
         params[layout.P_FRICTION] = model.friction_coefficient

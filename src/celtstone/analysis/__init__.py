@@ -1,8 +1,17 @@
-"""Analysis of finished runs: spin reversals with a stated definition."""
+"""Analysis: spin reversals of finished runs; linear stability of steady spin."""
 
 from celtstone.analysis.reversals import REVERSAL_BAND_FRACTION as REVERSAL_BAND_FRACTION
 from celtstone.analysis.reversals import dataset_reversal_times as dataset_reversal_times
 from celtstone.analysis.reversals import reversal_band as reversal_band
 from celtstone.analysis.reversals import reversal_times as reversal_times
+from celtstone.analysis.stability import SpinStability as SpinStability
+from celtstone.analysis.stability import spin_stability as spin_stability
 
-__all__ = ["REVERSAL_BAND_FRACTION", "dataset_reversal_times", "reversal_band", "reversal_times"]
+__all__ = [
+    "REVERSAL_BAND_FRACTION",
+    "SpinStability",
+    "dataset_reversal_times",
+    "reversal_band",
+    "reversal_times",
+    "spin_stability",
+]

@@ -12,10 +12,19 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.bodies.body import Body
-from celtstone.bodies.shapes import Ellipsoid, Paraboloid, Shape
+from celtstone.bodies.shapes import Ellipsoid, Paraboloid, Shape, Superellipsoid
 from celtstone.errors import ParameterError
 
-__all__ = ["Body", "Ellipsoid", "Paraboloid", "Shape", "body_from_dict", "list_bodies", "load_body"]
+__all__ = [
+    "Body",
+    "Ellipsoid",
+    "Paraboloid",
+    "Shape",
+    "Superellipsoid",
+    "body_from_dict",
+    "list_bodies",
+    "load_body",
+]
 
 _DATA = resources.files("celtstone.bodies") / "data"
 
@@ -58,8 +67,14 @@ def body_from_dict(name: str, data: dict[str, Any]) -> Body:
             shape = Ellipsoid(tuple(shape_data["semi_axes"]), shape_data["com_offset"])
         elif kind == "paraboloid":
             shape = Paraboloid(tuple(shape_data["radii_of_curvature"]), shape_data["com_height"])
+        elif kind == "superellipsoid":
+            shape = Superellipsoid(
+                tuple(shape_data["semi_axes"]), shape_data["com_offset"], shape_data["exponent"]
+            )
         else:
-            raise ParameterError("shape.kind", kind, "one of: ellipsoid, paraboloid")
+            raise ParameterError(
+                "shape.kind", kind, "one of: ellipsoid, paraboloid, superellipsoid"
+            )
         source = data.get("source", {})
         return Body(
             name=name,

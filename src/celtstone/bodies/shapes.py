@@ -6,13 +6,14 @@ Each shape knows its kernel code and its four shape parameters (see
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from celtstone import schema
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 
-__all__ = ["Ellipsoid", "Paraboloid", "Shape"]
+__all__ = ["Ellipsoid", "Paraboloid", "Shape", "Superellipsoid"]
 
 
 @dataclass(frozen=True)
@@ -114,4 +115,74 @@ class Paraboloid:
         return self.com_height
 
 
-Shape = Ellipsoid | Paraboloid
+MAX_SUPERELLIPSOID_EXPONENT = 64.0  # beyond, |w|^(1/(p-1)) is a box to rounding
+
+
+@dataclass(frozen=True)
+class Superellipsoid:
+    """Superellipsoid |x/a|^p + |y/b|^p + |z/c|^p = 1 about its centre O.
+
+    Parameters
+    ----------
+    semi_axes : (a, b, c), semi-axes along body axes 1, 2, 3 [m]
+    com_offset : h, distance of the centre of mass G below O along axis 3 [m], |h| < c
+    exponent : p [1], in [2, 64]; p = 2 is the ellipsoid. p < 1 is not convex and
+        1 <= p < 2 has edges (infinite curvature), so neither is accepted.
+
+    Notes
+    -----
+    For p > 2 the surface is flat (zero curvature) at the six axis points, the rest
+    contact among them: the rocking there is not harmonic and the rolling model has
+    no linearisation about steady spin (``radii_of_curvature`` is infinite).
+    """
+
+    semi_axes: tuple[float, float, float]
+    com_offset: float
+    exponent: float
+
+    kind = "superellipsoid"
+
+    def __post_init__(self) -> None:
+        ellipsoid = Ellipsoid(self.semi_axes, self.com_offset)  # the same checks
+        object.__setattr__(self, "semi_axes", ellipsoid.semi_axes)
+        object.__setattr__(self, "com_offset", ellipsoid.com_offset)
+        allowed = f"a number in [2, {MAX_SUPERELLIPSOID_EXPONENT:g}]"
+        try:
+            exponent = float(self.exponent)
+        except (TypeError, ValueError):
+            raise ParameterError("exponent", self.exponent, allowed) from None
+        if not 2.0 <= exponent <= MAX_SUPERELLIPSOID_EXPONENT:
+            if exponent < 1.0:
+                hint = "p < 1 gives a non-convex (star-shaped) surface"
+            elif exponent < 2.0:
+                hint = "1 <= p < 2 gives edges with infinite curvature, no unique contact rate"
+            else:
+                hint = ""
+            raise ParameterError("exponent", self.exponent, allowed, hint)
+        object.__setattr__(self, "exponent", exponent)
+
+    @property
+    def code(self) -> int:
+        """Kernel shape code."""
+        return layout.SHAPE_SUPERELLIPSOID
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(a, b, c, h) as the kernels read them [m]; the exponent goes to ``P_SHAPE_4``."""
+        a, b, c = self.semi_axes
+        return (a, b, c, self.com_offset)
+
+    @property
+    def rest_height(self) -> float:
+        """Height l of G above the contact point at rest, c - h [m]."""
+        return self.semi_axes[2] - self.com_offset
+
+    @property
+    def radii_of_curvature(self) -> tuple[float, float]:
+        """Radii of curvature at the rest contact [m]: a²/c, b²/c for p = 2, else infinite."""
+        if self.exponent != 2.0:
+            return (math.inf, math.inf)
+        a, b, c = self.semi_axes
+        return (a * a / c, b * b / c)
+
+
+Shape = Ellipsoid | Paraboloid | Superellipsoid

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from celtstone import CeltstoneError, version
-from celtstone.cli import animate, bodies, export, plot, reproduce, run, view
+from celtstone.cli import animate, bodies, export, plot, reproduce, run, stability, view
 
 SUBCOMMANDS = {
     "run": run,
@@ -19,6 +19,7 @@ SUBCOMMANDS = {
     "export": export,
     "animate": animate,
     "view": view,
+    "stability": stability,
 }
 
 EXIT_OK = 0

@@ -16,7 +16,9 @@ from celtstone.kernels.layout import (
     P_SHAPE_1,
     P_SHAPE_2,
     P_SHAPE_3,
+    P_SHAPE_4,
     SHAPE_ELLIPSOID,
+    SHAPE_SUPERELLIPSOID,
 )
 from celtstone.kernels.vector import Vec
 
@@ -78,11 +80,81 @@ def paraboloid_contact(
 
 
 @kernel
+def _signed_power(value: float, exponent: float) -> float:
+    """sign(value) |value|^exponent."""
+    magnitude = abs(value) ** exponent
+    return magnitude if value >= 0.0 else -magnitude
+
+
+@kernel
+def superellipsoid_contact(
+    n: Vec, n_rate: Vec, a: float, b: float, c: float, h: float, exponent: float
+) -> tuple[Vec, Vec]:
+    """Contact point and its rate for |x/a|^p + |y/b|^p + |z/c|^p = 1, G h below the centre.
+
+    Parameters
+    ----------
+    n, n_rate : upward vertical in body axes [1] and its time derivative [1/s]
+    a, b, c : semi-axes along body axes 1, 2, 3 [m]
+    h : distance of G below the centre along axis 3 [m]
+    exponent : p >= 2 [1]; p = 2 is the ellipsoid
+
+    Notes
+    -----
+    The surface point with outward normal u = -n maximises u · x on the body, whose
+    support function is the dual norm: with w_i = a_i u_i, e = 1/(p - 1) and
+    S = Σ |w_i|^(1+e), x_i = a_i sign(w_i) |w_i|^e / S^(1/p) (p = 2 gives the
+    ellipsoid's -Q n / sqrt(nᵀQn)). Closed form, so no iteration can fail.
+    With P_i = sign(w_i)|w_i|^e and ẇ_i = -a_i ṅ_i,
+    dx_i/dt = a_i e (|w_i|^(e-1) ẇ_i - P_i Σ_j P_j ẇ_j / S) / S^(1/p).
+    For p > 2 the normal curvature vanishes on the three coordinate-plane curves of
+    the surface (∂²F/∂x_i² ∝ |x_i|^(p-2)), the six axis points (rest contact) among
+    them: |w_i|^(e-1) is unbounded as w_i -> 0, so dr/dt is unbounded (integrably,
+    ~ |t|^((2-p)/(p-1))) whenever n_i crosses zero; a term with ẇ_i = 0 is taken as 0.
+    """
+    e = 1.0 / (exponent - 1.0)
+    axes = (a, b, c)
+    w = (-a * n[0], -b * n[1], -c * n[2])
+    w_rate = (-a * n_rate[0], -b * n_rate[1], -c * n_rate[2])
+    total = abs(w[0]) ** (1.0 + e) + abs(w[1]) ** (1.0 + e) + abs(w[2]) ** (1.0 + e)
+    norm = total ** (1.0 / exponent)
+    powered = (_signed_power(w[0], e), _signed_power(w[1], e), _signed_power(w[2], e))
+    # d|w|^e sign(w)/dt = e |w|^(e-1) ẇ; S^(-1/p) rate = -(e / S) Σ powered_j ẇ_j / S^(1/p)
+    slopes = [0.0, 0.0, 0.0]
+    for i in range(3):
+        if w_rate[i] != 0.0:
+            slopes[i] = e * abs(w[i]) ** (e - 1.0) * w_rate[i]
+    weighted = powered[0] * w_rate[0] + powered[1] * w_rate[1] + powered[2] * w_rate[2]
+    shrink = e * weighted / total
+    r = (
+        axes[0] * powered[0] / norm,
+        axes[1] * powered[1] / norm,
+        axes[2] * powered[2] / norm + h,
+    )
+    r_rate = (
+        axes[0] * (slopes[0] - powered[0] * shrink) / norm,
+        axes[1] * (slopes[1] - powered[1] * shrink) / norm,
+        axes[2] * (slopes[2] - powered[2] * shrink) / norm,
+    )
+    return r, r_rate
+
+
+@kernel
 def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
     """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``."""
     if params[P_SHAPE] == SHAPE_ELLIPSOID:
         return ellipsoid_contact(
             n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2], params[P_SHAPE_3]
+        )
+    if params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
+        return superellipsoid_contact(
+            n,
+            n_rate,
+            params[P_SHAPE_0],
+            params[P_SHAPE_1],
+            params[P_SHAPE_2],
+            params[P_SHAPE_3],
+            params[P_SHAPE_4],
         )
     return paraboloid_contact(n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2])
 
@@ -90,6 +162,6 @@ def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
 @kernel
 def shape_is_valid(n: Vec, params) -> bool:
     """Whether the contact point for n lies in the shape's domain."""
-    if params[P_SHAPE] == SHAPE_ELLIPSOID:
+    if params[P_SHAPE] == SHAPE_ELLIPSOID or params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
         return True
     return n[2] > 1e-3

@@ -57,3 +57,9 @@ N_STATE = 16
 RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
+
+# superellipsoid |x/a|^p + |y/b|^p + |z/c|^p = 1 (appended): shape parameters as the
+# ellipsoid's (a, b, c, h) in P_SHAPE_0 .. P_SHAPE_3, plus its exponent p
+SHAPE_SUPERELLIPSOID = 2
+P_SHAPE_4 = N_PARAMS  # superellipsoid exponent p [1], >= 2
+N_PARAMS = P_SHAPE_4 + 1

@@ -6,8 +6,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from celtstone.errors import ParameterError
-from celtstone.export import atomic_path
+from celtstone.export import atomic_path, check_target
 
 __all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure", "save_figure_formats"]
 
@@ -15,15 +14,9 @@ FIGURE_FORMATS = (".png", ".svg")
 DPI = 150
 
 
-def check_figure_target(path: str | Path) -> Path:
+def check_figure_target(path: str | Path, parameter: str = "out") -> Path:
     """``path`` as a Path if it names a PNG or SVG file in an existing directory."""
-    target = Path(path)
-    if target.suffix.lower() not in FIGURE_FORMATS:
-        raise ParameterError("out", str(path), "a file name ending in .png or .svg")
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise ParameterError("out", str(path), "a file in an existing directory")
-    return target
+    return check_target(path, FIGURE_FORMATS, parameter)
 
 
 def save_figure(figure: Figure, path: str | Path) -> Path:

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from celtstone.errors import ParameterError
-from celtstone.export import atomic_path
+from celtstone.export import atomic_path, check_target
 from celtstone.visual import scene
 from celtstone.visual.frames import (
     VIDEO_FPS_LIMITS,
@@ -65,13 +65,7 @@ class VideoInfo:
 
 def check_video_target(path: str | Path) -> Path:
     """``path`` if it ends in .mp4 or .gif and its directory exists, else ParameterError."""
-    target = Path(path)
-    if target.suffix.lower() not in VIDEO_FORMATS:
-        raise ParameterError("out", str(path), "a file name ending in .mp4 or .gif")
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise ParameterError("out", str(path), "a file in an existing directory")
-    return target
+    return check_target(path, VIDEO_FORMATS)
 
 
 class _Panel:

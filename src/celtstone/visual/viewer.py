@@ -18,8 +18,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from celtstone.errors import ParameterError
-from celtstone.export import atomic_path
+from celtstone.export import atomic_path, check_target
 from celtstone.visual import scene
 from celtstone.visual.frames import FPS_MAX, PAGE_FRAME_LIMIT, PLOT_BUCKETS, envelope, plan_frames
 from celtstone.visual.runs import check_run, default_label
@@ -56,13 +55,7 @@ class PageInfo:
 
 def check_page_target(path: str | Path) -> Path:
     """``path`` if it ends in .html and its directory exists, else ParameterError."""
-    target = Path(path)
-    if target.suffix.lower() not in (".html", ".htm"):
-        raise ParameterError("out", str(path), "a file name ending in .html")
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise ParameterError("out", str(path), "a file in an existing directory")
-    return target
+    return check_target(path, (".html", ".htm"))
 
 
 class _Numbers:
