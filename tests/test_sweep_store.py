@@ -102,3 +102,24 @@ def test_stopped_sweep_resumes_to_the_uninterrupted_store(
         runner.Sweep.run = original  # type: ignore[method-assign]
     assert counted == [done_before]  # only the missing points were computed
     xr.testing.assert_identical(open_sweep(store), reference)
+
+
+MEMORY_SCRIPT = """
+import resource, sys
+import numpy as np
+from celtstone.sweep import Sweep
+grid = {"damping": np.linspace(0.0, 1e-5, 256), "spin": np.linspace(-8.0, 8.0, 256)}
+Sweep(grid, model="rolling", t_end=0.01).run(sys.argv[1])
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+"""
+
+
+@pytest.mark.slow
+def test_256_by_256_sweep_streams_within_2_gib(tmp_path: Path) -> None:
+    """Peak resident memory of a 65 536-point sweep to a store (short runs: the
+    batch driver's buffers do not grow with the number of points)."""
+    command = [sys.executable, "-c", MEMORY_SCRIPT, str(tmp_path / "big.zarr")]
+    output = subprocess.run(command, check=True, capture_output=True, text=True).stdout
+    peak_kib = int(output.split()[-1])
+    assert peak_kib < 2 * 1024 * 1024
+    assert open_sweep(tmp_path / "big.zarr")["status"].shape == (256, 256)
