@@ -35,6 +35,8 @@ e2e: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_simulate.py
+	$(BIN)/python benchmarks/bench_sweep.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info
+	find src -name "*.nbi" -delete -o -name "*.nbc" -delete

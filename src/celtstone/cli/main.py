@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from celtstone import CeltstoneError, version
-from celtstone.cli import animate, bodies, export, plot, reproduce, run, stability, view
+from celtstone.cli import animate, bodies, export, plot, reproduce, run, stability, sweep, view
 
 SUBCOMMANDS = {
     "run": run,
@@ -20,6 +20,7 @@ SUBCOMMANDS = {
     "animate": animate,
     "view": view,
     "stability": stability,
+    "sweep": sweep,
 }
 
 EXIT_OK = 0

@@ -1,0 +1,32 @@
+"""Parameter sweeps: grids or lists of points, run in compiled batches, stored in Zarr.
+
+>>> from celtstone.sweep import Sweep
+>>> sweep = Sweep({"friction_coefficient": [0.1, 0.35], "spin": [-5.0, 5.0]}, t_end=10.0)
+>>> results = sweep.run("sweep.zarr")  # doctest: +SKIP
+"""
+
+from celtstone.sweep.runner import DEFAULT_ATOL as DEFAULT_ATOL
+from celtstone.sweep.runner import DEFAULT_RTOL as DEFAULT_RTOL
+from celtstone.sweep.runner import REVERSAL_THRESHOLD as REVERSAL_THRESHOLD
+from celtstone.sweep.runner import SAMPLES_PER_SECOND as SAMPLES_PER_SECOND
+from celtstone.sweep.runner import Sweep as Sweep
+from celtstone.sweep.spec import PARAMETERS as PARAMETERS
+from celtstone.sweep.spec import Axis as Axis
+from celtstone.sweep.spec import parse_axis as parse_axis
+from celtstone.sweep.spec import parse_setting as parse_setting
+from celtstone.sweep.store import RESULT_FIELDS as RESULT_FIELDS
+from celtstone.sweep.store import open_sweep as open_sweep
+
+__all__ = [
+    "DEFAULT_ATOL",
+    "DEFAULT_RTOL",
+    "PARAMETERS",
+    "RESULT_FIELDS",
+    "REVERSAL_THRESHOLD",
+    "SAMPLES_PER_SECOND",
+    "Axis",
+    "Sweep",
+    "open_sweep",
+    "parse_axis",
+    "parse_setting",
+]

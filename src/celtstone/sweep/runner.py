@@ -1,0 +1,506 @@
+"""``Sweep``: a grid or list of points, run in batches on local threads or a Dask cluster.
+
+The points are cut into blocks (one Zarr chunk each) and the blocks into small
+tasks. A task is one call of the compiled batch driver ``solvers.batch.run_batch``:
+no Python per step. Locally, tasks run on daemon threads of this process (the
+compiled driver releases the GIL); with ``scheduler="tcp://HOST:PORT"`` they are
+submitted to a ``dask.distributed`` cluster. Either way only this process writes the
+store, a block at a time as its tasks come back.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import queue
+import threading
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from celtstone import schema, solvers
+from celtstone.bodies import Body, load_body
+from celtstone.errors import CeltstoneError, ParameterError
+from celtstone.integrate import _STATUS_NAMES, version
+from celtstone.models import MODELS
+from celtstone.solvers import batch
+from celtstone.sweep.spec import PARAMETERS, Axis, PointBuilder
+from celtstone.sweep.store import FORMAT, RESULT_FIELDS, Layout, SweepStore, open_sweep
+
+__all__ = [
+    "DEFAULT_ATOL",
+    "DEFAULT_CHUNK_POINTS",
+    "DEFAULT_RTOL",
+    "REVERSAL_THRESHOLD",
+    "SAMPLES_PER_SECOND",
+    "Sweep",
+]
+
+DEFAULT_RTOL = 1e-8  # sliding runs agree with rtol 1e-10 to about 1e-6 rad/s in the final spin
+DEFAULT_ATOL = 1e-12
+SAMPLES_PER_SECOND = 200.0  # as simulate(): max tilt, normal force and the band are sampled
+REVERSAL_THRESHOLD = 0.1  # rad/s, half-width of the hysteresis band of the spin
+DEFAULT_CHUNK_POINTS = 256  # points per block (Zarr chunk)
+DEFAULT_TASK_POINTS = 8  # points per compiled call
+
+Progress = Callable[[int, int], None]  # (points written now, failures among them)
+
+
+def _axes(value: Mapping[str, Iterable[float]] | Sequence[Axis] | None) -> tuple[Axis, ...]:
+    if value is None:
+        return ()
+    if isinstance(value, Mapping):
+        return tuple(Axis(str(name), tuple(values)) for name, values in value.items())
+    return tuple(value)
+
+
+class Sweep:
+    """A parameter sweep: every combination of ``vary`` (a grid) or the rows of ``points``.
+
+    Parameters
+    ----------
+    vary : name -> values, one grid axis each (dimension order as given)
+    points : name -> values, all of one length: a list of points (dimension ``point``);
+        give ``vary`` or ``points``, not both
+    body : a :class:`Body`, a shipped body name or a TOML path
+    model : "sliding" or "rolling"
+    fixed : name -> value held for every point (``normal_force`` takes
+        "static" or "dynamic"); names as in ``spec.PARAMETERS``
+    t_end : duration of each run [s]
+    method : integrator (default: the model's, radau5 for sliding)
+    rtol, atol : local error tolerances (default rtol 1e-8 for sweeps)
+    samples_per_second : density of the samples behind max tilt, the normal force
+        and the hysteresis band [1/s]
+    reversal_threshold : half-width of the spin's hysteresis band [rad/s]
+    max_steps : step limit of each run
+
+    Every point is validated here, before anything is computed.
+    """
+
+    def __init__(
+        self,
+        vary: Mapping[str, Iterable[float]] | Sequence[Axis] | None = None,
+        *,
+        points: Mapping[str, Iterable[float]] | Sequence[Axis] | None = None,
+        body: Body | str | Path = "kane_levinson_1982",
+        model: str = "sliding",
+        fixed: Mapping[str, float | str] | None = None,
+        t_end: float = 10.0,
+        method: str | None = None,
+        rtol: float = DEFAULT_RTOL,
+        atol: float = DEFAULT_ATOL,
+        samples_per_second: float = SAMPLES_PER_SECOND,
+        reversal_threshold: float = REVERSAL_THRESHOLD,
+        max_steps: int = 20_000_000,
+    ) -> None:
+        self.axes = _axes(vary)
+        self.point_axes = _axes(points)
+        if self.axes and self.point_axes:
+            raise ParameterError("points", "given with vary", "either a grid or a list of points")
+        names = [a.name for a in self.axes + self.point_axes]
+        duplicates = sorted({n for n in names if names.count(n) > 1})
+        if duplicates:
+            raise ParameterError("vary", duplicates[0], "each parameter varied once")
+        if self.point_axes:
+            lengths = {len(a.values) for a in self.point_axes}
+            if len(lengths) != 1:
+                raise ParameterError("points", sorted(lengths), "columns of one length")
+        if model not in MODELS:
+            raise ParameterError("model", model, "one of: " + ", ".join(MODELS))
+        self.model_name = model
+        self.base_body = body if isinstance(body, Body) else load_body(body)
+        self.t_end = schema.check("t_end", t_end)
+        self.rtol = schema.check("rtol", rtol)
+        self.atol = schema.check("atol", atol)
+        self.max_steps = int(schema.check("max_steps", max_steps))
+        if not (samples_per_second > 0 and np.isfinite(samples_per_second)):
+            raise ParameterError("samples_per_second", samples_per_second, "a number > 0 1/s")
+        self.samples_per_second = float(samples_per_second)
+        if not (reversal_threshold > 0 and np.isfinite(reversal_threshold)):
+            raise ParameterError("reversal_threshold", reversal_threshold, "a number > 0 rad/s")
+        self.reversal_threshold = float(reversal_threshold)
+        self.fixed = dict(fixed or {})
+        self.builder = PointBuilder(self.base_body, model, self.fixed, self._columns())
+        self.method = method if method is not None else self.builder.model.default_method
+        if self.method not in solvers.METHODS:
+            raise ParameterError("method", self.method, "one of: " + ", ".join(solvers.METHODS))
+        self.builder.validate()
+        count = max(2, round(self.t_end * self.samples_per_second) + 1)
+        self.sample_times = np.linspace(0.0, self.t_end, count)
+
+    # ----------------------------------------------------------------- shape
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Dimension names: the grid axes, or ``("point",)``."""
+        if self.point_axes:
+            return ("point",)
+        return tuple(a.name for a in self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Number of values along each dimension."""
+        if self.point_axes:
+            return (len(self.point_axes[0].values),)
+        return tuple(len(a.values) for a in self.axes)
+
+    @property
+    def size(self) -> int:
+        """Number of points."""
+        return int(np.prod(self.shape))
+
+    def _columns(self) -> dict[str, np.ndarray]:
+        if self.point_axes:
+            return {a.name: np.array(a.values) for a in self.point_axes}
+        if not self.axes:
+            return {}
+        grids = np.meshgrid(*[np.array(a.values) for a in self.axes], indexing="ij")
+        return {a.name: g.ravel() for a, g in zip(self.axes, grids, strict=True)}
+
+    def _coords(self) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
+        coords: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]] = {}
+        for axis in self.axes + self.point_axes:
+            parameter = PARAMETERS[axis.name]
+            attrs = {"units": parameter.unit, "long_name": parameter.description}
+            dim = "point" if self.point_axes else axis.name
+            coords[axis.name] = ((dim,), np.array(axis.values), attrs)
+        if self.point_axes:
+            coords["point"] = (("point",), np.arange(self.size), {"long_name": "point index"})
+        return coords
+
+    # ----------------------------------------------------------------- provenance
+
+    def spec(self, chunk_points: int = DEFAULT_CHUNK_POINTS) -> str:
+        """Canonical JSON of everything that determines the results and the store layout."""
+        body = self.base_body
+        document = {
+            "body": {
+                "name": body.name,
+                "mass": body.mass,
+                "gravity": body.gravity,
+                "inertia": [list(row) for row in body.inertia],
+                "shape": body.shape.kind,
+                "shape_parameters": list(body.shape.kernel_parameters()),
+            },
+            "model": self.model_name,
+            "fixed": {k: self.fixed[k] for k in sorted(self.fixed)},
+            "vary": [[a.name, list(a.values)] for a in self.axes],
+            "points": [[a.name, list(a.values)] for a in self.point_axes],
+            "t_end": self.t_end,
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "samples_per_second": self.samples_per_second,
+            "reversal_threshold": self.reversal_threshold,
+            "max_steps": self.max_steps,
+            "chunk_points": int(chunk_points),
+        }
+        return json.dumps(document, sort_keys=True)
+
+    def attrs(self, chunk_points: int = DEFAULT_CHUNK_POINTS) -> dict[str, Any]:
+        """Provenance attributes of the result Dataset (flat strings and numbers)."""
+        body = self.base_body
+        model = self.builder.model
+        return {
+            "title": f"celtstone {self.model_name} sweep of {body.name}",
+            "software": "celtstone",
+            "celtstone_version": version(),
+            "body": body.name,
+            "body_source": body.source,
+            "body_mass": body.mass,
+            "body_gravity": body.gravity,
+            "body_inertia": str(np.array(body.inertia).tolist()),
+            "body_shape": body.shape.kind,
+            "body_shape_parameters": str(list(body.shape.kernel_parameters())),
+            **{f"model_{k}" if k != "model" else k: v for k, v in model.attributes().items()},
+            "fixed_parameters": json.dumps(self.fixed, sort_keys=True),
+            "initial_state_default": "omega = (0, 0, -5) rad/s, tilt = (0.5, 0.5) deg",
+            "varied_parameters": json.dumps([a.name for a in self.axes + self.point_axes]),
+            "t_end": self.t_end,
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "samples_per_second": self.samples_per_second,
+            "reversal_threshold": self.reversal_threshold,
+            "sweep_spec": self.spec(chunk_points),
+        }
+
+    # ----------------------------------------------------------------- running
+
+    def run(
+        self,
+        out: str | Path | None = None,
+        *,
+        resume: bool = False,
+        overwrite: bool = False,
+        scheduler: str | None = None,
+        workers: int | None = None,
+        chunk_points: int = DEFAULT_CHUNK_POINTS,
+        task_points: int = DEFAULT_TASK_POINTS,
+        progress: Progress | None = None,
+        on_start: Callable[[int, int], None] | None = None,
+    ) -> xr.Dataset:
+        """Compute every point (or, with ``resume``, every point not yet in ``out``).
+
+        Parameters
+        ----------
+        out : Zarr store to write block by block; None keeps the results in memory
+        resume : continue the store ``out`` of the same sweep
+        overwrite : replace an existing ``out``
+        scheduler : address of a dask.distributed scheduler ("tcp://HOST:PORT");
+            None runs on threads of this process
+        workers : number of local threads (default: every core)
+        chunk_points : points per block, the unit of writing and resuming
+        task_points : points per compiled call
+        progress : called with (points written, failures among them) after each block
+        on_start : called once with (points already done, points in all)
+
+        Returns
+        -------
+        xarray.Dataset
+            result fields on the sweep dimensions, with provenance attributes.
+            Ctrl-C (KeyboardInterrupt) stops after the blocks already written; the
+            store can then be resumed.
+        """
+        if int(chunk_points) < 1 or int(task_points) < 1:
+            raise ParameterError("chunk_points", chunk_points, "whole numbers >= 1")
+        layout = Layout.for_shape(self.dims, self.shape, int(chunk_points))
+        attrs = self.attrs(chunk_points)
+        store: SweepStore | None = None
+        memory: dict[str, np.ndarray] = {}
+        if out is not None:
+            target = Path(out)
+            if resume and target.exists():
+                store = SweepStore.open(target, expected_spec=attrs["sweep_spec"])
+            else:
+                store = SweepStore.create(
+                    target, layout, self._coords(), attrs, overwrite=overwrite
+                )
+            done = store.done_blocks()
+        else:
+            if resume:
+                raise ParameterError("resume", True, "a store to resume (out)")
+            done = set()
+            for name, (dtype, fill, _, _) in RESULT_FIELDS.items():
+                memory[name] = np.full(layout.size, fill, dtype=object if dtype == "str" else dtype)
+        blocks = [b for b in layout.blocks() if b[0] not in done]
+        if on_start is not None:
+            on_start(layout.size - sum(end - first for first, end, _ in blocks), layout.size)
+
+        def write(first: int, end: int, region: tuple[slice, ...], raw: np.ndarray) -> None:
+            fields = _fields(raw)
+            if store is not None:
+                store.write_block(region, fields)
+            else:
+                for name, values in fields.items():
+                    memory[name][first:end] = values
+            if progress is not None:
+                progress(end - first, int(np.sum(fields["status"] != "success")))
+
+        pool: _Pool = (
+            _DaskPool(scheduler) if scheduler is not None else _ThreadPool(workers or _cores())
+        )
+        try:
+            self._execute(blocks, int(task_points), pool, write)
+        finally:
+            pool.close()
+        if store is not None:
+            store.mark_complete()
+            return open_sweep(store.path)
+        return self._dataset(layout, memory, attrs)
+
+    def _execute(
+        self,
+        blocks: list[tuple[int, int, tuple[slice, ...]]],
+        task_points: int,
+        pool: _Pool,
+        write: Callable[[int, int, tuple[slice, ...], np.ndarray], None],
+    ) -> None:
+        tasks = [
+            (block, start, min(start + task_points, end))
+            for block, (first, end, _) in enumerate(blocks)
+            for start in range(first, end, task_points)
+        ]
+        pending = {b: end - first for b, (first, end, _) in enumerate(blocks)}
+        buffers: dict[int, np.ndarray] = {}
+        settings = {
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "sample_times": self.sample_times,
+            "reversal_threshold": self.reversal_threshold,
+            "max_steps": self.max_steps,
+        }
+        model_code = self.builder.model.code
+        next_task = 0
+        in_flight = 0
+        limit = 4 * pool.slots
+        while next_task < len(tasks) or in_flight:
+            while next_task < len(tasks) and in_flight < limit:
+                block, start, stop = tasks[next_task]
+                params, y0 = self.builder.arrays(range(start, stop))
+                pool.submit(next_task, model_code, self.method, params, y0, self.t_end, **settings)
+                next_task += 1
+                in_flight += 1
+            key, raw = pool.next_done()
+            in_flight -= 1
+            block, start, stop = tasks[key]
+            first, end, region = blocks[block]
+            buffer = buffers.setdefault(block, np.empty((end - first, batch.N_FIELDS)))
+            buffer[start - first : stop - first] = raw
+            pending[block] -= stop - start
+            if pending[block] == 0:
+                write(first, end, region, buffers.pop(block))
+
+    def _dataset(
+        self, layout: Layout, memory: Mapping[str, np.ndarray], attrs: Mapping[str, Any]
+    ) -> xr.Dataset:
+        variables = {}
+        for name, (dtype, _, unit, long_name) in RESULT_FIELDS.items():
+            values = memory[name].reshape(layout.shape)
+            if dtype == "str":
+                values = values.astype(str)
+            var_attrs = {"long_name": long_name} | ({"units": unit} if unit else {})
+            variables[name] = xr.Variable(layout.dims, values, attrs=var_attrs)
+        coords = {
+            name: xr.Variable(dims, values, attrs=a)
+            for name, (dims, values, a) in self._coords().items()
+        }
+        return xr.Dataset(
+            variables, coords=coords, attrs={**attrs, "format": FORMAT, "complete": True}
+        )
+
+
+def _fields(raw: np.ndarray) -> dict[str, np.ndarray]:
+    """Result fields by name from the batch driver's columns."""
+    codes = raw[:, batch.F_STATUS].astype(int)
+    t_stop = raw[:, batch.F_T_STOP]
+    status = np.array([_STATUS_NAMES.get(int(c), "failed") for c in codes], dtype=object)
+    message = np.array(
+        [
+            "reached t_end"
+            if c == solvers.STATUS_SUCCESS
+            else f"stopped at t = {t:.6g} s: {solvers.STATUS_MESSAGES.get(int(c), '')}"
+            for c, t in zip(codes, t_stop, strict=True)
+        ],
+        dtype=object,
+    )
+    return {
+        "first_reversal_time": raw[:, batch.F_FIRST_REVERSAL],
+        "n_reversals": raw[:, batch.F_REVERSALS].astype(np.int32),
+        "final_spin": raw[:, batch.F_FINAL_SPIN],
+        "energy_lost": raw[:, batch.F_ENERGY_LOST],
+        "max_tilt": raw[:, batch.F_MAX_TILT],
+        "min_normal_force": raw[:, batch.F_MIN_NORMAL_FORCE],
+        "t_stop": t_stop,
+        "status": status,
+        "message": message,
+    }
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+class _Pool:
+    """Runs ``batch.run_batch`` calls; ``next_done`` returns (key, result) as they finish."""
+
+    slots = 1
+
+    def submit(self, key: int, *args: Any, **kwargs: Any) -> None:
+        raise NotImplementedError
+
+    def next_done(self) -> tuple[int, np.ndarray]:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        raise NotImplementedError
+
+
+class _ThreadPool(_Pool):
+    """Daemon threads of this process: Ctrl-C returns at once, abandoning running tasks."""
+
+    def __init__(self, threads: int) -> None:
+        if threads < 1:
+            raise ParameterError("workers", threads, "a whole number >= 1")
+        self.slots = threads
+        self._tasks: queue.Queue[tuple[int, tuple, dict] | None] = queue.Queue()
+        self._done: queue.Queue[tuple[int, np.ndarray | BaseException]] = queue.Queue()
+        self._threads = [
+            threading.Thread(target=self._work, name=f"celtstone-sweep-{k}", daemon=True)
+            for k in range(threads)
+        ]
+        for thread in self._threads:
+            thread.start()
+
+    def _work(self) -> None:
+        while True:
+            task = self._tasks.get()
+            if task is None:
+                return
+            key, args, kwargs = task
+            try:
+                self._done.put((key, batch.run_batch(*args, **kwargs)))
+            except BaseException as error:  # handed to the main thread
+                self._done.put((key, error))
+
+    def submit(self, key: int, *args: Any, **kwargs: Any) -> None:
+        self._tasks.put((key, args, kwargs))
+
+    def next_done(self) -> tuple[int, np.ndarray]:
+        while True:
+            try:
+                key, result = self._done.get(timeout=0.1)  # wakes up for Ctrl-C
+            except queue.Empty:
+                continue
+            if isinstance(result, BaseException):
+                raise result
+            return key, result
+
+    def close(self) -> None:
+        while True:
+            try:
+                self._tasks.get_nowait()
+            except queue.Empty:
+                break
+        for _ in self._threads:
+            self._tasks.put(None)
+
+
+class _DaskPool(_Pool):
+    """Tasks submitted to a dask.distributed scheduler; this process writes the results."""
+
+    def __init__(self, address: str) -> None:
+        try:
+            from distributed import Client, as_completed
+        except ImportError as error:  # pragma: no cover - pinned dependency
+            raise CeltstoneError(f"dask.distributed is not installed: {error}") from None
+        try:
+            self._client = Client(address, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as error:
+            raise ParameterError(
+                "scheduler", address, "the address of a running dask scheduler", str(error)
+            ) from None
+        self.slots = max(1, sum(self._client.nthreads().values()))
+        self._completed = as_completed()
+        self._keys: dict[Any, int] = {}
+
+    def submit(self, key: int, *args: Any, **kwargs: Any) -> None:
+        future = self._client.submit(batch.run_batch, *args, pure=False, **kwargs)
+        self._keys[future.key] = key
+        self._completed.add(future)
+
+    def next_done(self) -> tuple[int, np.ndarray]:
+        future = next(self._completed)
+        key = self._keys.pop(future.key)
+        return key, future.result()
+
+    def close(self) -> None:
+        for future in list(self._completed.futures):
+            future.cancel()
+        self._client.close()

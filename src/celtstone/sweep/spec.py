@@ -1,0 +1,388 @@
+"""What a sweep varies: parameter names, axis parsing, and points turned into kernel arrays.
+
+Every sweepable name belongs to one group: the body, the model or the initial state.
+A point's values are validated once, by building the validated objects
+(:class:`Body`, the model, :class:`InitialState`), and then stripped to the flat
+kernel arrays. Objects are built once per distinct combination of each group's
+values, so a 256 x 256 grid over friction and spin builds 256 models and 256
+initial states, not 65 536 of each.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from celtstone import schema
+from celtstone.bodies import Body, Ellipsoid, Paraboloid
+from celtstone.errors import CeltstoneError, ParameterError
+from celtstone.models import (
+    NORMAL_FORCE_OPTIONS,
+    InitialState,
+    Model,
+    initial_vector,
+    kernel_parameters,
+    model_from_name,
+)
+
+__all__ = [
+    "BODY",
+    "MODEL",
+    "PARAMETERS",
+    "STATE",
+    "Axis",
+    "PointBuilder",
+    "check_name",
+    "parse_axis",
+]
+
+BODY = "body"
+MODEL = "model"
+STATE = "state"
+
+
+@dataclass(frozen=True)
+class SweepParameter:
+    """A sweepable name: its group, unit and meaning (units from ``schema``)."""
+
+    name: str
+    group: str
+    unit: str
+    description: str
+
+
+def _p(
+    name: str, group: str, schema_name: str | None, description: str, unit: str = ""
+) -> SweepParameter:
+    if schema_name is not None:
+        unit = schema.PARAMETERS[schema_name].unit
+    return SweepParameter(name, group, unit, description)
+
+
+PARAMETERS: dict[str, SweepParameter] = {
+    p.name: p
+    for p in [
+        _p("mass", BODY, "mass", "mass of the body m"),
+        _p("gravity", BODY, "gravity", "gravitational acceleration g"),
+        *(
+            _p(f"inertia_{i}{j}", BODY, "inertia", f"central inertia tensor component A{i}{j}")
+            for i, j in ((1, 1), (2, 2), (3, 3), (1, 2), (1, 3), (2, 3))
+        ),
+        _p(
+            "misalignment_angle",
+            BODY,
+            None,
+            "angle from body axis 1 to the horizontal principal axis nearest it, in "
+            "(-pi/4, pi/4); the principal moments are kept",
+            unit="rad",
+        ),
+        _p("semi_axis_a", BODY, "semi_axes", "ellipsoid semi-axis a along body axis 1"),
+        _p("semi_axis_b", BODY, "semi_axes", "ellipsoid semi-axis b along body axis 2"),
+        _p("semi_axis_c", BODY, "semi_axes", "ellipsoid semi-axis c along body axis 3"),
+        _p("com_offset", BODY, "com_offset", "ellipsoid: G below the centre h"),
+        _p("radius_of_curvature_1", BODY, "radii_of_curvature", "paraboloid rho1"),
+        _p("radius_of_curvature_2", BODY, "radii_of_curvature", "paraboloid rho2"),
+        _p("com_height", BODY, "com_height", "paraboloid: G above the rest contact l"),
+        _p("friction_coefficient", MODEL, "friction_coefficient", "Coulomb friction f"),
+        _p("contact_radius", MODEL, "contact_radius", "Hertz contact radius epsilon"),
+        _p("damping", MODEL, "damping", "viscous torque coefficient sigma"),
+        _p("regularisation_speed", MODEL, "regularisation_speed", "slip-speed scale delta"),
+        _p(
+            "spin",
+            STATE,
+            None,
+            "initial spin omega . n (sets omega3, given omega1, omega2 and the tilt)",
+            unit="rad/s",
+        ),
+        _p("omega1", STATE, "omega", "initial angular velocity, body axis 1"),
+        _p("omega2", STATE, "omega", "initial angular velocity, body axis 2"),
+        _p("omega3", STATE, "omega", "initial angular velocity, body axis 3"),
+        _p("tilt_alpha", STATE, "tilt", "initial Euler tilt alpha"),
+        _p("tilt_beta", STATE, "tilt", "initial Euler tilt beta"),
+    ]
+}
+
+# a fixed setting that is not a number
+NORMAL_FORCE = "normal_force"
+_CONFLICTS = (("spin", "omega3"), ("misalignment_angle", "inertia_12"))
+
+
+def check_name(name: str) -> SweepParameter:
+    """The sweep parameter ``name``; unknown names raise with the closest match."""
+    if name in PARAMETERS:
+        return PARAMETERS[name]
+    names = [*PARAMETERS, NORMAL_FORCE]
+    close = difflib.get_close_matches(name, names, n=1, cutoff=0.5) or [
+        known for known in names if known.startswith(name[:4])
+    ]
+    hint = f"did you mean {close[0]!r}?" if close else "see `celtstone sweep --help`"
+    raise ParameterError("parameter", name, "a sweep parameter name", hint)
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One varied parameter and its values (SI, the unit of ``PARAMETERS[name]``)."""
+
+    name: str
+    values: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        check_name(self.name)
+        try:
+            values = tuple(float(v) for v in self.values)
+        except (TypeError, ValueError):
+            raise ParameterError(self.name, self.values, "a list of numbers") from None
+        if not values:
+            raise ParameterError(self.name, self.values, "at least one value")
+        if not all(math.isfinite(v) for v in values):
+            raise ParameterError(self.name, self.values, "finite numbers")
+        object.__setattr__(self, "values", values)
+
+
+def _float(name: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise ParameterError(name, text, "a number") from None
+
+
+def parse_axis(text: str) -> Axis:
+    """Parse ``name=start:stop:count`` (evenly spaced, ends included) or ``name=v1,v2,...``."""
+    name, sep, rest = text.partition("=")
+    name = name.strip().replace("-", "_")
+    if not sep or not rest.strip():
+        raise ParameterError(
+            "vary", text, "NAME=START:STOP:COUNT or NAME=V1,V2,...", "e.g. spin=-8:8:64"
+        )
+    check_name(name)
+    if ":" in rest:
+        parts = rest.split(":")
+        if len(parts) != 3:
+            raise ParameterError(name, rest, "START:STOP:COUNT, e.g. 0.02:0.5:64")
+        start, stop = _float(name, parts[0]), _float(name, parts[1])
+        count_value = _float(name, parts[2])
+        if count_value != int(count_value) or count_value < 1:
+            raise ParameterError(f"{name} count", parts[2], "a whole number >= 1")
+        count = int(count_value)
+        values = np.linspace(start, stop, count) if count > 1 else np.array([start])
+        return Axis(name, tuple(values.tolist()))
+    return Axis(name, tuple(_float(name, part) for part in rest.split(",")))
+
+
+def parse_setting(text: str) -> tuple[str, float | str]:
+    """Parse a fixed setting ``name=value`` (``normal_force=static|dynamic`` or a number)."""
+    name, sep, value = text.partition("=")
+    name = name.strip().replace("-", "_")
+    if not sep or not value.strip():
+        raise ParameterError("set", text, "NAME=VALUE", "e.g. contact_radius=0.002")
+    if name == NORMAL_FORCE:
+        return name, value.strip()
+    check_name(name)
+    return name, _float(name, value)
+
+
+def _rotated_inertia(inertia: np.ndarray, angle: float) -> np.ndarray:
+    """``inertia`` with its horizontal principal axes turned to ``angle`` from axis 1 [rad]."""
+    block = inertia[:2, :2]
+    moments, vectors = np.linalg.eigh(block)
+    near_axis_1 = int(np.argmax(np.abs(vectors[0])))
+    a1, a2 = moments[near_axis_1], moments[1 - near_axis_1]
+    c, s = math.cos(angle), math.sin(angle)
+    rotation = np.array([[c, -s], [s, c]])
+    tensor = inertia.copy()
+    tensor[:2, :2] = rotation @ np.diag([a1, a2]) @ rotation.T
+    return tensor
+
+
+def build_body(base: Body, values: Mapping[str, float]) -> Body:
+    """``base`` with the body parameters in ``values`` replaced, validated."""
+    if not values:
+        return base
+    inertia = base.inertia_array.copy()
+    for name, value in values.items():
+        if name.startswith("inertia_"):
+            i, j = int(name[-2]) - 1, int(name[-1]) - 1
+            inertia[i, j] = inertia[j, i] = value
+    if "misalignment_angle" in values:
+        angle = values["misalignment_angle"]
+        if not -math.pi / 4 < angle < math.pi / 4:
+            raise ParameterError("misalignment_angle", angle, "a number in (-0.785, 0.785) rad")
+        inertia = _rotated_inertia(inertia, angle)
+    shape = base.shape
+    ellipsoid_names = ("semi_axis_a", "semi_axis_b", "semi_axis_c", "com_offset")
+    paraboloid_names = ("radius_of_curvature_1", "radius_of_curvature_2", "com_height")
+    for name in values:
+        wrong = (isinstance(shape, Ellipsoid) and name in paraboloid_names) or (
+            isinstance(shape, Paraboloid) and name in ellipsoid_names
+        )
+        if wrong:
+            raise ParameterError("parameter", name, f"a parameter of the body's {shape.kind} shape")
+    if isinstance(shape, Ellipsoid):
+        axes = list(shape.semi_axes)
+        for k, name in enumerate(ellipsoid_names[:3]):
+            axes[k] = values.get(name, axes[k])
+        shape = Ellipsoid((axes[0], axes[1], axes[2]), values.get("com_offset", shape.com_offset))
+    else:
+        radii = list(shape.radii_of_curvature)
+        radii[0] = values.get("radius_of_curvature_1", radii[0])
+        radii[1] = values.get("radius_of_curvature_2", radii[1])
+        shape = Paraboloid((radii[0], radii[1]), values.get("com_height", shape.com_height))
+    return replace(
+        base,
+        mass=values.get("mass", base.mass),
+        gravity=values.get("gravity", base.gravity),
+        inertia=tuple(tuple(float(v) for v in row) for row in inertia),  # type: ignore[arg-type]
+        shape=shape,
+    )
+
+
+def build_model(model_name: str, normal_force: str, values: Mapping[str, float]) -> Model:
+    """The model with the settings in ``values``, validated."""
+    if model_name == "rolling":
+        for name in values:
+            if name != "damping":
+                raise ParameterError(
+                    "parameter", name, "a parameter of the rolling model (damping)"
+                )
+        return model_from_name("rolling", **values)
+    return model_from_name(model_name, normal_force=normal_force, **values)
+
+
+def build_state(values: Mapping[str, float]) -> InitialState:
+    """The initial state from omega1..3, tilt_alpha, tilt_beta and spin (defaults:
+    ``InitialState()``, Kane & Levinson's ω = (0, 0, -5) rad/s, α = β = 0.5°)."""
+    default = InitialState()
+    omega = [values.get(f"omega{k + 1}", default.omega[k]) for k in range(3)]
+    tilt = (
+        values.get("tilt_alpha", default.tilt[0]),
+        values.get("tilt_beta", default.tilt[1]),
+    )
+    if "spin" in values:
+        spin = schema.check("omega", values["spin"])
+        n = InitialState(omega=(0.0, 0.0, 0.0), tilt=tilt).vertical
+        omega[2] = (spin - omega[0] * n[0] - omega[1] * n[1]) / n[2]
+    return InitialState(omega=(omega[0], omega[1], omega[2]), tilt=tilt)
+
+
+class PointBuilder:
+    """Turns each point of a sweep into kernel arrays; validates every point up front.
+
+    Parameters
+    ----------
+    base_body : the body before any parameter is applied
+    model_name : "rolling" or "sliding"
+    fixed : parameter name -> value for the whole sweep (``normal_force`` may be a string)
+    columns : name -> values of every point, shape (n_points,) each
+    """
+
+    def __init__(
+        self,
+        base_body: Body,
+        model_name: str,
+        fixed: Mapping[str, float | str],
+        columns: Mapping[str, np.ndarray],
+    ) -> None:
+        settings = dict(fixed)
+        normal_force = str(settings.pop(NORMAL_FORCE, "static"))
+        if normal_force not in NORMAL_FORCE_OPTIONS:
+            raise ParameterError(NORMAL_FORCE, normal_force, "one of: static, dynamic")
+        numbers = {name: float(value) for name, value in settings.items()}
+        for name in numbers:
+            check_name(name)
+        for name in columns:
+            check_name(name)
+            if name in numbers:
+                raise ParameterError(
+                    "parameter", name, "either fixed or varied", "it is given in both"
+                )
+        names = set(numbers) | set(columns)
+        for first, second in _CONFLICTS:
+            if first in names and second in names:
+                raise ParameterError(
+                    "parameter", second, f"not together with {first}", f"{first} sets it"
+                )
+        self.model_name = model_name
+        self.normal_force = normal_force
+        self.base_body = base_body
+        self.fixed = numbers
+        self.columns = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
+        self.n_points = next(iter(self.columns.values())).size if self.columns else 1
+        self._groups = {
+            group: [name for name in self.columns if PARAMETERS[name].group == group]
+            for group in (BODY, MODEL, STATE)
+        }
+        self._bodies: dict[tuple[float, ...], Body] = {}
+        self._models: dict[tuple[float, ...], Model] = {}
+        self._params: dict[tuple[tuple[float, ...], tuple[float, ...]], np.ndarray] = {}
+        self._states: dict[tuple[float, ...], np.ndarray] = {}
+        # the fixed settings alone, validated (the varied ones are checked by validate)
+        fixed_values = {group: self._values(group, None) for group in (BODY, MODEL)}
+        self.model = build_model(model_name, normal_force, fixed_values[MODEL])
+        self.body = build_body(base_body, fixed_values[BODY])
+
+    def _values(self, group: str, key: tuple[float, ...] | None) -> dict[str, float]:
+        values = {n: v for n, v in self.fixed.items() if PARAMETERS[n].group == group}
+        if key is not None:
+            values.update(zip(self._groups[group], key, strict=True))
+        return values
+
+    def _body(self, key: tuple[float, ...]) -> Body:
+        if key not in self._bodies:
+            self._bodies[key] = build_body(self.base_body, self._values(BODY, key))
+        return self._bodies[key]
+
+    def _model(self, key: tuple[float, ...]) -> Model:
+        if key not in self._models:
+            self._models[key] = build_model(
+                self.model_name, self.normal_force, self._values(MODEL, key)
+            )
+        return self._models[key]
+
+    def _state(self, key: tuple[float, ...]) -> np.ndarray:
+        if key not in self._states:
+            self._states[key] = initial_vector(build_state(self._values(STATE, key)))
+        return self._states[key]
+
+    def _keys(self, index: int) -> tuple[tuple[float, ...], ...]:
+        return tuple(
+            tuple(float(self.columns[n][index]) for n in self._groups[group])
+            for group in (BODY, MODEL, STATE)
+        )
+
+    def point(self, index: int) -> dict[str, float]:
+        """The varied values of point ``index``."""
+        return {name: float(values[index]) for name, values in self.columns.items()}
+
+    def validate(self) -> None:
+        """Build every distinct body, model and state once; the first bad one raises."""
+        for index in range(self.n_points):
+            body_key, model_key, state_key = self._keys(index)
+            try:
+                self._body(body_key)
+                self._model(model_key)
+                self._state(state_key)
+            except CeltstoneError as error:
+                where = ", ".join(f"{k}={v:g}" for k, v in self.point(index).items())
+                if isinstance(error, ParameterError):
+                    hint = f"at sweep point {index} ({where})"
+                    if error.hint:
+                        hint = f"{error.hint}; {hint}"
+                    raise ParameterError(error.name, error.value, error.allowed, hint) from None
+                raise
+
+    def arrays(self, indices: Sequence[int] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Kernel parameters (k, N_PARAMS) and initial states (k, N_STATE) of ``indices``."""
+        params = []
+        states = []
+        for index in indices:
+            body_key, model_key, state_key = self._keys(int(index))
+            pair = (body_key, model_key)
+            if pair not in self._params:
+                self._params[pair] = kernel_parameters(self._model(model_key), self._body(body_key))
+            params.append(self._params[pair])
+            states.append(self._state(state_key))
+        return np.array(params), np.array(states)

@@ -1,0 +1,198 @@
+"""Sweeps: parameter names and parsing, the batch driver against single runs, physics, CLI."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import celtstone as cs
+from celtstone.cli.main import main
+from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
+from celtstone.sweep.spec import build_body, build_state
+from tests.conftest import LITERATURE_TILT
+
+# --------------------------------------------------------------------------- spec
+
+
+def test_range_and_list_axes() -> None:
+    axis = parse_axis("friction_coefficient=0.02:0.5:5")
+    assert axis.name == "friction_coefficient"
+    np.testing.assert_array_equal(axis.values, np.linspace(0.02, 0.5, 5))
+    assert parse_axis("spin=-8,0,8").values == (-8.0, 0.0, 8.0)
+    assert parse_axis("contact-radius=0.001").values == (0.001,)
+    assert parse_setting("normal_force=dynamic") == ("normal_force", "dynamic")
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("fricton_coefficient=0:1:3", "did you mean 'friction_coefficient'"),
+        ("spin=1:2", "START:STOP:COUNT"),
+        ("spin=1:2:2.5", "whole number"),
+        ("spin=1:2:0", "whole number"),
+        ("spin=a,b", "a number"),
+        ("spin=1,nan", "finite"),
+        ("spin", "NAME=START:STOP:COUNT"),
+    ],
+)
+def test_bad_axes_name_the_problem(text: str, match: str) -> None:
+    with pytest.raises(cs.ParameterError, match=match):
+        parse_axis(text)
+
+
+def test_invalid_point_fails_before_anything_is_computed(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(cs.ParameterError, match=r"friction_coefficient.*>= 0.*at sweep point 1"):
+        Sweep({"friction_coefficient": [0.1, -0.2]})
+    # a body made impossible by one combination: G outside the ellipsoid (|h| < c)
+    with pytest.raises(cs.ParameterError, match=r"com_offset.*semi_axis_c=0\.005"):
+        Sweep({"semi_axis_c": [0.02, 0.005]}, model="rolling")
+    with pytest.raises(cs.ParameterError, match="rolling model"):
+        Sweep({"friction_coefficient": [0.1]}, model="rolling")
+    with pytest.raises(cs.ParameterError, match=r"omega3.*not together with spin"):
+        Sweep({"spin": [1.0]}, fixed={"omega3": 2.0})
+    with pytest.raises(cs.ParameterError, match="paraboloid"):
+        Sweep({"semi_axis_a": [0.2]}, body="kane_levinson_1982_paraboloid", model="rolling")
+    code = main(["sweep", "--vary", "spin=1,2", "--set", "mass=-1", "--out", str(tmp_path / "s")])
+    assert code == 2
+    assert not (tmp_path / "s").exists()
+
+
+def test_misalignment_angle_turns_the_principal_axes(kane_levinson: cs.Body) -> None:
+    angle = math.radians(2.0)
+    body = build_body(kane_levinson, {"misalignment_angle": angle})
+    assert body.misalignment_angle == pytest.approx(angle, abs=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.eigvalsh(body.inertia_array), np.linalg.eigvalsh(kane_levinson.inertia_array)
+    )
+    same = build_body(kane_levinson, {"misalignment_angle": kane_levinson.misalignment_angle})
+    np.testing.assert_allclose(same.inertia_array, kane_levinson.inertia_array, atol=1e-18)
+
+
+def test_spin_is_the_initial_omega_dot_n() -> None:
+    state = build_state({"spin": -5.0, "omega1": 0.3, "tilt_alpha": 2.0, "tilt_beta": -1.0})
+    assert np.dot(state.omega, state.vertical) == pytest.approx(-5.0, rel=1e-15)
+    assert state.omega[:2] == (0.3, 0.0)
+
+
+# --------------------------------------------------------------------------- batch driver
+
+
+def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
+    """Each point equals simulate() + reversal_times() + summary() with the same samples."""
+    frictions, spins = [0.35, 0.5], [-5.0, 3.0]
+    sweep = Sweep({"friction_coefficient": frictions, "spin": spins}, t_end=2.5, rtol=1e-8)
+    results = sweep.run(workers=2, task_points=1)
+    assert results["status"].dims == ("friction_coefficient", "spin")
+    for f in frictions:
+        for spin in spins:
+            state = build_state({"spin": spin})
+            run = cs.simulate(
+                cs.SlidingModel(friction_coefficient=f),
+                kane_levinson,
+                state,
+                2.5,
+                rtol=1e-8,
+                atol=1e-12,
+            )
+            summary, ds = run.summary(), run.dataset
+            reversals = cs.reversal_times(
+                ds["time"].values, ds["spin"].values, 0.1, run.spin_crossings
+            )
+            point = results.sel(friction_coefficient=f, spin=spin)
+            first = reversals[0] if reversals.size else np.nan
+            np.testing.assert_array_equal(point["first_reversal_time"], first)
+            assert point["n_reversals"] == reversals.size
+            assert point["final_spin"] == summary["spin_final"]
+            energy_lost = summary["energy_initial"] - summary["energy_final"]
+            assert point["energy_lost"] == energy_lost
+            assert math.degrees(point["max_tilt"]) == summary["max_tilt_deg"]
+            assert point["min_normal_force"] == summary["min_normal_force"]
+            assert point["status"] == summary["status"]
+            assert point["message"] == summary["message"]
+    # f = 0.35 from w3 = -5 reverses once near 1.66 s (the paper's Figure 2 case, README)
+    assert results["n_reversals"].sel(friction_coefficient=0.35, spin=-5.0) == 1
+
+
+def test_failed_points_are_recorded_and_the_others_carry_on() -> None:
+    results = Sweep({"spin": [-5.0, -40.0, 5.0]}, model="rolling", t_end=0.5).run(workers=1)
+    assert list(results["status"].values) == ["success", "lift_off", "success"]
+    lifted = results.sel(spin=-40.0)
+    assert 0.0 < lifted["t_stop"] < 0.5
+    assert lifted["min_normal_force"] == 0.0
+    assert np.isnan(lifted["final_spin"]) and np.isnan(lifted["energy_lost"])
+    assert "lifts off" in str(lifted["message"].values)
+    assert results["t_stop"].sel(spin=5.0) == 0.5
+
+
+def test_mirror_symmetry_of_misalignment_and_spin() -> None:
+    """Mirroring in the plane x2 = 0 maps (misalignment d, spin s) to (-d, -s) with
+    alpha = 0 (README: the mirrored body spins the mirrored way); only one sense of
+    spin reverses for each sign of the misalignment (rolling, Kane & Levinson)."""
+    angle = cs.load_body("kane_levinson_1982").misalignment_angle
+    sweep = Sweep(
+        {"misalignment_angle": [-angle, angle], "spin": [-5.0, 5.0]},
+        model="rolling",
+        fixed={"tilt_alpha": 0.0, "tilt_beta": 0.5},
+        t_end=4.0,
+        rtol=1e-10,
+    )
+    r = sweep.run(workers=2)
+    flipped = r.isel(misalignment_angle=slice(None, None, -1), spin=slice(None, None, -1))
+    for name in ("first_reversal_time", "max_tilt", "min_normal_force", "energy_lost"):
+        np.testing.assert_allclose(r[name].values, flipped[name].values, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(r["final_spin"].values, -flipped["final_spin"].values, rtol=1e-6)
+    np.testing.assert_array_equal(r["n_reversals"].values, [[0, 1], [1, 0]])
+
+
+def test_points_list_and_memory_results_equal_the_store(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    points = {"damping": [0.0, 1e-5, 2e-5], "tilt_beta": [0.5, 1.0, 2.0]}
+    sweep = Sweep(points=points, model="rolling", t_end=0.5)
+    in_memory = sweep.run(workers=1, chunk_points=2)
+    stored = sweep.run(tmp_path / "p.zarr", chunk_points=2, task_points=1)
+    assert in_memory["status"].dims == ("point",)
+    np.testing.assert_array_equal(stored["tilt_beta"].values, points["tilt_beta"])
+    xr.testing.assert_identical(in_memory, stored)
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "grid.zarr"
+    grid = ["sweep", "--model", "rolling", "--vary", "spin=-5,5", "--vary", "damping=0:1e-5:2"]
+    options = ["--out", str(out), "--no-progress", "--chunk-points", "2"]
+    argv = [*grid, "--t-end", "0.5", *options]
+    assert main(argv) == 0
+    assert "4 points" in capsys.readouterr().out
+    results = open_sweep(out)
+    assert results.attrs["complete"] is True
+    assert results.attrs["rtol"] == 1e-8
+    assert results["spin"].attrs["units"] == "rad/s"
+    maps = sorted(p.name for p in (tmp_path / "grid_maps").iterdir())
+    assert "first_reversal_time.png" in maps and "status.png" in maps
+    # an existing store is kept unless resumed or overwritten
+    assert main(argv) == 2
+    assert "--resume" in capsys.readouterr().err
+    assert main([*argv, "--resume", "--no-maps"]) == 0  # nothing left to compute
+    xr.testing.assert_identical(open_sweep(out), results)
+    # a resume with other settings is refused, naming them
+    assert main([*grid, "--t-end", "0.6", *options, "--resume"]) == 2
+    assert "t_end" in capsys.readouterr().err
+
+
+def test_cli_points_file(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    table = tmp_path / "points.csv"
+    table.write_text("spin,tilt_alpha\n-5,0.5\n5,1.0\n")
+    out = tmp_path / "points.zarr"
+    argv = ["sweep", "--model", "rolling", "--points", str(table), "--t-end", "0.2"]
+    assert main([*argv, "--out", str(out), "--no-progress", "--no-maps"]) == 0
+    results = open_sweep(out)
+    np.testing.assert_array_equal(results["tilt_alpha"].values, [0.5, 1.0])
+    assert (tmp_path / "points_maps").exists() is False
+
+
+def test_literature_tilt_is_the_default() -> None:
+    assert build_state({}).tilt == LITERATURE_TILT
