@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
+from celtstone.analysis import dataset_reversal_times
 from celtstone.cli.main import main
 from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
 from celtstone.sweep.spec import build_body, build_state
@@ -81,7 +82,8 @@ def test_spin_is_the_initial_omega_dot_n() -> None:
 
 
 def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
-    """Each point equals simulate() + reversal_times() + summary() with the same samples."""
+    """Each point equals simulate() + reversal_times() + summary() with the same samples,
+    and the default band is the reproduction's (dataset_reversal_times)."""
     frictions, spins = [0.35, 0.5], [-5.0, 3.0]
     sweep = Sweep({"friction_coefficient": frictions, "spin": spins}, t_end=2.5, rtol=1e-8)
     results = sweep.run(workers=2, task_points=1)
@@ -98,9 +100,12 @@ def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
                 atol=1e-12,
             )
             summary, ds = run.summary(), run.dataset
+            # the default band: 4 % of the initial |spin| (0.2 and 0.12 rad/s here)
+            band = 0.04 * abs(spin)
             reversals = cs.reversal_times(
-                ds["time"].values, ds["spin"].values, 0.1, run.spin_crossings
+                ds["time"].values, ds["spin"].values, band, run.spin_crossings
             )
+            np.testing.assert_array_equal(reversals, dataset_reversal_times(ds))
             point = results.sel(friction_coefficient=f, spin=spin)
             first = reversals[0] if reversals.size else np.nan
             np.testing.assert_array_equal(point["first_reversal_time"], first)
@@ -196,3 +201,18 @@ def test_cli_points_file(tmp_path) -> None:  # type: ignore[no-untyped-def]
 
 def test_literature_tilt_is_the_default() -> None:
     assert build_state({}).tilt == LITERATURE_TILT
+
+
+def test_superellipsoid_exponent_is_a_sweep_parameter(kane_levinson: cs.Body) -> None:
+    import dataclasses
+
+    shape = kane_levinson.shape
+    rounded = dataclasses.replace(
+        kane_levinson, shape=cs.Superellipsoid(shape.semi_axes, shape.com_offset, 2.0)
+    )
+    built = build_body(rounded, {"exponent": 2.5, "semi_axis_a": 0.21})
+    assert built.shape == cs.Superellipsoid((0.21, 0.03, 0.02), shape.com_offset, 2.5)
+    with pytest.raises(cs.ParameterError, match="body's ellipsoid shape"):
+        build_body(kane_levinson, {"exponent": 3.0})
+    with pytest.raises(cs.ParameterError, match=r"exponent.*\[2, 64\]"):
+        build_body(rounded, {"exponent": 1.5})

@@ -9,6 +9,8 @@ influence of sliding on the Celt rattleback motion" (see README).
 >>> run.dataset["spin"]  # doctest: +SKIP
 """
 
+from typing import Any
+
 from celtstone.analysis import SpinStability as SpinStability
 from celtstone.analysis import reversal_times as reversal_times
 from celtstone.analysis import spin_stability as spin_stability
@@ -47,12 +49,24 @@ __all__ = [
     "SlidingModel",
     "SpinStability",
     "Superellipsoid",
+    "Sweep",
     "Trajectory",
     "list_bodies",
     "load_body",
     "model_from_name",
+    "open_sweep",
     "reversal_times",
     "simulate",
     "spin_stability",
     "version",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """``Sweep`` and ``open_sweep`` on first use, so ``import celtstone`` stays light
+    (no Zarr or Dask until a sweep is asked for)."""
+    if name in ("Sweep", "open_sweep"):
+        from celtstone import sweep
+
+        return getattr(sweep, name)
+    raise AttributeError(f"module 'celtstone' has no attribute {name!r}")

@@ -14,13 +14,20 @@ from celtstone.models import InitialState as InitialState
 from celtstone.models import Model, initial_vector, kernel_parameters
 from celtstone.trajectory import Trajectory, build_dataset
 
-__all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "SAMPLES_PER_SECOND", "simulate", "version"]
+__all__ = [
+    "DEFAULT_ATOL",
+    "DEFAULT_RTOL",
+    "SAMPLES_PER_SECOND",
+    "STATUS_NAMES",
+    "simulate",
+    "version",
+]
 
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
 SAMPLES_PER_SECOND = 200  # default output density [1/s]
 
-_STATUS_NAMES = {
+STATUS_NAMES = {  # solver status code -> the name in results and the CLI
     solvers.STATUS_SUCCESS: "success",
     solvers.STATUS_LIFT_OFF: "lift_off",
     solvers.STATUS_SINGULAR: "friction_singular",
@@ -128,7 +135,7 @@ def simulate(
         max_crossings=max_crossings,
         max_steps=max_steps,
     )
-    status = _STATUS_NAMES.get(raw.status, "failed")
+    status = STATUS_NAMES.get(raw.status, "failed")
     message = _status_message(status, raw.status, raw)
     attrs: dict[str, str | float | int] = {
         "title": f"celtstone {model.name} run of {body.name}",

@@ -16,9 +16,11 @@ import xarray as xr
 from celtstone.errors import ParameterError
 
 __all__ = [
+    "REVERSAL_BAND_FLOOR",
     "REVERSAL_BAND_FRACTION",
     "dataset_reversal_times",
     "reversal_band",
+    "reversal_bands",
     "reversal_times",
 ]
 
@@ -91,6 +93,17 @@ def reversal_band(initial_spin: float) -> float:
     if not band > 0.0 or not np.isfinite(band):
         raise ParameterError("initial spin", initial_spin, "a finite spin != 0 rad/s")
     return band
+
+
+REVERSAL_BAND_FLOOR = 0.01
+"""Smallest band [rad/s] of :func:`reversal_bands`, for starts with little or no spin."""
+
+
+def reversal_bands(initial_spins: np.ndarray) -> np.ndarray:
+    """Default bands [rad/s] of many starts (sweeps): ``REVERSAL_BAND_FRACTION`` |spin|,
+    at least ``REVERSAL_BAND_FLOOR`` so that a start without spin still has a band."""
+    spins = np.abs(np.asarray(initial_spins, dtype=float))
+    return np.maximum(REVERSAL_BAND_FRACTION * spins, REVERSAL_BAND_FLOOR)
 
 
 def dataset_reversal_times(dataset: xr.Dataset, threshold: float | None = None) -> np.ndarray:

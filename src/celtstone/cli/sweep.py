@@ -13,7 +13,6 @@ from celtstone.sweep import (
     DEFAULT_ATOL,
     DEFAULT_RTOL,
     PARAMETERS,
-    REVERSAL_THRESHOLD,
     SAMPLES_PER_SECOND,
     Sweep,
     parse_axis,
@@ -69,8 +68,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--reversal-threshold",
         type=str,
-        default=str(REVERSAL_THRESHOLD),
-        help="half-width of the spin's hysteresis band for reversals [rad/s]",
+        default=None,
+        help="half-width of the spin's hysteresis band for reversals [rad/s] "
+        "(default: 4 %% of each point's initial |spin|, at least 0.01 rad/s)",
     )
     parser.add_argument("--out", required=True, metavar="STORE.zarr", help="Zarr store to write")
     parser.add_argument("--resume", action="store_true", help="compute only the missing points")
@@ -134,7 +134,11 @@ def handle(args: argparse.Namespace) -> int:
         rtol=_number("rtol", args.rtol),
         atol=_number("atol", args.atol),
         samples_per_second=_number("samples_per_second", args.samples_per_second),
-        reversal_threshold=_number("reversal_threshold", args.reversal_threshold),
+        reversal_threshold=(
+            None
+            if args.reversal_threshold is None
+            else _number("reversal_threshold", args.reversal_threshold)
+        ),
     )
     out = Path(args.out)
     progress_bar = None

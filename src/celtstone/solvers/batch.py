@@ -7,8 +7,8 @@ compiled function releases the GIL (``nogil``), so threads of one process run
 batches in parallel without Python per step.
 
 The reduction is the one of ``simulate(...).summary()`` and
-``analysis.reversal_times(time, spin, threshold, crossings)`` on the same sample
-times; the sweep tests check the two agree point for point.
+``analysis.reversal_times(time, spin, band, crossings)`` on the same sample
+times, with each point's own band; the sweep tests check the two agree point for point.
 """
 
 from __future__ import annotations
@@ -89,7 +89,7 @@ def _batch(
     atol,
     max_steps,
     sample_times,
-    threshold,
+    bands,
     crossing_capacity,
     results,
 ):
@@ -133,6 +133,7 @@ def _batch(
             if normal_force < min_normal:  # fmin: a NaN sample does not win
                 min_normal = normal_force
         # reversals with hysteresis (analysis.reversals.reversal_times)
+        threshold = bands[i]
         sense = 0
         n_reversals = 0
         first = np.nan
@@ -169,7 +170,7 @@ def run_batch(
     rtol: float,
     atol: float,
     sample_times: np.ndarray,
-    reversal_threshold: float,
+    reversal_bands: np.ndarray,
     max_steps: int = 20_000_000,
     max_crossings: int = 100_000,
 ) -> np.ndarray:
@@ -185,7 +186,8 @@ def run_batch(
     rtol, atol : local error tolerances
     sample_times : times [s] at which spin, tilt and normal force are sampled, from 0
         to ``t_end``, increasing
-    reversal_threshold : half-width of the hysteresis band of the spin [rad/s]
+    reversal_bands : half-width of each point's hysteresis band of the spin [rad/s],
+        shape (k,)
     max_steps : step limit of each run
     max_crossings : spin zero crossings stored per run for timing reversals
 
@@ -207,7 +209,7 @@ def run_batch(
         float(atol),
         int(max_steps),
         np.ascontiguousarray(sample_times, dtype=np.float64),
-        float(reversal_threshold),
+        np.ascontiguousarray(np.broadcast_to(reversal_bands, params.shape[:1]), dtype=np.float64),
         int(max_crossings),
         results,
     )

@@ -7,7 +7,6 @@
 
 from celtstone.sweep.runner import DEFAULT_ATOL as DEFAULT_ATOL
 from celtstone.sweep.runner import DEFAULT_RTOL as DEFAULT_RTOL
-from celtstone.sweep.runner import REVERSAL_THRESHOLD as REVERSAL_THRESHOLD
 from celtstone.sweep.runner import SAMPLES_PER_SECOND as SAMPLES_PER_SECOND
 from celtstone.sweep.runner import Sweep as Sweep
 from celtstone.sweep.spec import PARAMETERS as PARAMETERS
@@ -22,7 +21,6 @@ __all__ = [
     "DEFAULT_RTOL",
     "PARAMETERS",
     "RESULT_FIELDS",
-    "REVERSAL_THRESHOLD",
     "SAMPLES_PER_SECOND",
     "Axis",
     "Sweep",

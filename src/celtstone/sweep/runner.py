@@ -22,9 +22,11 @@ import numpy as np
 import xarray as xr
 
 from celtstone import schema, solvers
+from celtstone.analysis.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
 from celtstone.bodies import Body, load_body
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.integrate import _STATUS_NAMES, version
+from celtstone.integrate import STATUS_NAMES, version
+from celtstone.kernels.layout import Y_N, Y_OMEGA
 from celtstone.models import MODELS
 from celtstone.solvers import batch
 from celtstone.sweep.spec import PARAMETERS, Axis, PointBuilder
@@ -34,7 +36,6 @@ __all__ = [
     "DEFAULT_ATOL",
     "DEFAULT_CHUNK_POINTS",
     "DEFAULT_RTOL",
-    "REVERSAL_THRESHOLD",
     "SAMPLES_PER_SECOND",
     "Sweep",
 ]
@@ -42,7 +43,6 @@ __all__ = [
 DEFAULT_RTOL = 1e-8  # sliding runs agree with rtol 1e-10 to about 1e-6 rad/s in the final spin
 DEFAULT_ATOL = 1e-12
 SAMPLES_PER_SECOND = 200.0  # as simulate(): max tilt, normal force and the band are sampled
-REVERSAL_THRESHOLD = 0.1  # rad/s, half-width of the hysteresis band of the spin
 DEFAULT_CHUNK_POINTS = 256  # points per block (Zarr chunk)
 DEFAULT_TASK_POINTS = 8  # points per compiled call
 
@@ -74,7 +74,9 @@ class Sweep:
     rtol, atol : local error tolerances (default rtol 1e-8 for sweeps)
     samples_per_second : density of the samples behind max tilt, the normal force
         and the hysteresis band [1/s]
-    reversal_threshold : half-width of the spin's hysteresis band [rad/s]
+    reversal_threshold : half-width of the spin's hysteresis band [rad/s]; default
+        ``analysis.reversal_bands``: 4 % of each point's initial |spin| (as
+        ``celtstone reproduce``), at least 0.01 rad/s
     max_steps : step limit of each run
 
     Every point is validated here, before anything is computed.
@@ -93,7 +95,7 @@ class Sweep:
         rtol: float = DEFAULT_RTOL,
         atol: float = DEFAULT_ATOL,
         samples_per_second: float = SAMPLES_PER_SECOND,
-        reversal_threshold: float = REVERSAL_THRESHOLD,
+        reversal_threshold: float | None = None,
         max_steps: int = 20_000_000,
     ) -> None:
         self.axes = _axes(vary)
@@ -119,9 +121,11 @@ class Sweep:
         if not (samples_per_second > 0 and np.isfinite(samples_per_second)):
             raise ParameterError("samples_per_second", samples_per_second, "a number > 0 1/s")
         self.samples_per_second = float(samples_per_second)
-        if not (reversal_threshold > 0 and np.isfinite(reversal_threshold)):
+        if reversal_threshold is not None and not (
+            reversal_threshold > 0 and np.isfinite(reversal_threshold)
+        ):
             raise ParameterError("reversal_threshold", reversal_threshold, "a number > 0 rad/s")
-        self.reversal_threshold = float(reversal_threshold)
+        self.reversal_threshold = None if reversal_threshold is None else float(reversal_threshold)
         self.fixed = dict(fixed or {})
         self.builder = PointBuilder(self.base_body, model, self.fixed, self._columns())
         self.method = method if method is not None else self.builder.model.default_method
@@ -224,11 +228,28 @@ class Sweep:
             "rtol": self.rtol,
             "atol": self.atol,
             "samples_per_second": self.samples_per_second,
-            "reversal_threshold": self.reversal_threshold,
+            "reversal_threshold": (
+                "relative" if self.reversal_threshold is None else self.reversal_threshold
+            ),
+            "reversal_band_rule": self._band_rule(),
             "sweep_spec": self.spec(chunk_points),
         }
 
     # ----------------------------------------------------------------- running
+
+    def _bands(self, y0: np.ndarray) -> np.ndarray:
+        """Each point's hysteresis band [rad/s] from its initial state ``y0`` (k, N_STATE)."""
+        if self.reversal_threshold is not None:
+            return np.full(y0.shape[0], self.reversal_threshold)
+        spin = np.einsum("ij,ij->i", y0[:, Y_OMEGA : Y_OMEGA + 3], y0[:, Y_N : Y_N + 3])
+        return reversal_bands(spin)
+
+    def _band_rule(self) -> str:
+        if self.reversal_threshold is not None:
+            return f"|spin| <= {self.reversal_threshold} rad/s"
+        return (
+            f"|spin| <= max({REVERSAL_BAND_FRACTION} |initial spin|, {REVERSAL_BAND_FLOOR} rad/s)"
+        )
 
     def run(
         self,
@@ -330,7 +351,6 @@ class Sweep:
             "rtol": self.rtol,
             "atol": self.atol,
             "sample_times": self.sample_times,
-            "reversal_threshold": self.reversal_threshold,
             "max_steps": self.max_steps,
         }
         model_code = self.builder.model.code
@@ -341,7 +361,17 @@ class Sweep:
             while next_task < len(tasks) and in_flight < limit:
                 block, start, stop = tasks[next_task]
                 params, y0 = self.builder.arrays(range(start, stop))
-                pool.submit(next_task, model_code, self.method, params, y0, self.t_end, **settings)
+                bands = self._bands(y0)
+                pool.submit(
+                    next_task,
+                    model_code,
+                    self.method,
+                    params,
+                    y0,
+                    self.t_end,
+                    reversal_bands=bands,
+                    **settings,
+                )
                 next_task += 1
                 in_flight += 1
             key, raw = pool.next_done()
@@ -377,7 +407,7 @@ def _fields(raw: np.ndarray) -> dict[str, np.ndarray]:
     """Result fields by name from the batch driver's columns."""
     codes = raw[:, batch.F_STATUS].astype(int)
     t_stop = raw[:, batch.F_T_STOP]
-    status = np.array([_STATUS_NAMES.get(int(c), "failed") for c in codes], dtype=object)
+    status = np.array([STATUS_NAMES.get(int(c), "failed") for c in codes], dtype=object)
     message = np.array(
         [
             "reached t_end"

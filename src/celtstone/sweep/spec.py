@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from celtstone import schema
-from celtstone.bodies import Body, Ellipsoid, Paraboloid
+from celtstone.bodies import Body, Ellipsoid, Paraboloid, Superellipsoid
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.models import (
     NORMAL_FORCE_OPTIONS,
@@ -87,6 +87,7 @@ PARAMETERS: dict[str, SweepParameter] = {
         _p("radius_of_curvature_1", BODY, "radii_of_curvature", "paraboloid rho1"),
         _p("radius_of_curvature_2", BODY, "radii_of_curvature", "paraboloid rho2"),
         _p("com_height", BODY, "com_height", "paraboloid: G above the rest contact l"),
+        _p("exponent", BODY, None, "superellipsoid exponent p in [2, 64]", unit="1"),
         _p("friction_coefficient", MODEL, "friction_coefficient", "Coulomb friction f"),
         _p("contact_radius", MODEL, "contact_radius", "Hertz contact radius epsilon"),
         _p("damping", MODEL, "damping", "viscous torque coefficient sigma"),
@@ -214,18 +215,25 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
         inertia = _rotated_inertia(inertia, angle)
     shape = base.shape
     ellipsoid_names = ("semi_axis_a", "semi_axis_b", "semi_axis_c", "com_offset")
-    paraboloid_names = ("radius_of_curvature_1", "radius_of_curvature_2", "com_height")
+    names_of_shape = {
+        "ellipsoid": ellipsoid_names,
+        "superellipsoid": (*ellipsoid_names, "exponent"),
+        "paraboloid": ("radius_of_curvature_1", "radius_of_curvature_2", "com_height"),
+    }
+    all_shape_names = {name for names in names_of_shape.values() for name in names}
     for name in values:
-        wrong = (isinstance(shape, Ellipsoid) and name in paraboloid_names) or (
-            isinstance(shape, Paraboloid) and name in ellipsoid_names
-        )
-        if wrong:
+        if name in all_shape_names and name not in names_of_shape[shape.kind]:
             raise ParameterError("parameter", name, f"a parameter of the body's {shape.kind} shape")
-    if isinstance(shape, Ellipsoid):
+    if isinstance(shape, Ellipsoid | Superellipsoid):
         axes = list(shape.semi_axes)
         for k, name in enumerate(ellipsoid_names[:3]):
             axes[k] = values.get(name, axes[k])
-        shape = Ellipsoid((axes[0], axes[1], axes[2]), values.get("com_offset", shape.com_offset))
+        semi_axes = (axes[0], axes[1], axes[2])
+        offset = values.get("com_offset", shape.com_offset)
+        if isinstance(shape, Superellipsoid):
+            shape = Superellipsoid(semi_axes, offset, values.get("exponent", shape.exponent))
+        else:
+            shape = Ellipsoid(semi_axes, offset)
     else:
         radii = list(shape.radii_of_curvature)
         radii[0] = values.get("radius_of_curvature_1", radii[0])
