@@ -9,9 +9,9 @@ from collections.abc import Sequence
 from typing import Any
 
 from celtstone import CeltstoneError, version
-from celtstone.cli import bodies, run
+from celtstone.cli import bodies, friction, run
 
-SUBCOMMANDS = {"run": run, "bodies": bodies}
+SUBCOMMANDS = {"run": run, "bodies": bodies, "friction": friction}
 
 EXIT_OK = 0
 EXIT_STOPPED = 3  # a run that stopped before t_end (lift-off, singular friction, ...)

@@ -28,6 +28,12 @@ SHAPE_PARABOLOID = 1
 NORMAL_FORCE_STATIC = 0
 NORMAL_FORCE_DYNAMIC = 1
 
+# friction laws and contact-pressure distributions of the sliding model
+FRICTION_PADE = 0  # Zhuravlev's Padé approximation, paper eq. (10)
+FRICTION_EXACT = 1  # the Coulomb–Contensou integrals of paper section 2
+PRESSURE_HERTZ = 0  # sigma ∝ sqrt(eps² − r²), paper eq. (2)
+PRESSURE_UNIFORM = 1  # sigma = N / (pi eps²)
+
 # parameter indices
 P_MASS = 0  # m [kg]
 P_GRAVITY = 1  # g [m/s^2]
@@ -42,7 +48,10 @@ P_FRICTION = 17  # f, friction coefficient [1]
 P_CONTACT_RADIUS = 18  # epsilon, Hertz contact radius [m]
 P_NORMAL_FORCE = 19  # normal-force option code
 P_REGULARISATION = 20  # delta, slip-speed regularisation scale [m/s]
-N_PARAMS = 21
+P_FRICTION_LAW = 21  # friction-law code FRICTION_*
+P_CONTACT_PRESSURE = 22  # contact-pressure code PRESSURE_*
+P_CONTACT_MODULUS = 23  # E*, effective modulus of the Hertz contact [Pa]; 0: fixed epsilon
+N_PARAMS = 24
 
 # state indices
 Y_N = 0
