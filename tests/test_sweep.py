@@ -216,3 +216,27 @@ def test_superellipsoid_exponent_is_a_sweep_parameter(kane_levinson: cs.Body) ->
         build_body(kane_levinson, {"exponent": 3.0})
     with pytest.raises(cs.ParameterError, match=r"exponent.*\[2, 64\]"):
         build_body(rounded, {"exponent": 1.5})
+
+
+def test_friction_law_and_pressure_are_fixed_choices() -> None:
+    """--set friction_law=exact reaches the model; a bad option names the choices."""
+    assert parse_setting("friction_law=exact") == ("friction_law", "exact")
+    sweep = Sweep(
+        {"friction_coefficient": [0.35]},
+        fixed={"friction_law": "exact", "contact_pressure": "uniform", "normal_force": "dynamic"},
+        t_end=0.1,
+    )
+    model = sweep.builder.model
+    assert (model.friction_law, model.contact_pressure, model.normal_force) == (
+        "exact",
+        "uniform",
+        "dynamic",
+    )
+    with pytest.raises(cs.ParameterError, match=r"friction_law.*pade, exact"):
+        Sweep({"spin": [-5.0]}, fixed={"friction_law": "padé"}, t_end=0.1)
+    with pytest.raises(cs.ParameterError, match="rolling model"):
+        Sweep({"spin": [-5.0]}, model="rolling", fixed={"friction_law": "exact"}, t_end=0.1)
+    hertz = Sweep(
+        {"elastic_modulus": [3e9, 70e9]}, fixed={"poisson_ratio": 0.35}, t_end=0.1
+    ).builder
+    assert hertz._model((3e9,)).elastic_modulus == 3e9

@@ -15,10 +15,13 @@ import numpy as np
 
 from celtstone import schema
 from celtstone.bodies import Body
+from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, effective_modulus
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 
 __all__ = [
+    "CONTACT_PRESSURES",
+    "FRICTION_LAWS",
     "MODELS",
     "NORMAL_FORCE_OPTIONS",
     "InitialState",
@@ -78,12 +81,23 @@ class SlidingModel:
     Parameters
     ----------
     friction_coefficient : f [1], >= 0
-    contact_radius : ε, radius of the Hertz contact disk [m], > 0
+    contact_radius : ε, radius of the contact disk [m], > 0; not used when
+        ``elastic_modulus`` is given
     normal_force : "static" (N = m g in the friction law, the paper's first
         approximation) or "dynamic" (the consistent normal force)
     damping : σ, viscous torque -σω [N m s], >= 0
     regularisation_speed : δ, the slip speed below which friction turns viscous,
         |V1| -> sqrt(|V1|² + δ²) [m/s], > 0 (treatment of paper eq. 11)
+    friction_law : "pade" (Zhuravlev's Padé law, paper eq. 10, 12) or "exact"
+        (the Coulomb–Contensou integrals of paper section 2, in closed form)
+    contact_pressure : "hertz" (paper eq. 2) or "uniform" pressure on the disk;
+        for "pade" it selects the Padé constants (b, a, M0) of that pressure
+    elastic_modulus : E, Young's modulus of body and plane [Pa], > 0, or None.
+        Given, ε is the Hertz radius (3 N R_eq / (4 E*))^(1/3) for the normal
+        force of the friction law (m g, or the dynamic N) and the equivalent
+        radius of curvature at the current contact point, E* = E / (2(1 − ν²))
+    poisson_ratio : ν of body and plane [1], in (−1, 0.5); required with
+        ``elastic_modulus``
     """
 
     friction_coefficient: float = 0.35
@@ -91,6 +105,10 @@ class SlidingModel:
     normal_force: str = "static"
     damping: float = 0.0
     regularisation_speed: float = 1e-6
+    friction_law: str = "pade"
+    contact_pressure: str = "hertz"
+    elastic_modulus: float | None = None
+    poisson_ratio: float | None = None
 
     name: ClassVar[str] = "sliding"
     code: ClassVar[int] = layout.MODEL_SLIDING
@@ -100,23 +118,57 @@ class SlidingModel:
         for field in ("friction_coefficient", "contact_radius", "damping", "regularisation_speed"):
             object.__setattr__(self, field, schema.check(field, getattr(self, field)))
         _choice("normal_force", self.normal_force, NORMAL_FORCE_OPTIONS)
+        _choice("friction_law", self.friction_law, FRICTION_LAWS)
+        _choice("contact_pressure", self.contact_pressure, CONTACT_PRESSURES)
+        _check_elastic(self.elastic_modulus, self.poisson_ratio)
+        for field in ("elastic_modulus", "poisson_ratio"):
+            value = getattr(self, field)
+            if value is not None:
+                object.__setattr__(self, field, schema.check(field, value))
 
     @property
-    def friction_law(self) -> str:
-        """Name of the friction law."""
-        return "zhuravlev_pade"
+    def is_hertz_radius(self) -> bool:
+        """Whether ε follows from Hertz theory rather than ``contact_radius``."""
+        return self.elastic_modulus is not None
+
+    @property
+    def effective_modulus(self) -> float:
+        """E* = E / (2(1 − ν²)) [Pa], 0 when ε is fixed."""
+        if self.elastic_modulus is None or self.poisson_ratio is None:
+            return 0.0
+        return effective_modulus(self.elastic_modulus, self.poisson_ratio)
 
     def attributes(self) -> dict[str, str | float]:
-        """The model's settings, for provenance attributes."""
+        """The model's settings, for provenance attributes ("none": not set)."""
         return {
             "model": self.name,
             "damping": self.damping,
             "friction_law": self.friction_law,
+            "contact_pressure": self.contact_pressure,
             "friction_coefficient": self.friction_coefficient,
             "contact_radius": self.contact_radius,
+            "contact_radius_model": "hertz" if self.is_hertz_radius else "fixed",
+            "elastic_modulus": _or_none(self.elastic_modulus),
+            "poisson_ratio": _or_none(self.poisson_ratio),
+            "effective_modulus": _or_none(self.effective_modulus if self.is_hertz_radius else None),
             "normal_force_option": self.normal_force,
             "regularisation_speed": self.regularisation_speed,
         }
+
+
+def _or_none(value: float | None) -> float | str:
+    return "none" if value is None else value
+
+
+def _check_elastic(elastic_modulus: float | None, poisson_ratio: float | None) -> None:
+    """E and ν come together: one without the other is refused."""
+    for given, missing, value in (
+        (elastic_modulus, "poisson_ratio", poisson_ratio),
+        (poisson_ratio, "elastic_modulus", elastic_modulus),
+    ):
+        if given is not None and value is None:
+            allowed = schema.PARAMETERS[missing].allowed
+            raise ParameterError(missing, None, allowed, "E and nu are given together")
 
 
 Model = RollingModel | SlidingModel
@@ -126,16 +178,21 @@ MODELS: dict[str, type[RollingModel] | type[SlidingModel]] = {
 }
 
 
-def model_from_name(name: str, **settings: float | str) -> Model:
+def model_from_name(name: str, **settings: float | str | None) -> Model:
     """Build a model by registry name; unknown names list the valid ones."""
     _choice("model", name, MODELS)
     cls = MODELS[name]
     if cls is RollingModel:
         # the sliding settings do not apply, but a bad value is still refused
+        choices = {
+            "normal_force": NORMAL_FORCE_OPTIONS,
+            "friction_law": FRICTION_LAWS,
+            "contact_pressure": CONTACT_PRESSURES,
+        }
         for key, value in settings.items():
-            if key == "normal_force":
-                _choice(key, str(value), NORMAL_FORCE_OPTIONS)
-            elif key != "damping" and key in schema.PARAMETERS:
+            if key in choices:
+                _choice(key, str(value), choices[key])
+            elif key != "damping" and key in schema.PARAMETERS and value is not None:
                 schema.check(key, value)  # type: ignore[arg-type]
         settings = {k: v for k, v in settings.items() if k == "damping"}
     return cls(**settings)  # type: ignore[arg-type]
@@ -195,7 +252,24 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
         params[layout.P_CONTACT_RADIUS] = model.contact_radius
         params[layout.P_NORMAL_FORCE] = NORMAL_FORCE_OPTIONS[model.normal_force]
         params[layout.P_REGULARISATION] = model.regularisation_speed
+        params[layout.P_FRICTION_LAW] = FRICTION_LAWS[model.friction_law]
+        params[layout.P_CONTACT_PRESSURE] = CONTACT_PRESSURES[model.contact_pressure]
+        if model.is_hertz_radius:
+            _check_convex(body)
+            params[layout.P_CONTACT_MODULUS] = model.effective_modulus
     return params
+
+
+def _check_convex(body: Body) -> None:
+    """The Hertz radius needs positive radii of curvature at the contact (a convex body)."""
+    radii = body.shape.radii_of_curvature
+    if not all(radius > 0.0 for radius in radii):
+        raise ParameterError(
+            "shape",
+            body.shape.kind,
+            "a convex surface (radii of curvature > 0) for the Hertz contact radius",
+            f"radii of curvature {tuple(radii)} m",
+        )
 
 
 def initial_vector(state: InitialState) -> np.ndarray:

@@ -40,6 +40,20 @@ SUMMARY_KEYS = (
     "message",
 )
 
+# model settings copied from the attributes into the summary when the model has them
+MODEL_OPTION_KEYS = (
+    "damping",
+    "friction_coefficient",
+    "contact_radius",
+    "normal_force_option",
+    "regularisation_speed",
+    "contact_pressure",
+    "contact_radius_model",
+    "elastic_modulus",
+    "poisson_ratio",
+    "effective_modulus",
+)
+
 _ERRORS: dict[str, type[CeltstoneError]] = {
     "lift_off": LiftOffError,
     "friction_singular": FrictionSingularityError,
@@ -182,5 +196,8 @@ class Trajectory:
             "message": self.message,
         }
         summary.update({k: attrs[k] for k in ("friction_law", "method", "rtol", "atol")})
+        for key in MODEL_OPTION_KEYS:  # the model's options, "none" (not set) as null
+            if key in attrs:
+                summary[key] = None if str(attrs[key]) == "none" else attrs[key]
         summary["statistics"] = dict(self.statistics)
         return summary

@@ -9,7 +9,18 @@ from collections.abc import Sequence
 from typing import Any
 
 from celtstone import CeltstoneError, version
-from celtstone.cli import animate, bodies, export, plot, reproduce, run, stability, sweep, view
+from celtstone.cli import (
+    animate,
+    bodies,
+    export,
+    friction,
+    plot,
+    reproduce,
+    run,
+    stability,
+    sweep,
+    view,
+)
 
 SUBCOMMANDS = {
     "run": run,
@@ -21,6 +32,7 @@ SUBCOMMANDS = {
     "view": view,
     "stability": stability,
     "sweep": sweep,
+    "friction": friction,
 }
 
 EXIT_OK = 0

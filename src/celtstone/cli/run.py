@@ -43,6 +43,10 @@ def _number(name: str):
     return parse
 
 
+def _optional_number(name: str, text: str | None) -> float | None:
+    return None if text is None else _number(name)(text)
+
+
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone run``; help text comes from ``schema``."""
     p = PARAMETERS
@@ -70,6 +74,21 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--regularisation-speed", type=str, default="1e-6", help=p["regularisation_speed"].help()
     )
+    parser.add_argument(
+        "--friction-law",
+        default="pade",
+        help="pade (Zhuravlev, paper eq. 10) or exact (Coulomb-Contensou integrals)",
+    )
+    parser.add_argument(
+        "--contact-pressure", default="hertz", help="hertz (paper eq. 2) or uniform"
+    )
+    parser.add_argument(
+        "--elastic-modulus",
+        type=str,
+        default=None,
+        help=p["elastic_modulus"].help() + "; with --poisson-ratio, replaces --contact-radius",
+    )
+    parser.add_argument("--poisson-ratio", type=str, default=None, help=p["poisson_ratio"].help())
     parser.add_argument("--method", default=None, help="dop853 or radau5 (default by model)")
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
     parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
@@ -88,6 +107,10 @@ def handle(args: argparse.Namespace) -> int:
         "contact_radius": _number("contact_radius")(args.contact_radius),
         "normal_force": args.normal_force,
         "regularisation_speed": _number("regularisation_speed")(args.regularisation_speed),
+        "friction_law": args.friction_law,
+        "contact_pressure": args.contact_pressure,
+        "elastic_modulus": _optional_number("elastic_modulus", args.elastic_modulus),
+        "poisson_ratio": _optional_number("poisson_ratio", args.poisson_ratio),
     }
     t_end = _number("t_end")(args.t_end)
     rtol = _number("rtol")(args.rtol)

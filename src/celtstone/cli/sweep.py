@@ -19,6 +19,7 @@ from celtstone.sweep import (
     parse_setting,
 )
 from celtstone.sweep.plots import write_maps
+from celtstone.sweep.spec import CHOICES
 
 HELP = "run a parameter sweep (grid or list of points) into a Zarr store"
 
@@ -28,11 +29,11 @@ EPILOG = (
         f"  {p.name:22s} {p.description}" + (f" [{p.unit}]" if p.unit else "")
         for p in PARAMETERS.values()
     )
-    + (
-        "\n  normal_force           (--set only) static (N = m g) or dynamic"
-        "\n\nexample: celtstone sweep --vary friction_coefficient=0.02:0.5:64 "
-        "--vary spin=-8:8:64 --t-end 10 --out sweep.zarr"
+    + "".join(
+        f"\n  {name:22s} (--set only) " + " or ".join(options) for name, options in CHOICES.items()
     )
+    + "\n\nexample: celtstone sweep --vary friction_coefficient=0.02:0.5:64 "
+    "--vary spin=-8:8:64 --t-end 10 --out sweep.zarr"
 )
 
 

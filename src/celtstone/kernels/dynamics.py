@@ -7,12 +7,16 @@ vector from G to the contact point (the paper's r_CA).
 from __future__ import annotations
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.friction import pade_friction
+from celtstone.kernels.friction import contact_friction
+from celtstone.kernels.hertz import equivalent_radius, hertz_contact_radius
 from celtstone.kernels.layout import (
     NORMAL_FORCE_DYNAMIC,
+    P_CONTACT_MODULUS,
+    P_CONTACT_PRESSURE,
     P_CONTACT_RADIUS,
     P_DAMPING,
     P_FRICTION,
+    P_FRICTION_LAW,
     P_GRAVITY,
     P_INERTIA,
     P_MASS,
@@ -31,6 +35,13 @@ from celtstone.kernels.vector import (
     solve3,
     sub,
 )
+
+# the Hertz radius is computed from max(N, this fraction of m g): N must stay > 0
+# there (lift-off itself is detected and reported by the driver)
+MIN_LOAD_FRACTION = 1e-9
+# fixed-point iteration of the dynamic normal force with a Hertz radius ε(N)
+NORMAL_FORCE_RTOL = 1e-14
+MAX_NORMAL_FORCE_ITERATIONS = 50
 
 
 @kernel
@@ -103,6 +114,36 @@ def rolling_acceleration(
 
 
 @kernel
+def contact_radius(n: Vec, normal_force: float, params) -> float:
+    """ε [m]: the fixed contact radius, or the Hertz radius for N and the curvature at n.
+
+    With an effective modulus E* > 0 in ``params``: ε = (3 N R_eq / (4 E*))^(1/3),
+    R_eq from the Gaussian curvature at the current contact point, N clamped
+    below at ``MIN_LOAD_FRACTION`` m g.
+    """
+    modulus = params[P_CONTACT_MODULUS]
+    if modulus > 0.0:
+        load = max(normal_force, MIN_LOAD_FRACTION * params[P_MASS] * params[P_GRAVITY])
+        return hertz_contact_radius(load, equivalent_radius(n, params), modulus)
+    return params[P_CONTACT_RADIUS]
+
+
+@kernel
+def friction_per_unit_load(
+    slip_velocity: Vec, spin_rate: float, radius: float, params
+) -> tuple[Vec, float]:
+    """Friction force and moment per unit f N for the law and pressure in ``params``."""
+    return contact_friction(
+        slip_velocity,
+        spin_rate,
+        radius,
+        params[P_REGULARISATION],
+        params[P_FRICTION_LAW],
+        params[P_CONTACT_PRESSURE],
+    )
+
+
+@kernel
 def sliding_acceleration(
     n: Vec, omega: Vec, slip_velocity: Vec, r: Vec, r_rate: Vec, params
 ) -> tuple[Vec, Vec, float, Vec, float, float]:
@@ -121,9 +162,11 @@ def sliding_acceleration(
     -----
     Paper eq. (8), (9), with r_AC2 = n × r_AC = r × n = d. The vertical reaction is
     N = N0 - m d · ω̇, N0 = m g - m n · (ω × ṙ + ω × (ω × r)). Friction F = f N_f φ,
-    M = f N_f ψ (eq. 10, 12), with N_f = m g ("static", the paper's first
-    approximation) or N_f = N ("dynamic"), in which case the linear system
-    (A + m k ⊗ d) ω̇ = -ω × Aω + N0 k - σω, k = d + f (r × φ + ψ n), is solved exactly.
+    M = f N_f ψ (eq. 10, 12, or the exact law), with N_f = m g ("static", the
+    paper's first approximation) or N_f = N ("dynamic"), in which case the linear
+    system (A + m k ⊗ d) ω̇ = -ω × Aω + N0 k - σω, k = d + f (r × φ + ψ n), is
+    solved exactly. With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ
+    depend on N in the dynamic case: N is then found by fixed-point iteration.
     Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
     """
     mass = params[P_MASS]
@@ -133,20 +176,31 @@ def sliding_acceleration(
     centripetal = centripetal_terms(omega, r, r_rate)
     lever = cross(r, n)
     spin_rate = dot(omega, n)
-    force_unit, moment_unit = pade_friction(
-        slip_velocity, spin_rate, params[P_CONTACT_RADIUS], params[P_REGULARISATION]
-    )
     normal_free = mass * gravity - mass * dot(n, centripetal)
-    friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
     torque = sub(cross(matvec(inertia, omega), omega), scale(params[P_DAMPING], omega))
     if params[P_NORMAL_FORCE] == NORMAL_FORCE_DYNAMIC:
-        coupling = add(lever, scale(friction_coefficient, friction_torque_unit))
-        matrix = add_outer(inertia, mass, coupling, lever)
-        omega_rate, determinant = solve3(matrix, add(torque, scale(normal_free, coupling)))
-        normal_force = normal_free - mass * dot(lever, omega_rate)
+        normal_force = normal_free
+        for _ in range(MAX_NORMAL_FORCE_ITERATIONS):
+            radius = contact_radius(n, normal_force, params)
+            force_unit, moment_unit = friction_per_unit_load(
+                slip_velocity, spin_rate, radius, params
+            )
+            friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
+            coupling = add(lever, scale(friction_coefficient, friction_torque_unit))
+            matrix = add_outer(inertia, mass, coupling, lever)
+            omega_rate, determinant = solve3(matrix, add(torque, scale(normal_free, coupling)))
+            previous = normal_force
+            normal_force = normal_free - mass * dot(lever, omega_rate)
+            if params[P_CONTACT_MODULUS] <= 0.0 or abs(
+                normal_force - previous
+            ) <= NORMAL_FORCE_RTOL * (abs(normal_force) + mass * gravity):
+                break
         friction_normal = normal_force
     else:
         friction_normal = mass * gravity
+        radius = contact_radius(n, friction_normal, params)
+        force_unit, moment_unit = friction_per_unit_load(slip_velocity, spin_rate, radius, params)
+        friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
         torque = add(torque, scale(normal_free, lever))
         torque = add(torque, scale(friction_coefficient * friction_normal, friction_torque_unit))
         matrix = add_outer(inertia, mass, lever, lever)

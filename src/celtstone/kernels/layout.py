@@ -23,10 +23,17 @@ MODEL_SLIDING = 1
 # shape codes
 SHAPE_ELLIPSOID = 0
 SHAPE_PARABOLOID = 1
+SHAPE_SUPERELLIPSOID = 2  # |x/a|^p + |y/b|^p + |z/c|^p = 1
 
 # normal-force options of the sliding model
 NORMAL_FORCE_STATIC = 0
 NORMAL_FORCE_DYNAMIC = 1
+
+# friction laws and contact-pressure distributions of the sliding model
+FRICTION_PADE = 0  # Zhuravlev's Padé approximation, paper eq. (10)
+FRICTION_EXACT = 1  # the Coulomb–Contensou integrals of paper section 2
+PRESSURE_HERTZ = 0  # sigma ∝ sqrt(eps² − r²), paper eq. (2)
+PRESSURE_UNIFORM = 1  # sigma = N / (pi eps²)
 
 # parameter indices
 P_MASS = 0  # m [kg]
@@ -37,12 +44,17 @@ P_SHAPE_0 = 12  # ellipsoid: semi-axis a [m];  paraboloid: rho1 [m]
 P_SHAPE_1 = 13  # ellipsoid: semi-axis b [m];  paraboloid: rho2 [m]
 P_SHAPE_2 = 14  # ellipsoid: semi-axis c [m];  paraboloid: l, height of G above the contact [m]
 P_SHAPE_3 = 15  # ellipsoid: h, G below the centre [m]; paraboloid: unused
+# (a superellipsoid reads P_SHAPE_0 .. P_SHAPE_3 as the ellipsoid, plus P_SHAPE_4)
 P_DAMPING = 16  # sigma, viscous torque coefficient [N m s]
 P_FRICTION = 17  # f, friction coefficient [1]
 P_CONTACT_RADIUS = 18  # epsilon, Hertz contact radius [m]
 P_NORMAL_FORCE = 19  # normal-force option code
 P_REGULARISATION = 20  # delta, slip-speed regularisation scale [m/s]
-N_PARAMS = 21
+P_FRICTION_LAW = 21  # friction-law code FRICTION_*
+P_CONTACT_PRESSURE = 22  # contact-pressure code PRESSURE_*
+P_CONTACT_MODULUS = 23  # E*, effective modulus of the Hertz contact [Pa]; 0: fixed epsilon
+P_SHAPE_4 = 24  # superellipsoid: exponent p [1], >= 2; other shapes: unused
+N_PARAMS = 25
 
 # state indices
 Y_N = 0
@@ -57,9 +69,3 @@ N_STATE = 16
 RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
-
-# superellipsoid |x/a|^p + |y/b|^p + |z/c|^p = 1 (appended): shape parameters as the
-# ellipsoid's (a, b, c, h) in P_SHAPE_0 .. P_SHAPE_3, plus its exponent p
-SHAPE_SUPERELLIPSOID = 2
-P_SHAPE_4 = N_PARAMS  # superellipsoid exponent p [1], >= 2
-N_PARAMS = P_SHAPE_4 + 1

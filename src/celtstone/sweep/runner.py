@@ -67,8 +67,9 @@ class Sweep:
         give ``vary`` or ``points``, not both
     body : a :class:`Body`, a shipped body name or a TOML path
     model : "sliding" or "rolling"
-    fixed : name -> value held for every point (``normal_force`` takes
-        "static" or "dynamic"); names as in ``spec.PARAMETERS``
+    fixed : name -> value held for every point; names as in ``spec.PARAMETERS``, and
+        the options of ``spec.CHOICES`` (``normal_force``: "static" or "dynamic",
+        ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or "uniform")
     t_end : duration of each run [s]
     method : integrator (default: the model's, radau5 for sliding)
     rtol, atol : local error tolerances (default rtol 1e-8 for sweeps)
@@ -131,7 +132,6 @@ class Sweep:
         self.method = method if method is not None else self.builder.model.default_method
         if self.method not in solvers.METHODS:
             raise ParameterError("method", self.method, "one of: " + ", ".join(solvers.METHODS))
-        self.builder.validate()
         count = max(2, round(self.t_end * self.samples_per_second) + 1)
         self.sample_times = np.linspace(0.0, self.t_end, count)
 

@@ -21,6 +21,8 @@ from celtstone import schema
 from celtstone.bodies import Body, Ellipsoid, Paraboloid, Superellipsoid
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.models import (
+    CONTACT_PRESSURES,
+    FRICTION_LAWS,
     NORMAL_FORCE_OPTIONS,
     InitialState,
     Model,
@@ -92,6 +94,8 @@ PARAMETERS: dict[str, SweepParameter] = {
         _p("contact_radius", MODEL, "contact_radius", "Hertz contact radius epsilon"),
         _p("damping", MODEL, "damping", "viscous torque coefficient sigma"),
         _p("regularisation_speed", MODEL, "regularisation_speed", "slip-speed scale delta"),
+        _p("elastic_modulus", MODEL, "elastic_modulus", "Young's modulus E (Hertz radius)"),
+        _p("poisson_ratio", MODEL, "poisson_ratio", "Poisson's ratio nu (with E)"),
         _p(
             "spin",
             STATE,
@@ -107,8 +111,12 @@ PARAMETERS: dict[str, SweepParameter] = {
     ]
 }
 
-# a fixed setting that is not a number
-NORMAL_FORCE = "normal_force"
+# fixed settings that are not numbers (``--set`` only), with their options
+CHOICES: dict[str, tuple[str, ...]] = {
+    "normal_force": tuple(NORMAL_FORCE_OPTIONS),
+    "friction_law": tuple(FRICTION_LAWS),
+    "contact_pressure": tuple(CONTACT_PRESSURES),
+}
 _CONFLICTS = (("spin", "omega3"), ("misalignment_angle", "inertia_12"))
 
 
@@ -116,7 +124,7 @@ def check_name(name: str) -> SweepParameter:
     """The sweep parameter ``name``; unknown names raise with the closest match."""
     if name in PARAMETERS:
         return PARAMETERS[name]
-    names = [*PARAMETERS, NORMAL_FORCE]
+    names = [*PARAMETERS, *CHOICES]
     close = difflib.get_close_matches(name, names, n=1, cutoff=0.5) or [
         known for known in names if known.startswith(name[:4])
     ]
@@ -175,12 +183,14 @@ def parse_axis(text: str) -> Axis:
 
 
 def parse_setting(text: str) -> tuple[str, float | str]:
-    """Parse a fixed setting ``name=value`` (``normal_force=static|dynamic`` or a number)."""
+    """Parse a fixed setting ``name=value``: a number, or an option of ``CHOICES``
+    (``normal_force=static|dynamic``, ``friction_law=pade|exact``,
+    ``contact_pressure=hertz|uniform``)."""
     name, sep, value = text.partition("=")
     name = name.strip().replace("-", "_")
     if not sep or not value.strip():
         raise ParameterError("set", text, "NAME=VALUE", "e.g. contact_radius=0.002")
-    if name == NORMAL_FORCE:
+    if name in CHOICES:
         return name, value.strip()
     check_name(name)
     return name, _float(name, value)
@@ -248,16 +258,16 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
     )
 
 
-def build_model(model_name: str, normal_force: str, values: Mapping[str, float]) -> Model:
-    """The model with the settings in ``values``, validated."""
+def build_model(model_name: str, choices: Mapping[str, str], values: Mapping[str, float]) -> Model:
+    """The model with the options ``choices`` (``CHOICES``) and numbers ``values``, validated."""
     if model_name == "rolling":
-        for name in values:
+        for name in [*values, *choices]:
             if name != "damping":
                 raise ParameterError(
                     "parameter", name, "a parameter of the rolling model (damping)"
                 )
         return model_from_name("rolling", **values)
-    return model_from_name(model_name, normal_force=normal_force, **values)
+    return model_from_name(model_name, **choices, **values)
 
 
 def build_state(values: Mapping[str, float]) -> InitialState:
@@ -283,7 +293,7 @@ class PointBuilder:
     ----------
     base_body : the body before any parameter is applied
     model_name : "rolling" or "sliding"
-    fixed : parameter name -> value for the whole sweep (``normal_force`` may be a string)
+    fixed : parameter name -> value for the whole sweep (the ``CHOICES`` take strings)
     columns : name -> values of every point, shape (n_points,) each
     """
 
@@ -295,10 +305,11 @@ class PointBuilder:
         columns: Mapping[str, np.ndarray],
     ) -> None:
         settings = dict(fixed)
-        normal_force = str(settings.pop(NORMAL_FORCE, "static"))
-        if normal_force not in NORMAL_FORCE_OPTIONS:
-            raise ParameterError(NORMAL_FORCE, normal_force, "one of: static, dynamic")
-        numbers = {name: float(value) for name, value in settings.items()}
+        choices = {name: str(settings.pop(name)) for name in CHOICES if name in settings}
+        for name, value in choices.items():
+            if value not in CHOICES[name]:
+                raise ParameterError(name, value, "one of: " + ", ".join(CHOICES[name]))
+        numbers = {name: _float(name, str(value)) for name, value in settings.items()}
         for name in numbers:
             check_name(name)
         for name in columns:
@@ -314,7 +325,7 @@ class PointBuilder:
                     "parameter", second, f"not together with {first}", f"{first} sets it"
                 )
         self.model_name = model_name
-        self.normal_force = normal_force
+        self.choices = choices
         self.base_body = base_body
         self.fixed = numbers
         self.columns = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
@@ -327,10 +338,11 @@ class PointBuilder:
         self._models: dict[tuple[float, ...], Model] = {}
         self._params: dict[tuple[tuple[float, ...], tuple[float, ...]], np.ndarray] = {}
         self._states: dict[tuple[float, ...], np.ndarray] = {}
-        # the fixed settings alone, validated (the varied ones are checked by validate)
-        fixed_values = {group: self._values(group, None) for group in (BODY, MODEL)}
-        self.model = build_model(model_name, normal_force, fixed_values[MODEL])
-        self.body = build_body(base_body, fixed_values[BODY])
+        # every point checked here; the first point's body and model describe the sweep
+        self.validate()
+        body_key, model_key, _ = self._keys(0)
+        self.model = self._model(model_key)
+        self.body = self._body(body_key)
 
     def _values(self, group: str, key: tuple[float, ...] | None) -> dict[str, float]:
         values = {n: v for n, v in self.fixed.items() if PARAMETERS[n].group == group}
@@ -345,9 +357,7 @@ class PointBuilder:
 
     def _model(self, key: tuple[float, ...]) -> Model:
         if key not in self._models:
-            self._models[key] = build_model(
-                self.model_name, self.normal_force, self._values(MODEL, key)
-            )
+            self._models[key] = build_model(self.model_name, self.choices, self._values(MODEL, key))
         return self._models[key]
 
     def _state(self, key: tuple[float, ...]) -> np.ndarray:

@@ -1,0 +1,71 @@
+"""Friction laws and contact pressures by name, and their dimensionless functions of u.
+
+``friction_functions(u, law, pressure)`` evaluates the compiled kernels the
+integrator uses, so what ``celtstone friction`` prints is what a run feels.
+"""
+
+from __future__ import annotations
+
+import difflib
+
+import numpy as np
+
+from celtstone.errors import ParameterError
+from celtstone.kernels import layout
+from celtstone.kernels.friction import contact_friction
+
+__all__ = ["CONTACT_PRESSURES", "FRICTION_LAWS", "check_choice", "friction_functions"]
+
+FRICTION_LAWS = {
+    "pade": layout.FRICTION_PADE,  # Zhuravlev's Padé law, paper eq. (10), (12)
+    "exact": layout.FRICTION_EXACT,  # the integrals of paper section 2, in closed form
+}
+CONTACT_PRESSURES = {
+    "hertz": layout.PRESSURE_HERTZ,  # paper eq. (2)
+    "uniform": layout.PRESSURE_UNIFORM,
+}
+
+
+def check_choice(name: str, value: str, options: dict[str, int]) -> None:
+    """Raise a ParameterError listing ``options`` (and the closest) if ``value`` is not one."""
+    if value not in options:
+        close = difflib.get_close_matches(str(value), list(options), n=1)
+        hint = f"did you mean {close[0]!r}?" if close else ""
+        raise ParameterError(name, value, "one of: " + ", ".join(options), hint)
+
+
+def friction_functions(
+    u: np.ndarray | list[float] | float, law: str = "exact", pressure: str = "hertz"
+) -> tuple[np.ndarray, np.ndarray]:
+    """F/(fN) and M/(fNε) of a friction law at slip ratios u = |V1| / (ε|Ω_n|).
+
+    Parameters
+    ----------
+    u : slip ratios [1], finite, >= 0; any shape
+    law : "pade" or "exact"
+    pressure : "hertz" (paper eq. 2) or "uniform"
+
+    Returns
+    -------
+    force, moment : arrays of the shape of ``u`` [1]; |F| / (f N) and |M| / (f N ε)
+    """
+    check_choice("friction_law", law, FRICTION_LAWS)
+    check_choice("contact_pressure", pressure, CONTACT_PRESSURES)
+    ratios = np.asarray(u, dtype=float)
+    if not np.all(np.isfinite(ratios)) or np.any(ratios < 0.0):
+        raise ParameterError("slip_ratio", u, "finite numbers >= 0")
+    force = np.empty_like(ratios)
+    moment = np.empty_like(ratios)
+    for index, ratio in np.ndenumerate(ratios):
+        # ε = 1 m, Ω_n = 1 rad/s, V1 = u e1 and no regularisation
+        vector, pivot = contact_friction(
+            (float(ratio), 0.0, 0.0),
+            1.0,
+            1.0,
+            0.0,
+            FRICTION_LAWS[law],
+            CONTACT_PRESSURES[pressure],
+        )
+        force[index] = -vector[0]
+        moment[index] = -pivot
+    return force, moment
