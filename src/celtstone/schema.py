@@ -91,6 +91,13 @@ PARAMETERS: dict[str, Quantity] = {
             "slip-speed scale regularising the singular state",
             **_POSITIVE,
         ),
+        _q(
+            "capture_speed",
+            "v_c",
+            "m/s",
+            "hybrid contact: slip-spin speed counted as zero, where stick may start",
+            **_POSITIVE,
+        ),
         _q("t_end", "t_end", "s", "duration of the run", **_POSITIVE),
         _q("rtol", "rtol", "", "relative tolerance of the integrator", lower=1e-14, upper=1e-2),
         _q("atol", "atol", "", "absolute tolerance of the integrator", **_POSITIVE),
@@ -133,6 +140,11 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "contact_position": ("m", "position of the contact point on the plane, space axes"),
     "com_height": ("m", "height of the centre of mass above the plane"),
     "spin_crossings": ("s", "times at which the spin changes sign"),
+    "phase": ("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
+    "phase_kind": ("1", "kind of each contact phase: 0 slip, 1 stick"),
+    "phase_start": ("s", "start time of each contact phase"),
+    "phase_end": ("s", "end time of each contact phase"),
+    "phase_energy_jump": ("J", "kinetic energy change of the capture impulse opening each phase"),
 }
 
 
