@@ -160,8 +160,10 @@ def simulate(
         attrs["rejected_captures"] = solution.rejected_captures
         phase_data = {
             "phase": solution.sample_phase,
-            "phase_kind": np.array([hybrid.STICK if p.kind == "stick" else hybrid.SLIP
-                                    for p in solution.phases], dtype=np.int8),
+            "phase_kind": np.array(
+                [hybrid.STICK if p.kind == "stick" else hybrid.SLIP for p in solution.phases],
+                dtype=np.int8,
+            ),
             "phase_start": np.array([p.t_start for p in solution.phases]),
             "phase_end": np.array([p.t_end for p in solution.phases]),
             "phase_energy_jump": np.array([p.energy_jump for p in solution.phases]),

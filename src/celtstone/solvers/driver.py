@@ -88,7 +88,7 @@ EVENT_PHASE = 2
 
 @kernel
 def event_value(kind, model, params, method, dense, y_old, x, point, work, capture_speed):
-    """Spin (kind 0), normal force (kind 1) or phase value (kind 2) at the fraction x of the step."""
+    """Spin (kind 0), normal force (kind 1) or phase value (kind 2) at step fraction x."""
     interpolate(method, dense, y_old, x, point)
     if kind == EVENT_SPIN:
         return spin_of(point)
@@ -491,7 +491,16 @@ def integrate(
             for k in range(1, EVENT_SUBDIVISIONS + 1):
                 x_b = x_limit * k / EVENT_SUBDIVISIONS
                 phase_b = event_value(
-                    EVENT_PHASE, model, params, method, dense, y_old, x_b, point, work, capture_speed
+                    EVENT_PHASE,
+                    model,
+                    params,
+                    method,
+                    dense,
+                    y_old,
+                    x_b,
+                    point,
+                    work,
+                    capture_speed,
                 )
                 if phase_a >= 0.0 > phase_b:
                     root = locate_root(
