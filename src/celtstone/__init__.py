@@ -28,6 +28,7 @@ from celtstone.errors import ParameterError as ParameterError
 from celtstone.integrate import simulate as simulate
 from celtstone.integrate import version as version
 from celtstone.models import MODELS as MODELS
+from celtstone.models import HybridModel as HybridModel
 from celtstone.models import InitialState as InitialState
 from celtstone.models import RollingModel as RollingModel
 from celtstone.models import SlidingModel as SlidingModel
@@ -40,6 +41,7 @@ __all__ = [
     "CeltstoneError",
     "Ellipsoid",
     "FrictionSingularityError",
+    "HybridModel",
     "InitialState",
     "IntegrationError",
     "LiftOffError",

@@ -7,11 +7,11 @@ from importlib import metadata
 
 import numpy as np
 
-from celtstone import schema, solvers
+from celtstone import hybrid, schema, solvers
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
+from celtstone.models import HybridModel, Model, initial_vector, kernel_parameters
 from celtstone.models import InitialState as InitialState
-from celtstone.models import Model, initial_vector, kernel_parameters
 from celtstone.trajectory import Trajectory, build_dataset
 
 __all__ = [
@@ -71,11 +71,14 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
     return np.linspace(0.0, t_end, count)
 
 
-def _status_message(status: str, code: int, raw: solvers.RawSolution) -> str:
+def _status_message(status: str, code: int, t_stop: float) -> str:
     if status == "success":
         return "reached t_end"
     text = solvers.STATUS_MESSAGES.get(code, "")
-    return f"stopped at t = {raw.t_stop:.6g} s: {text}"
+    return f"stopped at t = {t_stop:.6g} s: {text}"
+
+
+_STATISTICS = ("nfev", "njev", "nlu", "n_accepted", "n_rejected")
 
 
 def simulate(
@@ -96,12 +99,12 @@ def simulate(
 
     Parameters
     ----------
-    model : :class:`RollingModel` or :class:`SlidingModel`
+    model : :class:`RollingModel`, :class:`SlidingModel` or :class:`HybridModel`
     body : :class:`Body`
     initial_state : :class:`InitialState` (the contact starts without slip)
     t_end : duration [s], > 0
     method : integrator name from ``solvers.METHODS`` ("dop853", "radau5");
-        default: dop853 for rolling, radau5 (stiff) for sliding
+        default: dop853 for rolling and stick phases, radau5 (stiff) for sliding
     rtol, atol : relative and absolute local error tolerances
     n_samples : number of equally spaced output samples (default 200 per second)
     sample_times : explicit output times [s], increasing, in [0, t_end]
@@ -123,20 +126,6 @@ def simulate(
     times = _sample_times(t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
     y0 = initial_vector(initial_state)
-    raw = solvers.solve(
-        model.code,
-        method_name,
-        params,
-        y0,
-        t_end,
-        rtol=rtol,
-        atol=atol,
-        sample_times=times,
-        max_crossings=max_crossings,
-        max_steps=max_steps,
-    )
-    status = STATUS_NAMES.get(raw.status, "failed")
-    message = _status_message(status, raw.status, raw)
     attrs: dict[str, str | float | int] = {
         "title": f"celtstone {model.name} run of {body.name}",
         "software": "celtstone",
@@ -155,25 +144,73 @@ def simulate(
         "method": method_name,
         "rtol": rtol,
         "atol": atol,
-        "status": status,
-        "message": message,
         **model.attributes(),
     }
     if hasattr(body.shape, "exponent"):  # superellipsoid: its fifth shape parameter
         attrs["body_shape_exponent"] = body.shape.exponent
-    dataset = build_dataset(model.code, params, raw.sample_times, raw.samples, raw.crossings, attrs)
-    statistics = {
-        "nfev": raw.nfev,
-        "njev": raw.njev,
-        "nlu": raw.nlu,
-        "n_accepted": raw.n_accepted,
-        "n_rejected": raw.n_rejected,
-    }
+    phase_data: dict[str, np.ndarray] = {}
+    if isinstance(model, HybridModel):
+        capture_speed = model.resolved_capture_speed(atol)
+        stick_method = method_name if method is not None else "dop853"
+        solution = hybrid.solve_phases(
+            params,
+            y0,
+            t_end,
+            slip_method=method_name,
+            stick_method=stick_method,
+            rtol=rtol,
+            atol=atol,
+            capture_speed=capture_speed,
+            sample_times=times,
+            max_crossings=max_crossings,
+            max_steps=max_steps,
+        )
+        attrs.update(capture_speed=capture_speed, stick_method=stick_method)
+        attrs["rejected_captures"] = solution.rejected_captures
+        phase_data = {
+            "phase": solution.sample_phase,
+            "phase_kind": np.array(
+                [hybrid.STICK if p.kind == "stick" else hybrid.SLIP for p in solution.phases],
+                dtype=np.int8,
+            ),
+            "phase_start": np.array([p.t_start for p in solution.phases]),
+            "phase_end": np.array([p.t_end for p in solution.phases]),
+            "phase_energy_jump": np.array([p.energy_jump for p in solution.phases]),
+        }
+        code, t_stop, min_normal = solution.status, solution.t_stop, solution.min_normal_force
+        sample_times_out, samples, crossings = (
+            solution.sample_times,
+            solution.samples,
+            solution.crossings,
+        )
+        statistics = dict(solution.statistics)
+    else:
+        raw = solvers.solve(
+            model.code,
+            method_name,
+            params,
+            y0,
+            t_end,
+            rtol=rtol,
+            atol=atol,
+            sample_times=times,
+            max_crossings=max_crossings,
+            max_steps=max_steps,
+        )
+        code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
+        sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
+        statistics = {key: int(getattr(raw, key)) for key in _STATISTICS}
+    status = STATUS_NAMES.get(code, "failed")
+    message = _status_message(status, code, t_stop)
+    attrs.update(status=status, message=message)
+    dataset = build_dataset(
+        model.code, params, sample_times_out, samples, crossings, attrs, **phase_data
+    )
     return Trajectory(
         dataset=dataset,
         status=status,
         message=message,
-        t_stop=raw.t_stop,
-        min_normal_force=raw.min_normal_force,
+        t_stop=t_stop,
+        min_normal_force=min_normal,
         statistics=statistics,
     )

@@ -20,10 +20,12 @@ from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 
 __all__ = [
+    "CONTACTS",
     "CONTACT_PRESSURES",
     "FRICTION_LAWS",
     "MODELS",
     "NORMAL_FORCE_OPTIONS",
+    "HybridModel",
     "InitialState",
     "Model",
     "RollingModel",
@@ -58,6 +60,7 @@ class RollingModel:
     damping: float = 0.0
 
     name: ClassVar[str] = "rolling"
+    contact: ClassVar[str] = "rolling"
     code: ClassVar[int] = layout.MODEL_ROLLING
     default_method: ClassVar[str] = "dop853"
 
@@ -71,7 +74,12 @@ class RollingModel:
 
     def attributes(self) -> dict[str, str | float]:
         """The model's settings, for provenance attributes."""
-        return {"model": self.name, "damping": self.damping, "friction_law": self.friction_law}
+        return {
+            "model": self.name,
+            "contact": self.contact,
+            "damping": self.damping,
+            "friction_law": self.friction_law,
+        }
 
 
 @dataclass(frozen=True)
@@ -111,6 +119,7 @@ class SlidingModel:
     poisson_ratio: float | None = None
 
     name: ClassVar[str] = "sliding"
+    contact: ClassVar[str] = "sliding"
     code: ClassVar[int] = layout.MODEL_SLIDING
     default_method: ClassVar[str] = "radau5"
 
@@ -142,6 +151,7 @@ class SlidingModel:
         """The model's settings, for provenance attributes ("none": not set)."""
         return {
             "model": self.name,
+            "contact": self.contact,
             "damping": self.damping,
             "friction_law": self.friction_law,
             "contact_pressure": self.contact_pressure,
@@ -171,17 +181,84 @@ def _check_elastic(elastic_modulus: float | None, poisson_ratio: float | None) -
             raise ParameterError(missing, None, allowed, "E and nu are given together")
 
 
+@dataclass(frozen=True)
+class HybridModel(SlidingModel):
+    """Stick–slip contact: the sliding model while the contact slides or pivots, rolling
+    without sliding and without pivoting while the friction that needs lies inside the
+    Coulomb–Contensou limit set; phase changes are located as events (``celtstone.hybrid``).
+
+    Parameters
+    ----------
+    friction_coefficient, contact_radius, normal_force, damping : as :class:`SlidingModel`
+    regularisation_speed : δ [m/s], > 0: only smooths the first instant of sliding after
+        stick (V1 = 0, ω · n = 0, where Zhuravlev's law is 0/0); must be below
+        capture_speed / 10 so that stick is found in the dry-friction regime
+    capture_speed : v_c [m/s], > 0, or None for 100 atol: the slip–spin speed
+        sqrt(|V1|² + ε²(ω · n)²) counted as zero, a numerical zero like an event
+        tolerance (phase times converge as it shrinks; docs/decisions.md)
+    """
+
+    regularisation_speed: float = 1e-12
+    capture_speed: float | None = None
+
+    contact: ClassVar[str] = "hybrid"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.capture_speed is not None:
+            object.__setattr__(
+                self, "capture_speed", schema.check("capture_speed", self.capture_speed)
+            )
+
+    def resolved_capture_speed(self, atol: float) -> float:
+        """v_c for a run at absolute tolerance ``atol``; checks δ < v_c / 10 [m/s]."""
+        capture = CAPTURE_ATOL_FACTOR * atol if self.capture_speed is None else self.capture_speed
+        if not self.regularisation_speed <= 0.1 * capture:
+            raise ParameterError(
+                "regularisation_speed",
+                self.regularisation_speed,
+                f"<= capture_speed / 10 = {0.1 * capture:g} m/s in the hybrid contact",
+                "lower regularisation_speed or raise capture_speed",
+            )
+        return capture
+
+    def attributes(self) -> dict[str, str | float]:
+        """The model's settings, for provenance attributes (capture_speed "none": 100 atol;
+        a run records the resolved value)."""
+        return {**super().attributes(), "capture_speed": _or_none(self.capture_speed)}
+
+
+# default capture speed of the hybrid contact in units of the absolute tolerance
+CAPTURE_ATOL_FACTOR = 100.0
+
 Model = RollingModel | SlidingModel
 MODELS: dict[str, type[RollingModel] | type[SlidingModel]] = {
     "rolling": RollingModel,
     "sliding": SlidingModel,
 }
+# contact options of the sliding model
+CONTACTS: dict[str, type[SlidingModel]] = {"sliding": SlidingModel, "hybrid": HybridModel}
 
 
 def model_from_name(name: str, **settings: float | str | None) -> Model:
-    """Build a model by registry name; unknown names list the valid ones."""
+    """Build a model by registry name; unknown names list the valid ones.
+
+    ``contact`` ("sliding" or "hybrid") picks the contact of the sliding model.
+    """
     _choice("model", name, MODELS)
+    contact = settings.pop("contact", None)
+    settings = {k: v for k, v in settings.items() if v is not None}
     cls = MODELS[name]
+    if contact is not None:
+        _choice("contact", str(contact), CONTACTS)
+        if cls is SlidingModel:
+            cls = CONTACTS[str(contact)]
+        elif contact != "sliding":
+            raise ParameterError(
+                "contact", contact, "sliding with the rolling model", "use --model sliding"
+            )
+    if cls is not HybridModel and "capture_speed" in settings:
+        schema.check("capture_speed", settings.pop("capture_speed"))  # type: ignore[arg-type]
     if cls is RollingModel:
         # the sliding settings do not apply, but a bad value is still refused
         choices = {

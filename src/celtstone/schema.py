@@ -111,6 +111,13 @@ PARAMETERS: dict[str, Quantity] = {
         _q("load", "N", "N", "normal force pressing the contact", **_POSITIVE),
         _q("equivalent_radius", "R_eq", "m", "equivalent radius sqrt(R1 R2)", **_POSITIVE),
         _q("slip_ratio", "u", "", "slip ratio |V1| / (epsilon |Omega_n|)", **_NON_NEGATIVE),
+        _q(
+            "capture_speed",
+            "v_c",
+            "m/s",
+            "hybrid contact: slip-spin speed counted as zero, where stick may start",
+            **_POSITIVE,
+        ),
         _q("t_end", "t_end", "s", "duration of the run", **_POSITIVE),
         _q("rtol", "rtol", "", "relative tolerance of the integrator", lower=1e-14, upper=1e-2),
         _q("atol", "atol", "", "absolute tolerance of the integrator", **_POSITIVE),
@@ -153,6 +160,11 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "contact_position": ("m", "position of the contact point on the plane, space axes"),
     "com_height": ("m", "height of the centre of mass above the plane"),
     "spin_crossings": ("s", "times at which the spin changes sign"),
+    "phase": ("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
+    "phase_kind": ("1", "kind of each contact phase: 0 slip, 1 stick"),
+    "phase_start": ("s", "start time of each contact phase"),
+    "phase_end": ("s", "end time of each contact phase"),
+    "phase_energy_jump": ("J", "kinetic energy change of the capture impulse opening each phase"),
 }
 
 

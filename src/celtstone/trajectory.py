@@ -72,11 +72,25 @@ def build_dataset(
     states: np.ndarray,
     crossings: np.ndarray,
     attrs: dict[str, Any],
+    phase: np.ndarray | None = None,
+    **phase_table: np.ndarray,
 ) -> xr.Dataset:
-    """Dataset of a run from its sampled states (rows of the kernel state layout)."""
+    """Dataset of a run from its sampled states (rows of the kernel state layout).
+
+    A hybrid-contact run also gives ``phase`` (per sample: 0 slip, 1 stick; stick
+    rows get the stick diagnostics) and its table of phases ``phase_kind``,
+    ``phase_start``, ``phase_end``, ``phase_energy_jump`` (dimension ``contact_phase``).
+    """
     derived = np.empty((states.shape[0], kernel_system.N_DIAGNOSTICS))
     if states.shape[0]:
         kernel_system.diagnostics_series(model_code, states, params, derived)
+    if phase is not None and np.any(phase == 1):
+        stick = np.flatnonzero(phase == 1)
+        stick_derived = np.empty((stick.size, kernel_system.N_DIAGNOSTICS))
+        kernel_system.diagnostics_series(
+            layout.MODEL_STICK, np.ascontiguousarray(states[stick]), params, stick_derived
+        )
+        derived[stick] = stick_derived
     time = ("time",)
     n_slice = slice(layout.Y_N, layout.Y_N + 3)
     variables = {
@@ -112,6 +126,10 @@ def build_dataset(
         ),
         "spin_crossings": _variable("spin_crossings", ("crossing",), crossings),
     }
+    if phase is not None:
+        variables["phase"] = _variable("phase", time, np.asarray(phase, dtype=np.int8))
+    for name, values in phase_table.items():
+        variables[name] = _variable(name, ("contact_phase",), values)
     coords = {
         "time": _variable("time", time, times),
         "axis": ("axis", np.array([1, 2, 3]), {"long_name": "body axis"}),
@@ -119,6 +137,37 @@ def build_dataset(
         "plane_axis": ("plane_axis", np.array(["x", "y"]), {"long_name": "space axis"}),
     }
     return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _phase_summary(ds: xr.Dataset) -> dict[str, Any]:
+    """Stick and slip phases of a hybrid-contact run, and its options, for the summary."""
+    kinds = ds["phase_kind"].values
+    phases = [
+        {
+            "kind": "stick" if kind == 1 else "slip",
+            "t_start": float(start),
+            "t_end": float(end),
+            "energy_jump": float(jump),
+        }
+        for kind, start, end, jump in zip(
+            kinds,
+            ds["phase_start"].values,
+            ds["phase_end"].values,
+            ds["phase_energy_jump"].values,
+            strict=True,
+        )
+    ]
+    jumps = ds["phase_energy_jump"].values
+    return {
+        "stick_phases": int(np.sum(kinds == 1)),
+        "slip_phases": int(np.sum(kinds == 0)),
+        "phases": phases,
+        "max_capture_energy_jump": float(np.max(np.abs(jumps))) if jumps.size else 0.0,
+        "rejected_captures": int(ds.attrs["rejected_captures"]),
+        "capture_speed": float(ds.attrs["capture_speed"]),
+        "regularisation_speed": float(ds.attrs["regularisation_speed"]),
+        "stick_method": ds.attrs["stick_method"],
+    }
 
 
 def _finite_or_none(value: float) -> float | None:
@@ -199,5 +248,8 @@ class Trajectory:
         for key in MODEL_OPTION_KEYS:  # the model's options, "none" (not set) as null
             if key in attrs:
                 summary[key] = None if str(attrs[key]) == "none" else attrs[key]
+        summary["contact"] = attrs.get("contact", attrs["model"])
+        if "phase_start" in ds:
+            summary.update(_phase_summary(ds))
         summary["statistics"] = dict(self.statistics)
         return summary

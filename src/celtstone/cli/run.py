@@ -18,6 +18,7 @@ from celtstone.export import check_target, write
 from celtstone.schema import PARAMETERS, check
 
 HELP = "simulate one run of a body"
+MAX_PHASE_LINES = 10  # stick/slip phases listed in the text summary
 
 
 def _numbers(name: str, count: int):
@@ -53,7 +54,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--body", default="kane_levinson_1982", help="shipped body name or .toml path"
     )
-    parser.add_argument("--model", default="rolling", help="rolling or sliding")
+    parser.add_argument("--model", default="rolling", help="rolling or sliding (see --contact)")
     parser.add_argument(
         "--omega", type=str, default="0,0,-5", metavar="W1,W2,W3", help=p["omega"].help()
     )
@@ -72,7 +73,22 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--normal-force", default="static", help="static (N = m g, the paper's) or dynamic"
     )
     parser.add_argument(
-        "--regularisation-speed", type=str, default="1e-6", help=p["regularisation_speed"].help()
+        "--contact",
+        default=None,
+        help="contact of the sliding model: sliding (always slides, default) or hybrid "
+        "(stick-slip: rolls without slip and pivoting while friction can hold it)",
+    )
+    parser.add_argument(
+        "--regularisation-speed",
+        type=str,
+        default=None,
+        help=p["regularisation_speed"].help() + " (default 1e-6; hybrid contact 1e-12)",
+    )
+    parser.add_argument(
+        "--capture-speed",
+        type=str,
+        default=None,
+        help=p["capture_speed"].help() + " (default 100 atol)",
     )
     parser.add_argument(
         "--friction-law",
@@ -106,7 +122,9 @@ def handle(args: argparse.Namespace) -> int:
         "friction_coefficient": _number("friction_coefficient")(args.friction_coefficient),
         "contact_radius": _number("contact_radius")(args.contact_radius),
         "normal_force": args.normal_force,
-        "regularisation_speed": _number("regularisation_speed")(args.regularisation_speed),
+        "contact": args.contact,
+        "regularisation_speed": _optional_number("regularisation_speed", args.regularisation_speed),
+        "capture_speed": _optional_number("capture_speed", args.capture_speed),
         "friction_law": args.friction_law,
         "contact_pressure": args.contact_pressure,
         "elastic_modulus": _optional_number("elastic_modulus", args.elastic_modulus),
@@ -155,6 +173,16 @@ def _print_text(summary: dict) -> None:
         f"  max tilt {summary['max_tilt_deg']:.4g} deg, min normal force "
         f"{normal_text}, max slip speed {summary['max_slip_speed']:.3g} m/s",
     ]
+    if "phases" in summary:
+        lines.append(
+            f"  hybrid contact: {summary['slip_phases']} slip and {summary['stick_phases']} "
+            f"stick phases; capture speed {summary['capture_speed']:.3g} m/s, largest capture "
+            f"energy jump {summary['max_capture_energy_jump']:.3g} J"
+        )
+        for phase in summary["phases"][:MAX_PHASE_LINES]:
+            lines.append(f"    {phase['kind']:5s} {phase['t_start']:.9g} .. {phase['t_end']:.9g} s")
+        if len(summary["phases"]) > MAX_PHASE_LINES:
+            lines.append(f"    ... ({len(summary['phases']) - MAX_PHASE_LINES} more in --json)")
     if summary["max_relative_energy_drift"] is not None:
         lines.append(f"  max relative energy drift {summary['max_relative_energy_drift']:.3g}")
     print("\n".join(lines))

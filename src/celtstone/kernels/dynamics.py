@@ -68,6 +68,23 @@ def centripetal_terms(omega: Vec, r: Vec, r_rate: Vec) -> Vec:
 
 
 @kernel
+def contact_inertia(inertia: Mat, mass: float, r: Vec) -> Mat:
+    """Inertia tensor about the contact point, A + m(|r|²E − r⊗r) [kg m²] (paper eq. 5)."""
+    r2 = dot(r, r)
+    return (
+        inertia[0] + mass * (r2 - r[0] * r[0]),
+        inertia[1] - mass * r[0] * r[1],
+        inertia[2] - mass * r[0] * r[2],
+        inertia[3] - mass * r[1] * r[0],
+        inertia[4] + mass * (r2 - r[1] * r[1]),
+        inertia[5] - mass * r[1] * r[2],
+        inertia[6] - mass * r[2] * r[0],
+        inertia[7] - mass * r[2] * r[1],
+        inertia[8] + mass * (r2 - r[2] * r[2]),
+    )
+
+
+@kernel
 def rolling_acceleration(
     n: Vec, omega: Vec, r: Vec, r_rate: Vec, params
 ) -> tuple[Vec, float, Vec, float]:
@@ -94,19 +111,7 @@ def rolling_acceleration(
         scale(params[P_DAMPING], omega),
     )
     torque = add(torque, scale(mass, cross(r, sub(scale(gravity, n), centripetal))))
-    r2 = dot(r, r)
-    matrix = (
-        inertia[0] + mass * (r2 - r[0] * r[0]),
-        inertia[1] - mass * r[0] * r[1],
-        inertia[2] - mass * r[0] * r[2],
-        inertia[3] - mass * r[1] * r[0],
-        inertia[4] + mass * (r2 - r[1] * r[1]),
-        inertia[5] - mass * r[1] * r[2],
-        inertia[6] - mass * r[2] * r[0],
-        inertia[7] - mass * r[2] * r[1],
-        inertia[8] + mass * (r2 - r[2] * r[2]),
-    )
-    omega_rate, determinant = solve3(matrix, torque)
+    omega_rate, determinant = solve3(contact_inertia(inertia, mass, r), torque)
     # W_C = -ω̇ × r - ω × ṙ - ω × (ω × r); R = m W_C + m g n
     acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal)
     reaction = add(scale(mass, acceleration), scale(mass * gravity, n))

@@ -19,6 +19,7 @@ from __future__ import annotations
 # model codes
 MODEL_ROLLING = 0
 MODEL_SLIDING = 1
+MODEL_STICK = 2  # hybrid contact, stick phase: no slip, no pivoting (kernels/stick.py)
 
 # shape codes
 SHAPE_ELLIPSOID = 0

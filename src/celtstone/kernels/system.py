@@ -17,6 +17,8 @@ from celtstone.kernels.dynamics import (
 from celtstone.kernels.geometry import contact, shape_is_valid
 from celtstone.kernels.layout import (
     MODEL_ROLLING,
+    MODEL_SLIDING,
+    MODEL_STICK,
     P_DAMPING,
     P_GRAVITY,
     P_MASS,
@@ -30,6 +32,7 @@ from celtstone.kernels.layout import (
     Y_SLIP,
     Y_WORK,
 )
+from celtstone.kernels.stick import slip_spin_speed, stick_acceleration, stick_margin
 from celtstone.kernels.vector import Vec, cross, dot, matvec, rotate, sub
 
 # determinant of the system matrix relative to det(A) below which it counts as singular
@@ -65,6 +68,14 @@ def evaluate(model, y, params, dy):
         omega_rate, normal_force, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
         slip_rate = (0.0, 0.0, 0.0)
         velocity = cross(r, omega)  # v_G = -ω × r
+    elif model == MODEL_STICK:
+        # V1 = 0 and ω · n = 0 are held; the friction power is zero up to round-off
+        omega_rate, normal_force, force, moment, determinant = stick_acceleration(
+            n, omega, r, r_rate, params
+        )
+        slip_rate = (0.0, 0.0, 0.0)
+        friction_power = dot(force, slip) + moment * dot(omega, n)
+        velocity = sub(slip, cross(omega, r))
     else:
         omega_rate, slip_rate, normal_force, force, moment, determinant = sliding_acceleration(
             n, omega, slip, r, r_rate, params
@@ -173,3 +184,20 @@ def spin_and_normal_force(model, y, params, work) -> tuple[float, float, int]:
         normal_force,
         status,
     )
+
+
+@kernel
+def phase_value(model, y, params, capture_speed) -> float:
+    """Event function of the hybrid contact; a phase ends when it falls below zero.
+
+    Stick: the stick margin g (``stick.stick_margin``). Sliding with
+    ``capture_speed`` v_c > 0: sqrt(|V1|² + ε²(ω · n)²) - v_c, which falls through
+    zero when slip and spin die together. Otherwise +1 (no phase event).
+    """
+    if model == MODEL_STICK:
+        n, omega, _, _ = unpack(y)
+        r, r_rate = contact(n, cross(n, omega), params)
+        return stick_margin(n, omega, r, r_rate, params)
+    if model == MODEL_SLIDING and capture_speed > 0.0:
+        return slip_spin_speed(y, params) - capture_speed
+    return 1.0

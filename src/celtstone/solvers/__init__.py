@@ -35,6 +35,9 @@ from celtstone.solvers.codes import (
     STATUS_OFF_SHAPE as STATUS_OFF_SHAPE,
 )
 from celtstone.solvers.codes import (
+    STATUS_PHASE_CHANGE as STATUS_PHASE_CHANGE,
+)
+from celtstone.solvers.codes import (
     STATUS_SINGULAR as STATUS_SINGULAR,
 )
 from celtstone.solvers.codes import (
@@ -54,6 +57,7 @@ __all__ = [
     "STATUS_MESSAGES",
     "STATUS_NOT_FINITE",
     "STATUS_OFF_SHAPE",
+    "STATUS_PHASE_CHANGE",
     "STATUS_SINGULAR",
     "STATUS_STEP_TOO_SMALL",
     "STATUS_SUCCESS",
@@ -80,6 +84,7 @@ class RawSolution:
     nlu: int
     n_accepted: int
     n_rejected: int
+    final_state: np.ndarray
 
 
 def solve(
@@ -97,14 +102,22 @@ def solve(
     max_step: float = 0.0,
     max_steps: int = 10_000_000,
     adaptive: bool = True,
+    capture_speed: float = 0.0,
 ) -> RawSolution:
-    """Integrate the kernel system ``model`` from t = 0 to ``t_end`` with ``method_name``."""
+    """Integrate the kernel system ``model`` from t = 0 to ``t_end`` with ``method_name``.
+
+    ``capture_speed`` [m/s] > 0 stops a sliding run (status ``STATUS_PHASE_CHANGE``)
+    when sqrt(|V1|² + ε²(ω·n)²) falls below it; a stick run (``MODEL_STICK``) always
+    stops when its stick margin falls below zero. ``final_state`` is the state at
+    ``t_stop``.
+    """
     if method_name not in METHODS:
         raise ParameterError("method", method_name, "one of: " + ", ".join(METHODS))
     times = np.ascontiguousarray(sample_times, dtype=np.float64)
     samples = np.zeros((times.shape[0], y0.shape[0]))
     crossings = np.zeros(max(int(max_crossings), 1))
     stats = np.zeros(8, dtype=np.int64)
+    final_state = np.empty(y0.shape[0])
     status, n_samples, n_crossings, t_stop, min_normal, t_min_normal = integrate(
         int(model),
         METHODS[method_name],
@@ -121,6 +134,8 @@ def solve(
         samples,
         crossings,
         stats,
+        float(capture_speed),
+        final_state,
     )
     stored = min(int(n_crossings), crossings.shape[0])
     return RawSolution(
@@ -137,4 +152,5 @@ def solve(
         nlu=int(stats[2]),
         n_accepted=int(stats[3]),
         n_rejected=int(stats[4]),
+        final_state=final_state,
     )

@@ -14,6 +14,7 @@ STATUS_OFF_SHAPE = 3
 STATUS_MAX_STEPS = 4
 STATUS_STEP_TOO_SMALL = 5
 STATUS_NOT_FINITE = 6
+STATUS_PHASE_CHANGE = 7
 
 STATUS_MESSAGES = {
     STATUS_SUCCESS: "reached t_end",
@@ -27,4 +28,6 @@ STATUS_MESSAGES = {
     STATUS_STEP_TOO_SMALL: "the step size fell below round-off: loosen rtol or use the "
     "stiff method radau5",
     STATUS_NOT_FINITE: "the state became infinite or NaN: tighten rtol or use radau5",
+    STATUS_PHASE_CHANGE: "the hybrid contact changed phase (stick <-> slip); the phase loop "
+    "restarts the integration in the other phase",
 }

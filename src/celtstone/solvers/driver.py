@@ -4,7 +4,8 @@
 it fills the output samples that fall inside the step from the dense output, locates
 every sign change of the spin ω·n (Illinois root finding on the interpolant), tracks
 the minimum normal force, and stops at lift-off (N = 0, located the same way), at a
-singular or off-shape right-hand side, or on integrator failure.
+phase change of the hybrid contact (``system.phase_value`` falling from >= 0 to < 0),
+at a singular or off-shape right-hand side, or on integrator failure.
 """
 
 from __future__ import annotations
@@ -14,8 +15,8 @@ import math
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import RHS_OFF_SHAPE, RHS_OK, Y_N, Y_OMEGA
-from celtstone.kernels.system import rhs, spin_and_normal_force
+from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, RHS_OFF_SHAPE, RHS_OK, Y_N, Y_OMEGA
+from celtstone.kernels.system import phase_value, rhs, spin_and_normal_force
 from celtstone.solvers import _dop853 as dop
 from celtstone.solvers import _radau as rad
 from celtstone.solvers._linalg import lu_solve
@@ -25,6 +26,7 @@ from celtstone.solvers.codes import (
     STATUS_MAX_STEPS,
     STATUS_NOT_FINITE,
     STATUS_OFF_SHAPE,
+    STATUS_PHASE_CHANGE,
     STATUS_SINGULAR,
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
@@ -79,19 +81,31 @@ def spin_of(y):
     return y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
 
 
+EVENT_SPIN = 0
+EVENT_NORMAL_FORCE = 1
+EVENT_PHASE = 2
+
+
 @kernel
-def event_value(kind, model, params, method, dense, y_old, x, point, work):
-    """Spin (kind 0) or normal force (kind 1) at the fraction x of the step."""
+def event_value(kind, model, params, method, dense, y_old, x, point, work, capture_speed):
+    """Spin (kind 0), normal force (kind 1) or phase value (kind 2) at step fraction x."""
     interpolate(method, dense, y_old, x, point)
-    if kind == 0:
+    if kind == EVENT_SPIN:
         return spin_of(point)
+    if kind == EVENT_PHASE:
+        return phase_value(model, point, params, capture_speed)
     _, normal_force, _ = spin_and_normal_force(model, point, params, work)
     return normal_force
 
 
 @kernel
-def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, point, work):
-    """Illinois (modified regula falsi) root of an event function on [a, b] ⊂ [0, 1]."""
+def locate_root(
+    kind, model, params, method, dense, y_old, a, b, ga, gb, h, point, work, capture_speed
+):
+    """Illinois (modified regula falsi) root of an event function on [a, b] ⊂ [0, 1].
+
+    A phase event returns the end of the bracket where the phase value is < 0.
+    """
     tolerance = ROOT_TOLERANCE / max(abs(h), 1e-300)
     side = 0
     x = b
@@ -101,10 +115,12 @@ def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, poin
         x = (a * gb - b * ga) / (gb - ga)
         if not (a < x < b):
             x = 0.5 * (a + b)
-        gx = event_value(kind, model, params, method, dense, y_old, x, point, work)
-        if gx == 0.0:
+        gx = event_value(kind, model, params, method, dense, y_old, x, point, work, capture_speed)
+        if gx == 0.0 and kind != EVENT_PHASE:
             return x
-        if (gx > 0.0) == (ga > 0.0):
+        # a phase event goes from ga >= 0 to gb < 0: zero counts on the side of a
+        same_side = (gx >= 0.0) if kind == EVENT_PHASE else ((gx > 0.0) == (ga > 0.0))
+        if same_side:
             a, ga = x, gx
             if side == -1:
                 gb *= 0.5
@@ -114,6 +130,8 @@ def locate_root(kind, model, params, method, dense, y_old, a, b, ga, gb, h, poin
             if side == 1:
                 ga *= 0.5
             side = 1
+    if kind == EVENT_PHASE:
+        return b  # on the new phase's side, so that the restart does not stop at once
     return b if abs(gb) <= abs(ga) else a
 
 
@@ -147,11 +165,15 @@ def integrate(
     samples,
     crossings,
     stats,
+    capture_speed,
+    final_state,
 ):
     """Integrate from t = 0 to ``t_end``; see the module docstring.
 
     Returns (status, n_samples, n_crossings, t_stop, min_normal_force,
-    t_min_normal_force); ``stats`` receives nfev, njev, nlu, accepted, rejected.
+    t_min_normal_force); ``stats`` receives nfev, njev, nlu, accepted, rejected;
+    ``final_state`` the state at ``t_stop``. ``capture_speed`` [m/s] > 0 arms the
+    slip-capture event of the sliding model (``system.phase_value``).
     """
     n = y0.shape[0]
     y = y0.copy()
@@ -189,6 +211,9 @@ def integrate(
     code = rhs(model, t, y, params, f)
     nfev += 1
     spin_old, normal_old, _ = spin_and_normal_force(model, y, params, work)
+    has_phases = model == MODEL_STICK or (model == MODEL_SLIDING and capture_speed > 0.0)
+    phase_old = phase_value(model, y, params, capture_speed) if has_phases else 1.0
+    final_state[:] = y
     min_normal = normal_old
     t_min_normal = 0.0
     while n_samples < sample_times.shape[0] and sample_times[n_samples] <= 0.0:
@@ -439,7 +464,7 @@ def integrate(
         t_limit = t_new
         if normal_new < 0.0:
             root = locate_root(
-                1,
+                EVENT_NORMAL_FORCE,
                 model,
                 params,
                 method,
@@ -452,25 +477,72 @@ def integrate(
                 h_try,
                 point,
                 work,
+                capture_speed,
             )
             t_limit = t_old + root * h_try
             result = STATUS_LIFT_OFF
-        # spin sign changes inside (t_old, t_limit]
         x_limit = (t_limit - t_old) / h_try
+        # phase change: the phase value falls from >= 0 to < 0 inside (t_old, t_limit]
+        phase_new = 1.0
+        phase_b = 1.0
+        if has_phases:
+            x_a = 0.0
+            phase_a = phase_old
+            for k in range(1, EVENT_SUBDIVISIONS + 1):
+                x_b = x_limit * k / EVENT_SUBDIVISIONS
+                phase_b = event_value(
+                    EVENT_PHASE,
+                    model,
+                    params,
+                    method,
+                    dense,
+                    y_old,
+                    x_b,
+                    point,
+                    work,
+                    capture_speed,
+                )
+                if phase_a >= 0.0 > phase_b:
+                    root = locate_root(
+                        EVENT_PHASE,
+                        model,
+                        params,
+                        method,
+                        dense,
+                        y_old,
+                        x_a,
+                        x_b,
+                        phase_a,
+                        phase_b,
+                        h_try,
+                        point,
+                        work,
+                        capture_speed,
+                    )
+                    x_limit = root
+                    t_limit = t_old + root * h_try
+                    result = STATUS_PHASE_CHANGE
+                    break
+                x_a = x_b
+                phase_a = phase_b
+            phase_new = phase_a if result == STATUS_PHASE_CHANGE else phase_b
+        # spin sign changes inside (t_old, t_limit]; none in stick, where ω·n = 0 is held
         x_a = 0.0
         spin_a = spin_old
-        for k in range(1, EVENT_SUBDIVISIONS + 1):
+        for k in range(1, EVENT_SUBDIVISIONS + 1 if model != MODEL_STICK else 1):
             x_b = x_limit * k / EVENT_SUBDIVISIONS
             if k == EVENT_SUBDIVISIONS and result == STATUS_SUCCESS:
                 spin_b = spin_new
             else:
-                spin_b = event_value(0, model, params, method, dense, y_old, x_b, point, work)
+                spin_b = event_value(
+                    EVENT_SPIN, model, params, method, dense, y_old, x_b, point, work, capture_speed
+                )
             if (spin_a < 0.0 < spin_b) or (spin_b < 0.0 < spin_a) or (spin_b == 0.0 != spin_a):
                 if spin_b == 0.0:
                     root = x_b
                 else:
                     root = locate_root(
-                        0,
+                        EVENT_SPIN,
                         model,
                         params,
                         method,
@@ -483,6 +555,7 @@ def integrate(
                         h_try,
                         point,
                         work,
+                        capture_speed,
                     )
                 if n_crossings < crossings.shape[0]:
                     crossings[n_crossings] = t_old + root * h_try
@@ -492,10 +565,20 @@ def integrate(
         n_samples = _fill_samples(
             method, dense, y_old, t_old, h_try, t_limit, sample_times, samples, n_samples, y_new
         )
-        if result == STATUS_LIFT_OFF:
+        if result == STATUS_LIFT_OFF or result == STATUS_PHASE_CHANGE:
             t = t_limit
-            min_normal = min(min_normal, 0.0)  # N reaches zero at the located root
-            t_min_normal = t_limit
+            if x_limit >= 1.0:
+                final_state[:] = y_new
+            else:
+                interpolate(method, dense, y_old, x_limit, final_state)
+            if result == STATUS_LIFT_OFF:
+                min_normal = min(min_normal, 0.0)  # N reaches zero at the located root
+                t_min_normal = t_limit
+            else:
+                normal_limit = spin_and_normal_force(model, final_state, params, work)[1]
+                if normal_limit < min_normal:
+                    min_normal = normal_limit
+                    t_min_normal = t_limit
             break
         if normal_new < min_normal:
             min_normal = normal_new
@@ -505,10 +588,13 @@ def integrate(
         t = t_new
         spin_old = spin_new
         normal_old = normal_new
+        phase_old = phase_new
         h = h_next
         if max_step > 0.0:
             h = min(h, max_step)
 
+    if result != STATUS_LIFT_OFF and result != STATUS_PHASE_CHANGE:
+        final_state[:] = y
     stats[0] = nfev
     stats[1] = njev
     stats[2] = nlu

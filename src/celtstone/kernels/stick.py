@@ -1,0 +1,244 @@
+"""The stick phase of the hybrid contact: rolling without sliding and without pivoting.
+
+In stick the contact point does not slide (V1 = 0) and the body does not turn about
+the vertical (Ω_n = ω · n = 0). The plane supplies whatever reaction R and pivoting
+moment M n these two constraints need; stick lasts while that friction lies inside
+the limit set of the friction law (Coulomb–Contensou, Zhuravlev–Padé, paper eq. 10, 12).
+All vectors are in body axes with origin at G; ``r`` is G → contact point.
+"""
+
+from __future__ import annotations
+
+import math
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.dynamics import (
+    centripetal_terms,
+    contact_inertia,
+    contact_radius,
+    inertia_tensor,
+    rolling_acceleration,
+)
+from celtstone.kernels.friction import (
+    HERTZ_MOMENT,
+    PADE_A,
+    PADE_B,
+    UNIFORM_MOMENT,
+    UNIFORM_PADE_A,
+    UNIFORM_PADE_B,
+)
+from celtstone.kernels.friction_exact import exact_friction_functions
+from celtstone.kernels.geometry import contact
+from celtstone.kernels.layout import (
+    FRICTION_PADE,
+    NORMAL_FORCE_DYNAMIC,
+    P_CONTACT_PRESSURE,
+    P_CONTACT_RADIUS,
+    P_FRICTION,
+    P_FRICTION_LAW,
+    P_GRAVITY,
+    P_MASS,
+    P_NORMAL_FORCE,
+    PRESSURE_HERTZ,
+    Y_N,
+    Y_OMEGA,
+    Y_SLIP,
+)
+from celtstone.kernels.vector import Vec, add, cross, dot, scale, solve3, sub
+
+# ab - 1 of the Padé boundary μ = (1 - φ)/(1 + (ab - 1)φ): 5/2 - 1 for the Hertz
+# pressure, 8/3 - 1 for the uniform one
+PADE_BOUNDARY = PADE_A * PADE_B - 1.0
+UNIFORM_PADE_BOUNDARY = UNIFORM_PADE_A * UNIFORM_PADE_B - 1.0
+BOUNDARY_BISECTIONS = 60  # halvings of t = u/(1 + u) in [0, 1]: below 1e-17
+
+
+@kernel
+def stick_acceleration(
+    n: Vec, omega: Vec, r: Vec, r_rate: Vec, params
+) -> tuple[Vec, float, Vec, float, float]:
+    """Angular acceleration and contact reactions of rolling without pivoting.
+
+    Returns
+    -------
+    omega_rate : dω/dt [rad/s²]
+    normal_force : N = R · n [N]
+    friction_force : tangential reaction F = R - N n [N]
+    pivot_moment : M, the moment M n about the vertical that holds ω · n = 0 [N m]
+    determinant : determinant of the inertia tensor about the contact J_A [kg³ m⁶]
+
+    Notes
+    -----
+    Paper eq. (5) with the unknown moment M n added: J_A ω̇ = τ + M n, where J_A =
+    A + m(|r|²E - r⊗r) and τ the rolling right-hand side. Since ṅ = n × ω (eq. 3),
+    d(ω · n)/dt = ω̇ · n, so ω · n = 0 is held by n · ω̇ = 0:
+    M = -(n · J_A⁻¹τ)/(n · J_A⁻¹n). The reaction is R = m W_C + m g n with
+    W_C = -ω̇ × r - ω × ṙ - ω × (ω × r).
+    """
+    mass = params[P_MASS]
+    free_rate, _, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
+    pivot_response, _ = solve3(contact_inertia(inertia_tensor(params), mass, r), n)
+    compliance = dot(n, pivot_response)  # n · J_A⁻¹ n > 0 [1/(kg m²)]
+    pivot_moment = 0.0
+    if compliance > 0.0:
+        pivot_moment = -dot(n, free_rate) / compliance
+    omega_rate = add(free_rate, scale(pivot_moment, pivot_response))
+    acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal_terms(omega, r, r_rate))
+    reaction = add(scale(mass, acceleration), scale(mass * params[P_GRAVITY], n))
+    normal_force = dot(reaction, n)
+    friction_force = sub(reaction, scale(normal_force, n))
+    return omega_rate, normal_force, friction_force, pivot_moment, determinant
+
+
+@kernel
+def limit_moment(force_ratio: float, law: int, pressure: int) -> float:
+    """Largest μ = |M|/M0 the friction law gives together with φ = |F|/(f N) [1].
+
+    The boundary of the limit set: sliding at slip ratio u gives (φ, μ) = (F̂(u),
+    M̂(u)/M̂(0)), u in [0, ∞], and φ rises from 0 to 1 with u. For the Padé law
+    (paper eq. 10, 12) eliminating u gives μ = (1 - φ)/(1 + (ab - 1)φ) (ab = 5/2 for the
+    Hertz pressure, 8/3 for the uniform one). For the exact law F̂(u) = φ is solved by
+    bisection in t = u/(1 + u). For φ >= 1 it returns the Padé expression, negative:
+    no moment is admissible with more than f N of force.
+    """
+    boundary = PADE_BOUNDARY if pressure == PRESSURE_HERTZ else UNIFORM_PADE_BOUNDARY
+    if law == FRICTION_PADE or force_ratio >= 1.0 or force_ratio <= 0.0:
+        if law != FRICTION_PADE and force_ratio <= 0.0:
+            return 1.0  # u = 0: the full pivoting moment
+        return (1.0 - force_ratio) / (1.0 + boundary * force_ratio)
+    low, high = 0.0, 1.0
+    for _ in range(BOUNDARY_BISECTIONS):
+        middle = 0.5 * (low + high)
+        force, _ = exact_friction_functions(middle, 1.0 - middle, pressure)
+        if force < force_ratio:
+            low = middle
+        else:
+            high = middle
+    middle = 0.5 * (low + high)
+    _, moment = exact_friction_functions(middle, 1.0 - middle, pressure)
+    return moment / (HERTZ_MOMENT if pressure == PRESSURE_HERTZ else UNIFORM_MOMENT)
+
+
+@kernel
+def stick_margin_of(
+    force: float,
+    moment: float,
+    friction_normal: float,
+    friction_coefficient: float,
+    radius: float,
+    law: int,
+    pressure: int,
+) -> float:
+    """Distance of the friction (|F|, |M|) needed for stick inside the law's limit set [1].
+
+    Parameters
+    ----------
+    force : |F|, tangential friction force [N]
+    moment : |M|, pivoting moment about the vertical [N m]
+    friction_normal : N used by the friction law (m g or the true N) [N]
+    friction_coefficient : f [1]
+    radius : ε, contact radius [m]
+    law, pressure : friction-law and pressure codes (``layout.FRICTION_*``, ``PRESSURE_*``)
+
+    Returns
+    -------
+    g = μ_max(φ) - μ (``limit_moment``), φ = |F|/(f N), μ = |M|/M0, M0 = M̂(0) f N ε
+    (3π/16 f N ε for the Hertz pressure, paper eq. 12): stick is admissible while
+    g >= 0; -1 when f N <= 0 (no friction to hold it).
+    """
+    capacity = friction_coefficient * friction_normal
+    if not capacity > 0.0:
+        return -1.0
+    force_ratio = force / capacity
+    zero_slip_moment = HERTZ_MOMENT if pressure == PRESSURE_HERTZ else UNIFORM_MOMENT
+    moment_ratio = moment / (zero_slip_moment * capacity * radius)
+    return limit_moment(force_ratio, law, pressure) - moment_ratio
+
+
+@kernel
+def pade_stick_margin(
+    force: float,
+    moment: float,
+    friction_normal: float,
+    friction_coefficient: float,
+    radius: float,
+) -> float:
+    """``stick_margin_of`` for the Padé law on the Hertz disk (the paper's) [1]."""
+    return stick_margin_of(
+        force, moment, friction_normal, friction_coefficient, radius, FRICTION_PADE, PRESSURE_HERTZ
+    )
+
+
+@kernel
+def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
+    """``stick_margin_of`` the friction that stick needs in this state, for the run's law,
+    pressure, normal-force option and contact radius (fixed or Hertz) [1]."""
+    _, normal_force, friction_force, pivot_moment, _ = stick_acceleration(
+        n, omega, r, r_rate, params
+    )
+    friction_normal = params[P_MASS] * params[P_GRAVITY]
+    if params[P_NORMAL_FORCE] == NORMAL_FORCE_DYNAMIC:
+        friction_normal = normal_force
+    return stick_margin_of(
+        math.sqrt(dot(friction_force, friction_force)),
+        abs(pivot_moment),
+        friction_normal,
+        params[P_FRICTION],
+        contact_radius(n, friction_normal, params),
+        int(params[P_FRICTION_LAW]),
+        int(params[P_CONTACT_PRESSURE]),
+    )
+
+
+@kernel
+def stick_projection(n: Vec, omega: Vec, slip: Vec, r: Vec, params) -> Vec:
+    """Angular velocity after the friction impulse that stops slip and pivoting [rad/s].
+
+    Notes
+    -----
+    At the start of stick a contact impulse Π and a pivoting impulse Q n set V1 and
+    ω · n to zero: Δv_G = Π/m, A Δω = r × Π + Q n and V1 + Π/m + Δω × r = 0 give
+    J_A Δω = -m r × V1 + Q n, with Q from n · (ω + Δω) = 0. It is the plastic
+    (inelastic) impact on the constraint, so the kinetic energy can only drop, by a
+    term of second order in (V1, ε ω · n); v_G = -ω' × r after it.
+    """
+    mass = params[P_MASS]
+    inertia = contact_inertia(inertia_tensor(params), mass, r)
+    slip_response, _ = solve3(inertia, scale(-mass, cross(r, slip)))
+    pivot_response, _ = solve3(inertia, n)
+    compliance = dot(n, pivot_response)
+    impulse = 0.0
+    if compliance > 0.0:
+        impulse = -(dot(omega, n) + dot(n, slip_response)) / compliance
+    return add(omega, add(slip_response, scale(impulse, pivot_response)))
+
+
+@kernel
+def slip_spin_speed(y, params) -> float:
+    """sqrt(|V1|² + ε²(ω · n)²): zero exactly when the contact neither slides nor pivots [m/s].
+
+    ε is the model's fixed ``contact_radius``, a length scale here even when the
+    friction uses the Hertz radius.
+    """
+    spin = y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
+    pivot_speed = params[P_CONTACT_RADIUS] * spin
+    return math.sqrt(
+        y[Y_SLIP] * y[Y_SLIP]
+        + y[Y_SLIP + 1] * y[Y_SLIP + 1]
+        + y[Y_SLIP + 2] * y[Y_SLIP + 2]
+        + pivot_speed * pivot_speed
+    )
+
+
+@kernel
+def capture_state(y, params, out) -> None:
+    """``out`` = ``y`` after the impulse that starts stick: V1 = 0, ω from ``stick_projection``."""
+    n = (y[Y_N], y[Y_N + 1], y[Y_N + 2])
+    omega = (y[Y_OMEGA], y[Y_OMEGA + 1], y[Y_OMEGA + 2])
+    slip = (y[Y_SLIP], y[Y_SLIP + 1], y[Y_SLIP + 2])
+    r, _ = contact(n, (0.0, 0.0, 0.0), params)
+    omega_after = stick_projection(n, omega, slip, r, params)
+    out[:] = y
+    for k in range(3):
+        out[Y_OMEGA + k] = omega_after[k]
+        out[Y_SLIP + k] = 0.0
