@@ -100,6 +100,7 @@ def _batch(
     crossings = np.zeros(crossing_capacity)
     stats = np.zeros(8, dtype=np.int64)
     work = np.zeros(N_STATE)
+    final_state = np.zeros(N_STATE)
     for i in range(n_points):
         p = params[i]
         status, n_samples, n_crossings, t_stop, min_normal, _ = integrate(
@@ -118,6 +119,8 @@ def _batch(
             samples,
             crossings,
             stats,
+            0.0,  # no capture event: the sweep runs the sliding or rolling model
+            final_state,
         )
         n_stored = min(n_crossings, crossing_capacity)
         max_tilt = 0.0
