@@ -11,6 +11,7 @@ import dataclasses
 import json
 from pathlib import Path
 
+import imageio_ffmpeg
 import numpy as np
 import pytest
 import xarray as xr
@@ -115,6 +116,12 @@ def test_fig2_files_and_provenance(fig2_kl: tuple[Path, dict]) -> None:
                 assert dataset.attrs["normal_force_option"] == case["normal_force"]
                 assert float(dataset.attrs["contact_radius"]) == 1e-3
     assert json.loads((out / "data" / "fig2_kane_levinson_1982.json").read_text())["cases"]
+    # the video: rolling beside sliding at f = 0.35, 5 s in real time at 30 fps
+    video = out / result["animation"]
+    assert video.name == "fig2_kane_levinson_1982_rolling_vs_sliding.mp4"
+    frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(video))
+    assert frames == 151
+    assert seconds == pytest.approx(151 / 30.0, abs=0.01)
 
 
 def test_threshold_reduced_kane_levinson(tmp_path: Path) -> None:
@@ -156,6 +163,7 @@ def test_reproduce_all_quick_writes_report(tmp_path: Path) -> None:
     ):
         assert f"]({figure})" in report
         assert (tmp_path / figure).exists()
+    assert "](fig2_kane_levinson_1982_rolling_vs_sliding.mp4)" in report
     assert not list(tmp_path.rglob("*.part"))
 
 

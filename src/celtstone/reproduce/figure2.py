@@ -1,7 +1,8 @@
 """Figure 2 analogue: spin against time, rolling and sliding at f = 0.35, 0.25, 0.15.
 
 Sliding runs use ε = 1 mm with N = m g (the paper's first approximation) and
-with the dynamic normal force, same body and start (paper section 4).
+with the dynamic normal force, same body and start (paper section 4). A video shows
+the rolling stone beside the sliding one at the largest f, in real time.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_fi
 from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
+from celtstone.visual import animate_comparison
 
 __all__ = ["NORMAL_FORCES", "figure2", "figure2_models"]
 
@@ -65,6 +67,28 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     )
     figures = save_figure_formats(figure, out, stem)
     figures += save_figure_formats(energy, out, f"{stem}_energy")
+    progress.set_description(f"{stem}: animation")
+    animation = _animate(study, datasets, out / f"{stem}_rolling_vs_sliding.mp4")
     return save_results(
-        "fig2", study, body, out, cases, figures, study.fig2_t_end, frictions=list(study.frictions)
+        "fig2",
+        study,
+        body,
+        out,
+        cases,
+        figures,
+        study.fig2_t_end,
+        frictions=list(study.frictions),
+        animation=str(animation.relative_to(out)),
     )
+
+
+def _animate(study: Study, datasets: dict[str, Any], path: Path) -> Path:
+    """Rolling beside sliding at the largest f (N = m g), side by side in real time."""
+    friction = max(study.frictions)
+    sliding = case_name(study.sliding(friction, "static"))
+    animate_comparison(
+        [datasets["rolling"], datasets[sliding]],
+        ["rolling without sliding", f"rolling with sliding, f = {friction:g}"],
+        path,
+    )
+    return path

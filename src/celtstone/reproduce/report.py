@@ -73,6 +73,12 @@ def _section(
         lines += [f"![{Path(f).stem}]({f})" for f in images]
         runs = " and NetCDF runs in `data/`" if result["target"] != "threshold" else ""
         lines.append(f"Data: `{result['table']}`{runs}; SVG beside each PNG.")
+        if "animation" in result:
+            friction = max(result["frictions"])
+            lines.append(
+                f"Video: [`{result['animation']}`]({result['animation']}), rolling beside "
+                f"sliding at f = {friction:g} (N = m g), real time."
+            )
         lines.append("")
     return lines
 
