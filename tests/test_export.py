@@ -158,6 +158,19 @@ def test_write_replaces_an_existing_file(small_dataset: xr.Dataset, tmp_path: Pa
     assert [p.name for p in tmp_path.iterdir()] == ["run.csv"]
 
 
+def test_written_files_have_the_usual_mode(small_dataset: xr.Dataset, tmp_path: Path) -> None:
+    """Files are built in a private temporary file but end with the mode open() gives."""
+    import os
+
+    umask = os.umask(0o022)
+    os.umask(umask)
+    for name in ("run.nc", "run.csv"):
+        path = export.write(small_dataset, tmp_path / name)
+        assert path.stat().st_mode & 0o777 == 0o666 & ~umask
+    table = export.write_json({"a": 1}, tmp_path / "a.json")
+    assert table.stat().st_mode & 0o777 == 0o666 & ~umask
+
+
 @pytest.mark.parametrize("name", ["run.txt", "run", "run.nc.part"])
 def test_unknown_suffix_writes_nothing(
     small_dataset: xr.Dataset, tmp_path: Path, name: str

@@ -29,6 +29,9 @@ __all__ = [
 
 FORMATS = (".nc", ".csv")
 
+_UMASK = os.umask(0o022)  # read the process's umask once (os.umask can only set it) ...
+os.umask(_UMASK)  # ... and put it back
+
 
 def check_target(
     path: str | Path, formats: Sequence[str] = FORMATS, parameter: str = "out"
@@ -63,6 +66,8 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     temporary = Path(name)
     try:
         yield temporary
+        # mkstemp makes the file private (0600); give it the mode a plain open() would
+        os.chmod(temporary, 0o666 & ~_UMASK)
         os.replace(temporary, target)
     finally:
         temporary.unlink(missing_ok=True)
