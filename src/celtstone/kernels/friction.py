@@ -13,7 +13,7 @@ import math
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction_exact import exact_friction
 from celtstone.kernels.layout import FRICTION_PADE, PRESSURE_HERTZ
-from celtstone.kernels.vector import Vec, scale
+from celtstone.kernels.vector import Vec, regularised_norm, scale
 
 PADE_B = 8.0 / (3.0 * math.pi)  # b in paper eq. (12), fixes F ≈ fN(3π/8)u at small u
 PADE_A = 15.0 * math.pi / 16.0  # a in paper eq. (12), fixes M ≈ fNε/(5u) at large u
@@ -57,12 +57,7 @@ def zhuravlev_pade(
     F0 = fN. The regularisation removes the 0/0 of the singular state (eq. 11);
     see ``docs/decisions.md``.
     """
-    speed = math.sqrt(
-        slip_velocity[0] * slip_velocity[0]
-        + slip_velocity[1] * slip_velocity[1]
-        + slip_velocity[2] * slip_velocity[2]
-        + regularisation_speed * regularisation_speed
-    )
+    speed = regularised_norm(slip_velocity, regularisation_speed)
     pivot_speed = contact_radius * abs(spin_rate)
     force = scale(-1.0 / (speed + force_b * pivot_speed), slip_velocity)
     moment = (

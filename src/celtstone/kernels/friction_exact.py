@@ -30,7 +30,7 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import PRESSURE_HERTZ
-from celtstone.kernels.vector import Vec, scale
+from celtstone.kernels.vector import Vec, regularised_norm, scale
 
 # below this value of u (uniform force) or k = 1/u the power series replace the
 # closed forms, whose cancellation would cost up to log10(1/k⁴) digits
@@ -244,12 +244,7 @@ def exact_friction(
     ε → contact_radius, u = |V1|/(ε|Ω_n|). The regularisation plays the role it
     has in ``friction.pade_friction`` (paper eq. 11, ``docs/decisions.md`` §4).
     """
-    speed = math.sqrt(
-        slip_velocity[0] * slip_velocity[0]
-        + slip_velocity[1] * slip_velocity[1]
-        + slip_velocity[2] * slip_velocity[2]
-        + regularisation_speed * regularisation_speed
-    )
+    speed = regularised_norm(slip_velocity, regularisation_speed)
     pivot_speed = contact_radius * abs(spin_rate)
     force_ratio, moment_ratio = exact_friction_functions(speed, pivot_speed, pressure)
     force = (0.0, 0.0, 0.0)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from celtstone.kernels._jit import kernel
 
 Vec = tuple[float, float, float]
@@ -18,6 +20,12 @@ def cross(a: Vec, b: Vec) -> Vec:
 def dot(a: Vec, b: Vec) -> float:
     """Scalar product a . b."""
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@kernel
+def regularised_norm(a: Vec, floor: float) -> float:
+    """sqrt(|a|² + floor²): |a| kept away from zero by ``floor`` (same unit as a)."""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + floor * floor)
 
 
 @kernel
