@@ -1,6 +1,7 @@
 """Index layout of the flat parameter and state arrays the kernels read.
 
-The parameter array ``params`` (float64, length ``N_PARAMS``) is built once by
+The parameter array ``params`` (float64, length ``N_PARAMS``, plus a tail for an
+implicit polynomial shape, see below) is built once by
 ``celtstone.models`` from validated objects; the state array ``y`` (float64,
 length ``N_STATE``) is shared by both models so one integrator serves both.
 
