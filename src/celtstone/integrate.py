@@ -8,8 +8,9 @@ from importlib import metadata
 import numpy as np
 
 from celtstone import hybrid, schema, solvers
-from celtstone.bodies import Body
+from celtstone.bodies import Body, ImplicitPolynomial
 from celtstone.errors import ParameterError
+from celtstone.kernels import layout
 from celtstone.models import HybridModel, Model, initial_vector, kernel_parameters
 from celtstone.models import InitialState as InitialState
 from celtstone.trajectory import Trajectory, build_dataset
@@ -35,6 +36,7 @@ STATUS_NAMES = {  # solver status code -> the name in results and the CLI
     solvers.STATUS_MAX_STEPS: "max_steps",
     solvers.STATUS_STEP_TOO_SMALL: "step_too_small",
     solvers.STATUS_NOT_FINITE: "not_finite",
+    solvers.STATUS_NON_CONVEX: "non_convex",
 }
 
 
@@ -71,10 +73,12 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
     return np.linspace(0.0, t_end, count)
 
 
-def _status_message(status: str, code: int, t_stop: float) -> str:
+def _status_message(status: str, code: int, t_stop: float, final_n: np.ndarray) -> str:
     if status == "success":
         return "reached t_end"
     text = solvers.STATUS_MESSAGES.get(code, "")
+    if code == solvers.STATUS_NON_CONVEX:
+        text += f" (last sampled vertical n = {np.round(final_n, 4).tolist()} in body axes)"
     return f"stopped at t = {t_stop:.6g} s: {text}"
 
 
@@ -148,6 +152,9 @@ def simulate(
     }
     if hasattr(body.shape, "exponent"):  # superellipsoid: its fifth shape parameter
         attrs["body_shape_exponent"] = body.shape.exponent
+    if isinstance(body.shape, ImplicitPolynomial):  # the terms make the run reproducible
+        attrs["body_shape_terms"] = body.shape.terms_json()
+        attrs["body_shape_com_offset"] = body.shape.com_offset
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
@@ -201,7 +208,8 @@ def simulate(
         sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
         statistics = {key: int(getattr(raw, key)) for key in _STATISTICS}
     status = STATUS_NAMES.get(code, "failed")
-    message = _status_message(status, code, t_stop)
+    final_n = (samples if len(samples) else y0[None, :])[-1, layout.Y_N : layout.Y_N + 3]
+    message = _status_message(status, code, t_stop, final_n)
     attrs.update(status=status, message=message)
     dataset = build_dataset(
         model.code, params, sample_times_out, samples, crossings, attrs, **phase_data

@@ -225,6 +225,7 @@ class Trajectory:
         summary = {
             "model": attrs["model"],
             "body": attrs["body"],
+            "body_shape": attrs.get("body_shape", ""),
             "t_end": float(attrs["t_end"]),
             "t_stop": float(self.t_stop),
             "first_reversal_time": self.first_reversal_time,

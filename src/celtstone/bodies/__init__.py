@@ -12,12 +12,19 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.bodies.body import Body
-from celtstone.bodies.shapes import Ellipsoid, Paraboloid, Shape, Superellipsoid
+from celtstone.bodies.shapes import (
+    Ellipsoid,
+    ImplicitPolynomial,
+    Paraboloid,
+    Shape,
+    Superellipsoid,
+)
 from celtstone.errors import ParameterError
 
 __all__ = [
     "Body",
     "Ellipsoid",
+    "ImplicitPolynomial",
     "Paraboloid",
     "Shape",
     "Superellipsoid",
@@ -71,9 +78,15 @@ def body_from_dict(name: str, data: dict[str, Any]) -> Body:
             shape = Superellipsoid(
                 tuple(shape_data["semi_axes"]), shape_data["com_offset"], shape_data["exponent"]
             )
+        elif kind == "implicit_polynomial":
+            shape = ImplicitPolynomial(
+                tuple(tuple(term) for term in shape_data["terms"]), shape_data["com_offset"]
+            )
         else:
             raise ParameterError(
-                "shape.kind", kind, "one of: ellipsoid, paraboloid, superellipsoid"
+                "shape.kind",
+                kind,
+                "one of: ellipsoid, paraboloid, superellipsoid, implicit_polynomial",
             )
         source = data.get("source", {})
         return Body(

@@ -1,7 +1,8 @@
 """Convex surfaces a body can have, as plain numbers.
 
 Each shape knows its kernel code and its four shape parameters (see
-``celtstone.kernels.layout``), and the geometry of its rest contact point.
+``celtstone.kernels.layout``), and the geometry of its rest contact point. The
+implicit polynomial (``bodies.polynomial``) also packs its terms into a params tail.
 """
 
 from __future__ import annotations
@@ -10,10 +11,11 @@ import math
 from dataclasses import dataclass
 
 from celtstone import schema
+from celtstone.bodies.polynomial import ImplicitPolynomial
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 
-__all__ = ["Ellipsoid", "Paraboloid", "Shape", "Superellipsoid"]
+__all__ = ["Ellipsoid", "ImplicitPolynomial", "Paraboloid", "Shape", "Superellipsoid"]
 
 
 @dataclass(frozen=True)
@@ -185,4 +187,4 @@ class Superellipsoid:
         return (a * a / c, b * b / c)
 
 
-Shape = Ellipsoid | Paraboloid | Superellipsoid
+Shape = Ellipsoid | Paraboloid | Superellipsoid | ImplicitPolynomial

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.implicit import implicit_contact
 from celtstone.kernels.layout import (
     P_SHAPE,
     P_SHAPE_0,
@@ -17,7 +18,12 @@ from celtstone.kernels.layout import (
     P_SHAPE_2,
     P_SHAPE_3,
     P_SHAPE_4,
+    RHS_NON_CONVEX,
+    RHS_OFF_SHAPE,
+    RHS_OK,
     SHAPE_ELLIPSOID,
+    SHAPE_IMPLICIT,
+    SHAPE_PARABOLOID,
     SHAPE_SUPERELLIPSOID,
 )
 from celtstone.kernels.vector import Vec
@@ -156,12 +162,21 @@ def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
             params[P_SHAPE_3],
             params[P_SHAPE_4],
         )
+    if params[P_SHAPE] == SHAPE_IMPLICIT:
+        return implicit_contact(n, n_rate, params)
     return paraboloid_contact(n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2])
 
 
 @kernel
-def shape_is_valid(n: Vec, params) -> bool:
-    """Whether the contact point for n lies in the shape's domain."""
-    if params[P_SHAPE] == SHAPE_ELLIPSOID or params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
-        return True
-    return n[2] > 1e-3
+def contact_status(n: Vec, r: Vec, params) -> int:
+    """RHS status of the contact point r = contact(n, ...)[0] for n.
+
+    ``RHS_OFF_SHAPE`` when n leaves the paraboloid cap's domain (n3 <= 1e-3);
+    ``RHS_NON_CONVEX`` when the implicit shape's Newton solve found no strictly
+    convex contact point (r is NaN); else ``RHS_OK``.
+    """
+    if params[P_SHAPE] == SHAPE_PARABOLOID and not n[2] > 1e-3:
+        return RHS_OFF_SHAPE
+    if params[P_SHAPE] == SHAPE_IMPLICIT and not math.isfinite(r[0]):
+        return RHS_NON_CONVEX
+    return RHS_OK

@@ -10,12 +10,14 @@ from __future__ import annotations
 import math
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.implicit import implicit_gaussian_curvature
 from celtstone.kernels.layout import (
     P_SHAPE,
     P_SHAPE_0,
     P_SHAPE_1,
     P_SHAPE_2,
     SHAPE_ELLIPSOID,
+    SHAPE_IMPLICIT,
 )
 from celtstone.kernels.vector import Vec
 
@@ -30,12 +32,15 @@ def equivalent_radius(n: Vec, params) -> float:
     normal -n, so R_eq = abc / (nᵀQn). Paraboloid z = x²/(2ρ1) + y²/(2ρ2):
     K = n3⁴ / (ρ1 ρ2), so R_eq = sqrt(ρ1 ρ2) / n3². n need not be exactly unit.
     At rest (n = e3) both give sqrt(ρ1 ρ2), with ρ1 = a²/c, ρ2 = b²/c for the ellipsoid.
+    Implicit polynomial: K from ``implicit.implicit_gaussian_curvature`` (Newton solve).
     """
     norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
     if params[P_SHAPE] == SHAPE_ELLIPSOID:
         a, b, c = params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2]
         quadratic = (a * a * n[0] * n[0] + b * b * n[1] * n[1] + c * c * n[2] * n[2]) / norm2
         return a * b * c / quadratic
+    if params[P_SHAPE] == SHAPE_IMPLICIT:
+        return 1.0 / math.sqrt(implicit_gaussian_curvature(n, params))
     return math.sqrt(params[P_SHAPE_0] * params[P_SHAPE_1]) * norm2 / (n[2] * n[2])
 
 

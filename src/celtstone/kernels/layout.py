@@ -1,6 +1,7 @@
 """Index layout of the flat parameter and state arrays the kernels read.
 
-The parameter array ``params`` (float64, length ``N_PARAMS``) is built once by
+The parameter array ``params`` (float64, length ``N_PARAMS``, plus a tail for an
+implicit polynomial shape, see below) is built once by
 ``celtstone.models`` from validated objects; the state array ``y`` (float64,
 length ``N_STATE``) is shared by both models so one integrator serves both.
 
@@ -25,6 +26,7 @@ MODEL_STICK = 2  # hybrid contact, stick phase: no slip, no pivoting (kernels/st
 SHAPE_ELLIPSOID = 0
 SHAPE_PARABOLOID = 1
 SHAPE_SUPERELLIPSOID = 2  # |x/a|^p + |y/b|^p + |z/c|^p = 1
+SHAPE_IMPLICIT = 3  # F(x) = sum_k c_k x^i_k y^j_k z^l_k = 1, terms in the tail below
 
 # normal-force options of the sliding model
 NORMAL_FORCE_STATIC = 0
@@ -45,7 +47,9 @@ P_SHAPE_0 = 12  # ellipsoid: semi-axis a [m];  paraboloid: rho1 [m]
 P_SHAPE_1 = 13  # ellipsoid: semi-axis b [m];  paraboloid: rho2 [m]
 P_SHAPE_2 = 14  # ellipsoid: semi-axis c [m];  paraboloid: l, height of G above the contact [m]
 P_SHAPE_3 = 15  # ellipsoid: h, G below the centre [m]; paraboloid: unused
-# (a superellipsoid reads P_SHAPE_0 .. P_SHAPE_3 as the ellipsoid, plus P_SHAPE_4)
+# (a superellipsoid reads P_SHAPE_0 .. P_SHAPE_3 as the ellipsoid, plus P_SHAPE_4;
+#  an implicit polynomial reads P_SHAPE_0 .. P_SHAPE_2 as the semi-axes of its start
+#  ellipsoid, P_SHAPE_3 as h and P_SHAPE_4 as the number of terms, see the tail below)
 P_DAMPING = 16  # sigma, viscous torque coefficient [N m s]
 P_FRICTION = 17  # f, friction coefficient [1]
 P_CONTACT_RADIUS = 18  # epsilon, Hertz contact radius [m]
@@ -54,8 +58,13 @@ P_REGULARISATION = 20  # delta, slip-speed regularisation scale [m/s]
 P_FRICTION_LAW = 21  # friction-law code FRICTION_*
 P_CONTACT_PRESSURE = 22  # contact-pressure code PRESSURE_*
 P_CONTACT_MODULUS = 23  # E*, effective modulus of the Hertz contact [Pa]; 0: fixed epsilon
-P_SHAPE_4 = 24  # superellipsoid: exponent p [1], >= 2; other shapes: unused
+P_SHAPE_4 = 24  # superellipsoid: exponent p [1], >= 2; implicit: number of terms; else unused
 N_PARAMS = 25
+
+# Variable tail, present only for SHAPE_IMPLICIT (params then has length
+# N_PARAMS + 3 + 4 * number of terms; docs/decisions.md section 17):
+P_IMPLICIT_CENTRE = N_PARAMS  # centre of the start ellipsoid, 3 numbers, about O [m]
+P_IMPLICIT_TERMS = N_PARAMS + 3  # 4 numbers per term: c [m^-(i+j+l)], i, j, l
 
 # state indices
 Y_N = 0
@@ -70,3 +79,4 @@ N_STATE = 16
 RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
+RHS_NON_CONVEX = 3  # implicit shape: no contact point found, or the surface is not convex there

@@ -14,7 +14,7 @@ from celtstone.kernels.dynamics import (
     rolling_acceleration,
     sliding_acceleration,
 )
-from celtstone.kernels.geometry import contact, shape_is_valid
+from celtstone.kernels.geometry import contact, contact_status
 from celtstone.kernels.layout import (
     MODEL_ROLLING,
     MODEL_SLIDING,
@@ -22,7 +22,6 @@ from celtstone.kernels.layout import (
     P_DAMPING,
     P_GRAVITY,
     P_MASS,
-    RHS_OFF_SHAPE,
     RHS_OK,
     RHS_SINGULAR,
     Y_N,
@@ -58,9 +57,7 @@ def evaluate(model, y, params, dy):
     n, omega, slip, quat = unpack(y)
     n_rate = cross(n, omega)  # Poisson equation, paper eq. (3): ṅ = n × ω
     r, r_rate = contact(n, n_rate, params)
-    status = RHS_OK
-    if not shape_is_valid(n, params):
-        status = RHS_OFF_SHAPE
+    status = contact_status(n, r, params)
     inertia = inertia_tensor(params)
     reference = inertia[0] * inertia[4] * inertia[8]
     friction_power = 0.0
@@ -82,7 +79,7 @@ def evaluate(model, y, params, dy):
         )
         friction_power = dot(force, slip) + moment * dot(omega, n)
         velocity = sub(slip, cross(omega, r))  # v_G = V1 - ω × r
-    if not determinant > SINGULAR_RATIO * reference:
+    if status == RHS_OK and not determinant > SINGULAR_RATIO * reference:
         status = RHS_SINGULAR
     for k in range(3):
         dy[Y_N + k] = n_rate[k]

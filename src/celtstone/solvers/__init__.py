@@ -29,6 +29,9 @@ from celtstone.solvers.codes import (
     STATUS_MESSAGES as STATUS_MESSAGES,
 )
 from celtstone.solvers.codes import (
+    STATUS_NON_CONVEX as STATUS_NON_CONVEX,
+)
+from celtstone.solvers.codes import (
     STATUS_NOT_FINITE as STATUS_NOT_FINITE,
 )
 from celtstone.solvers.codes import (
@@ -55,6 +58,7 @@ __all__ = [
     "STATUS_LIFT_OFF",
     "STATUS_MAX_STEPS",
     "STATUS_MESSAGES",
+    "STATUS_NON_CONVEX",
     "STATUS_NOT_FINITE",
     "STATUS_OFF_SHAPE",
     "STATUS_PHASE_CHANGE",

@@ -15,6 +15,7 @@ STATUS_MAX_STEPS = 4
 STATUS_STEP_TOO_SMALL = 5
 STATUS_NOT_FINITE = 6
 STATUS_PHASE_CHANGE = 7
+STATUS_NON_CONVEX = 8
 
 STATUS_MESSAGES = {
     STATUS_SUCCESS: "reached t_end",
@@ -30,4 +31,6 @@ STATUS_MESSAGES = {
     STATUS_NOT_FINITE: "the state became infinite or NaN: tighten rtol or use radau5",
     STATUS_PHASE_CHANGE: "the hybrid contact changed phase (stick <-> slip); the phase loop "
     "restarts the integration in the other phase",
+    STATUS_NON_CONVEX: "no contact point found for the implicit shape at this vertical: "
+    "the surface is not strictly convex there or the Newton solve failed",
 }

@@ -15,7 +15,15 @@ import math
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, RHS_OFF_SHAPE, RHS_OK, Y_N, Y_OMEGA
+from celtstone.kernels.layout import (
+    MODEL_SLIDING,
+    MODEL_STICK,
+    RHS_NON_CONVEX,
+    RHS_OFF_SHAPE,
+    RHS_OK,
+    Y_N,
+    Y_OMEGA,
+)
 from celtstone.kernels.system import phase_value, rhs, spin_and_normal_force
 from celtstone.solvers import _dop853 as dop
 from celtstone.solvers import _radau as rad
@@ -24,6 +32,7 @@ from celtstone.solvers.codes import (
     METHOD_DOP853,
     STATUS_LIFT_OFF,
     STATUS_MAX_STEPS,
+    STATUS_NON_CONVEX,
     STATUS_NOT_FINITE,
     STATUS_OFF_SHAPE,
     STATUS_PHASE_CHANGE,
@@ -35,6 +44,16 @@ from celtstone.solvers.codes import (
 ROOT_TOLERANCE = 1e-12  # s, event location
 EVENT_SUBDIVISIONS = 4  # spin sign checks per step, to catch two crossings in one step
 EPS = float(np.finfo(np.float64).eps)
+
+
+@kernel
+def rhs_failure(code):
+    """Run status for a right-hand-side status code other than ``RHS_OK``."""
+    if code == RHS_OFF_SHAPE:
+        return STATUS_OFF_SHAPE
+    if code == RHS_NON_CONVEX:
+        return STATUS_NON_CONVEX
+    return STATUS_SINGULAR
 
 
 @kernel
@@ -224,7 +243,7 @@ def integrate(
         if not math.isfinite(y[j]) or not math.isfinite(f[j]):
             result = STATUS_NOT_FINITE
     if code != RHS_OK:
-        result = STATUS_OFF_SHAPE if code == RHS_OFF_SHAPE else STATUS_SINGULAR
+        result = rhs_failure(code)
     elif normal_old < 0.0:
         result = STATUS_LIFT_OFF
     if result != STATUS_SUCCESS:
@@ -459,7 +478,7 @@ def integrate(
         spin_new, normal_new, code = spin_and_normal_force(model, y_new, params, work)
         nfev += 1
         if code != RHS_OK:
-            result = STATUS_OFF_SHAPE if code == RHS_OFF_SHAPE else STATUS_SINGULAR
+            result = rhs_failure(code)
             break
         t_limit = t_new
         if normal_new < 0.0:

@@ -23,7 +23,7 @@ import xarray as xr
 
 from celtstone import schema, solvers
 from celtstone.analysis.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
-from celtstone.bodies import Body, load_body
+from celtstone.bodies import Body, ImplicitPolynomial, load_body
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.integrate import STATUS_NAMES, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
@@ -55,6 +55,14 @@ def _axes(value: Mapping[str, Iterable[float]] | Sequence[Axis] | None) -> tuple
     if isinstance(value, Mapping):
         return tuple(Axis(str(name), tuple(values)) for name, values in value.items())
     return tuple(value)
+
+
+def _shape_extras(body: Body) -> dict[str, object]:
+    """Shape numbers beyond the four kernel parameters (the polynomial's terms)."""
+    shape = body.shape
+    if isinstance(shape, ImplicitPolynomial):
+        return {"terms": [list(term) for term in shape.terms]}
+    return {}
 
 
 class Sweep:
@@ -188,6 +196,7 @@ class Sweep:
                 "inertia": [list(row) for row in body.inertia],
                 "shape": body.shape.kind,
                 "shape_parameters": list(body.shape.kernel_parameters()),
+                **_shape_extras(body),
             },
             "model": self.model_name,
             "fixed": {k: self.fixed[k] for k in sorted(self.fixed)},
@@ -219,6 +228,7 @@ class Sweep:
             "body_inertia": str(np.array(body.inertia).tolist()),
             "body_shape": body.shape.kind,
             "body_shape_parameters": str(list(body.shape.kernel_parameters())),
+            **{f"body_shape_{k}": json.dumps(v) for k, v in _shape_extras(body).items()},
             **{f"model_{k}" if k != "model" else k: v for k, v in model.attributes().items()},
             "fixed_parameters": json.dumps(self.fixed, sort_keys=True),
             "initial_state_default": "omega = (0, 0, -5) rad/s, tilt = (0.5, 0.5) deg",

@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from celtstone import schema
-from celtstone.bodies import Body, Ellipsoid, Paraboloid, Superellipsoid
+from celtstone.bodies import Body, Ellipsoid, ImplicitPolynomial, Paraboloid, Superellipsoid
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.models import (
     CONTACT_PRESSURES,
@@ -229,12 +229,16 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
         "ellipsoid": ellipsoid_names,
         "superellipsoid": (*ellipsoid_names, "exponent"),
         "paraboloid": ("radius_of_curvature_1", "radius_of_curvature_2", "com_height"),
+        "implicit_polynomial": ("com_offset",),
     }
     all_shape_names = {name for names in names_of_shape.values() for name in names}
     for name in values:
         if name in all_shape_names and name not in names_of_shape[shape.kind]:
             raise ParameterError("parameter", name, f"a parameter of the body's {shape.kind} shape")
-    if isinstance(shape, Ellipsoid | Superellipsoid):
+    if isinstance(shape, ImplicitPolynomial):
+        if "com_offset" in values:
+            shape = ImplicitPolynomial(shape.terms, values["com_offset"])
+    elif isinstance(shape, Ellipsoid | Superellipsoid):
         axes = list(shape.semi_axes)
         for k, name in enumerate(ellipsoid_names[:3]):
             axes[k] = values.get(name, axes[k])
