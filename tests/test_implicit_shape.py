@@ -247,3 +247,32 @@ def test_sweep_builds_a_polynomial_body(egg: cs.ImplicitPolynomial) -> None:
     assert moved.shape.com_offset == 0.005
     with pytest.raises(cs.ParameterError, match="implicit_polynomial"):
         build_body(base, {"semi_axis_a": 0.1})
+
+
+def test_superellipsoid_curvature_matches_the_polynomial_one() -> None:
+    """Hertz R_eq of the closed-form superellipsoid: p = 2 is the ellipsoid's; p = 4 equals
+    the Newton solve on the polynomial x⁴/a⁴ + y⁴/b⁴ + z⁴/c⁴ away from its flat curves;
+    R_eq is infinite at the flat rest contact, and the model refuses a Hertz radius there."""
+    closed = np.zeros(layout.N_PARAMS)
+    closed[layout.P_SHAPE] = layout.SHAPE_SUPERELLIPSOID
+    closed[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (A, B, C, H)
+    ellipsoid = np.zeros(layout.N_PARAMS)
+    ellipsoid[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (A, B, C, H)
+    closed[layout.P_SHAPE_4] = 2.0
+    for n, _ in random_pairs(30, 8):
+        assert hertz.equivalent_radius(n, closed) == pytest.approx(
+            hertz.equivalent_radius(n, ellipsoid), rel=1e-12
+        )
+    closed[layout.P_SHAPE_4] = 4.0
+    quartic = raw_params([[1 / A**4, 4, 0, 0], [1 / B**4, 0, 4, 0], [1 / C**4, 0, 0, 4]], (A, B, C))
+    for n, _ in random_pairs(30, 9):
+        if min(abs(component) for component in n) < 0.05:
+            continue  # near a flat curve
+        assert hertz.equivalent_radius(n, closed) == pytest.approx(
+            hertz.equivalent_radius(n, quartic), rel=1e-9
+        )
+    assert hertz.equivalent_radius((0.0, 0.0, 1.0), closed) == np.inf
+    flat = replace(cs.load_body("kane_levinson_1982"), shape=cs.Superellipsoid((A, B, C), H, 4.0))
+    model = cs.SlidingModel(elastic_modulus=3e9, poisson_ratio=0.35)
+    with pytest.raises(cs.ParameterError, match="flat contact has no Hertz radius"):
+        cs.simulate(model, flat, STATE, 0.1)

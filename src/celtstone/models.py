@@ -343,14 +343,15 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
 
 
 def _check_convex(body: Body) -> None:
-    """The Hertz radius needs positive radii of curvature at the contact (a convex body)."""
+    """The Hertz radius needs finite positive radii of curvature at the rest contact."""
     radii = body.shape.radii_of_curvature
-    if not all(radius > 0.0 for radius in radii):
+    if not all(0.0 < radius < math.inf for radius in radii):
         raise ParameterError(
             "shape",
             body.shape.kind,
-            "a convex surface (radii of curvature > 0) for the Hertz contact radius",
-            f"radii of curvature {tuple(radii)} m",
+            "a convex surface with finite radii of curvature > 0 at rest, for the Hertz "
+            "contact radius",
+            f"radii of curvature {tuple(radii)} m (a flat contact has no Hertz radius)",
         )
 
 

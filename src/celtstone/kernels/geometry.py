@@ -146,6 +146,35 @@ def superellipsoid_contact(
 
 
 @kernel
+def superellipsoid_gaussian_curvature(
+    n: Vec, a: float, b: float, c: float, exponent: float
+) -> float:
+    """Gaussian curvature K [1/m²] of |x/a|^p + |y/b|^p + |z/c|^p = 1 at the point of
+    outward normal -n.
+
+    For an implicit surface F = 1 with diagonal Hessian H and gradient g,
+    K = Σ_i g_i² Π_(j≠i) H_jj / |g|⁴; here g_i = p sign(x_i)|x_i/a_i|^(p-1)/a_i and
+    H_ii = p(p-1)|x_i/a_i|^(p-2)/a_i². K = 0 on the flat curves of p > 2 (any x_i = 0).
+    """
+    zero = (0.0, 0.0, 0.0)
+    r, _ = superellipsoid_contact(n, zero, a, b, c, 0.0, exponent)
+    axes = (a, b, c)
+    gradient = [0.0, 0.0, 0.0]
+    hessian = [0.0, 0.0, 0.0]
+    for i in range(3):
+        ratio = abs(r[i]) / axes[i]
+        gradient[i] = exponent * ratio ** (exponent - 1.0) / axes[i]
+        hessian[i] = exponent * (exponent - 1.0) * ratio ** (exponent - 2.0) / axes[i] ** 2
+    squared = gradient[0] ** 2 + gradient[1] ** 2 + gradient[2] ** 2
+    numerator = (
+        gradient[0] ** 2 * hessian[1] * hessian[2]
+        + gradient[1] ** 2 * hessian[0] * hessian[2]
+        + gradient[2] ** 2 * hessian[0] * hessian[1]
+    )
+    return numerator / (squared * squared)
+
+
+@kernel
 def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
     """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``."""
     if params[P_SHAPE] == SHAPE_ELLIPSOID:

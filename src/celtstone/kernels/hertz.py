@@ -10,14 +10,17 @@ from __future__ import annotations
 import math
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.geometry import superellipsoid_gaussian_curvature
 from celtstone.kernels.implicit import implicit_gaussian_curvature
 from celtstone.kernels.layout import (
     P_SHAPE,
     P_SHAPE_0,
     P_SHAPE_1,
     P_SHAPE_2,
+    P_SHAPE_4,
     SHAPE_ELLIPSOID,
     SHAPE_IMPLICIT,
+    SHAPE_SUPERELLIPSOID,
 )
 from celtstone.kernels.vector import Vec
 
@@ -32,7 +35,9 @@ def equivalent_radius(n: Vec, params) -> float:
     normal -n, so R_eq = abc / (nᵀQn). Paraboloid z = x²/(2ρ1) + y²/(2ρ2):
     K = n3⁴ / (ρ1 ρ2), so R_eq = sqrt(ρ1 ρ2) / n3². n need not be exactly unit.
     At rest (n = e3) both give sqrt(ρ1 ρ2), with ρ1 = a²/c, ρ2 = b²/c for the ellipsoid.
-    Implicit polynomial: K from ``implicit.implicit_gaussian_curvature`` (Newton solve).
+    Superellipsoid: K from ``geometry.superellipsoid_gaussian_curvature`` (0, so R_eq
+    infinite, on its flat curves: models refuse a Hertz radius for p > 2). Implicit
+    polynomial: K from ``implicit.implicit_gaussian_curvature`` (Newton solve).
     """
     norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
     if params[P_SHAPE] == SHAPE_ELLIPSOID:
@@ -41,6 +46,11 @@ def equivalent_radius(n: Vec, params) -> float:
         return a * b * c / quadratic
     if params[P_SHAPE] == SHAPE_IMPLICIT:
         return 1.0 / math.sqrt(implicit_gaussian_curvature(n, params))
+    if params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
+        curvature = superellipsoid_gaussian_curvature(
+            n, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2], params[P_SHAPE_4]
+        )
+        return 1.0 / math.sqrt(curvature) if curvature > 0.0 else math.inf
     return math.sqrt(params[P_SHAPE_0] * params[P_SHAPE_1]) * norm2 / (n[2] * n[2])
 
 
