@@ -8,6 +8,7 @@ principal-axis angle tan 2δ = 2 A12 / (A11 - A22), and mesh refinement.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -181,3 +182,49 @@ def test_extent_holds_the_body_and_the_track(rolling_run: xr.Dataset) -> None:
     assert np.all(np.abs(placed[..., :2] - centre) <= reach)
     assert np.all(np.abs(contacts - centre) <= reach)
     assert placed[..., 2].max() < top < 1.1 * placed[..., 2].max()
+
+
+def _superellipsoid_run() -> xr.Dataset:
+    """1 s rolling run of the K&L body through the superellipsoid kernel at p = 2 (p > 2
+    is flat at the rest contact and stops a run: docs/decisions.md §13)."""
+    body = cs.load_body("kane_levinson_1982")
+    a, b, c = body.shape.semi_axes
+    shape = cs.Superellipsoid((a, b, c), body.shape.com_offset, 2.0)
+    body = dataclasses.replace(body, shape=shape)
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+    return cs.simulate(cs.RollingModel(), body, state, 1.0).raise_for_status().dataset
+
+
+def _egg_run() -> xr.Dataset:
+    a, b, c, h = 0.20, 0.03, 0.02, 0.01
+    terms = [[1 / a**2, 2, 0, 0], [1 / b**2, 0, 2, 0], [1 / c**2, 0, 0, 2]]
+    terms += [[0.3 / c**3, 0, 0, 3], [0.1 / c**4, 0, 0, 4]]
+    body = dataclasses.replace(
+        cs.load_body("kane_levinson_1982"), shape=cs.ImplicitPolynomial(terms=terms, com_offset=h)
+    )
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+    return cs.simulate(cs.RollingModel(), body, state, 1.0).raise_for_status().dataset
+
+
+@pytest.mark.parametrize("make_run", [_superellipsoid_run, _egg_run], ids=["super", "egg"])
+def test_shapes_drawn_through_the_contact_kernel(make_run) -> None:  # type: ignore[no-untyped-def]
+    """Superellipsoid and implicit polynomial bodies: a closed outward mesh whose vertices
+    are surface points with the planned outward normals, resting on the plane."""
+    run = make_run()
+    geometry = scene.body_geometry(run)
+    assert geometry.kind == run.attrs["body_shape"] and geometry.kernel_params
+    mesh = scene.surface_mesh(geometry, along=24, around=16)
+    t = mesh.triangles
+    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    as_set = {tuple(e) for e in directed.tolist()}
+    assert len(as_set) == len(directed) and all((b, a) in as_set for a, b in as_set)
+    assert _volume(mesh) > 0.0
+    # the extreme point along +axis 1 is the half length, and the mesh reaches it
+    assert np.max(mesh.vertices[:, 0]) == pytest.approx(geometry.half_length, rel=1e-12)
+    # every vertex is a support point: no vertex lies below the plane through another
+    # vertex with the same outward normal (convex hull property, checked on the poles)
+    rotations, centres = _space(run)
+    lowest = scene.place(mesh.vertices, rotations, centres)[..., 2].min(axis=1)
+    assert lowest.min() > -GEOMETRIC_TOLERANCE
+    marks = scene.axis_marks(geometry)
+    assert np.all(np.isfinite(marks["long_axis"])) and marks["long_axis"][:, 2].min() > 0.0

@@ -1,7 +1,9 @@
 """Pure geometry of the 3-D scene: the body's surface in space at each sample.
 
 Everything here is plain NumPy on arrays in SI units, so the video (matplotlib)
-and the page (JavaScript) draw the same triangles.
+and the page (JavaScript) draw the same triangles. Ellipsoid and paraboloid are
+meshed from their formulas; a superellipsoid or implicit polynomial through the
+contact kernel (each vertex the surface point of one outward normal).
 
 Frames
 ------
@@ -15,13 +17,17 @@ The plane is z = 0.
 from __future__ import annotations
 
 import ast
+import json
 import math
 from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
+from celtstone.bodies import ImplicitPolynomial, Superellipsoid
 from celtstone.errors import ParameterError
+from celtstone.kernels import layout
+from celtstone.kernels.geometry import contact as contact_kernel
 
 __all__ = [
     "BodyGeometry",
@@ -33,6 +39,7 @@ __all__ = [
     "extent",
     "place",
     "rotation_matrices",
+    "support_points",
     "surface_mesh",
     "surface_residual",
 ]
@@ -49,25 +56,30 @@ class BodyGeometry:
 
     Parameters
     ----------
-    kind : "ellipsoid" or "paraboloid"
+    kind : "ellipsoid", "paraboloid", "superellipsoid" or "implicit_polynomial"
     parameters : the kernel's four shape numbers [m]: (a, b, c, h) for the
         ellipsoid (G a distance h below its centre), (ρ1, ρ2, l, 0) for the
         paraboloid cap z = x²/(2ρ1) + y²/(2ρ2) (G a height l above the rest contact)
     inertia : central inertia tensor in body axes [kg m²], shape (3, 3)
     cap_height : height of the drawn paraboloid cap above its rest contact [m]
         (the cap is unbounded; unused for the ellipsoid)
+    kernel_params : the kernels' full parameter array of the shape, for the shapes
+        drawn through the contact kernel (superellipsoid, implicit polynomial)
     """
 
     kind: str
     parameters: tuple[float, float, float, float]
     inertia: tuple[tuple[float, ...], ...]
     cap_height: float = 0.0
+    kernel_params: tuple[float, ...] = ()
 
     @property
     def half_length(self) -> float:
         """Half the extent of the drawn body along axis 1 [m]."""
         if self.kind == "ellipsoid":
             return self.parameters[0]
+        if self.kernel_params:
+            return float(support_points(self, np.array([[1.0, 0.0, 0.0]]))[0, 0])
         return math.sqrt(2.0 * self.parameters[0] * self.cap_height)
 
     @property
@@ -126,6 +138,47 @@ def surface_residual(geometry: BodyGeometry, points: np.ndarray) -> np.ndarray:
     return 0.5 * x * x / p0 + 0.5 * y * y / p1 - (z + p2)
 
 
+SHAPE_KINDS = ("ellipsoid", "paraboloid", "superellipsoid", "implicit_polynomial")
+# closed shapes drawn through the contact kernel: the surface is r(ν) over all normals ν
+SUPPORT_DRAWN = ("superellipsoid", "implicit_polynomial")
+
+
+def _kernel_params(kind: str, parameters: tuple[float, ...], attrs: dict) -> tuple[float, ...]:
+    """The kernels' shape parameters of a superellipsoid or implicit-polynomial run."""
+    if kind == "superellipsoid":
+        exponent = float(attrs.get("body_shape_exponent", 2.0))
+        a, b, c, h = parameters
+        shape: Superellipsoid | ImplicitPolynomial = Superellipsoid((a, b, c), h, exponent)
+        array = np.zeros(layout.N_PARAMS)
+        array[layout.P_SHAPE] = shape.code
+        array[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = shape.kernel_parameters()
+        array[layout.P_SHAPE_4] = exponent
+        return tuple(array.tolist())
+    try:
+        terms = json.loads(str(attrs["body_shape_terms"]))
+    except (KeyError, ValueError):
+        raise ParameterError(
+            "run", attrs.get("title", "?"), "a run file with attribute 'body_shape_terms'"
+        ) from None
+    shape = ImplicitPolynomial(terms=terms, com_offset=parameters[3])
+    return tuple(shape.kernel_array().tolist())
+
+
+def support_points(geometry: BodyGeometry, normals: np.ndarray) -> np.ndarray:
+    """Surface points (relative to G, body axes) [m] with outward normals ``normals``, (k, 3).
+
+    The contact kernel's point for the upward vertical n = -ν (paper eq. 3).
+    """
+    params = np.asarray(geometry.kernel_params)
+    still = (0.0, 0.0, 0.0)
+    points = []
+    for normal in np.atleast_2d(normals):
+        vertical = (-float(normal[0]), -float(normal[1]), -float(normal[2]))
+        point, _ = contact_kernel(vertical, still, params)
+        points.append(point)
+    return np.array(points, dtype=float)
+
+
 def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
     """The body's shape and inertia from a run's attributes.
 
@@ -134,10 +187,13 @@ def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
     """
     attrs = dict(dataset.attrs)
     kind = str(attrs.get("body_shape", ""))
-    if kind not in ("ellipsoid", "paraboloid"):
-        raise ParameterError("run", kind, "a run of an ellipsoid or paraboloid body")
+    if kind not in SHAPE_KINDS:
+        raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(SHAPE_KINDS))
     parameters = tuple(float(v) for v in _attr_numbers(attrs, "body_shape_parameters"))
     inertia = tuple(tuple(float(v) for v in row) for row in _attr_numbers(attrs, "body_inertia"))
+    if kind in SUPPORT_DRAWN:
+        params = _kernel_params(kind, parameters, attrs)
+        return BodyGeometry(kind, parameters, inertia, kernel_params=params)  # type: ignore[arg-type]
     cap_height = 0.0
     if kind == "paraboloid":
         height = parameters[2]
@@ -187,7 +243,26 @@ def surface_mesh(geometry: BodyGeometry, along: int = 48, around: int = 32) -> M
     to the rim (paraboloid); ``around`` vertices per ring.
     """
     phi = np.linspace(0.0, 2.0 * np.pi, around, endpoint=False)
-    if geometry.kind == "ellipsoid":
+    if geometry.kernel_params:
+        # normals on a sphere with poles on ±axis 1, mapped to their surface points
+        theta = np.linspace(0.0, np.pi, along + 1)[1:-1]
+        ring_normals = np.stack(
+            [
+                np.cos(theta)[:, None] * np.ones_like(phi),
+                np.sin(theta)[:, None] * np.cos(phi),
+                np.sin(theta)[:, None] * np.sin(phi),
+            ],
+            axis=-1,
+        ).reshape(-1, 3)
+        rings = support_points(geometry, ring_normals)
+        poles = support_points(geometry, np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]))
+        vertices = np.concatenate([rings, poles])
+        body = _grid_triangles(len(theta), around)
+        first = np.arange(around)
+        last = (len(theta) - 1) * around + np.arange(around)
+        caps = [_fan(len(rings), first, reverse=True), _fan(len(rings) + 1, last, reverse=False)]
+        triangles = np.concatenate([body, *caps])
+    elif geometry.kind == "ellipsoid":
         a, b, c, h = geometry.parameters
         theta = np.linspace(0.0, np.pi, along + 1)[1:-1]  # poles at the ends of axis 1
         ring_x = a * np.cos(theta)[:, None] * np.ones_like(phi)
@@ -249,10 +324,16 @@ def axis_marks(geometry: BodyGeometry, points: int = 25) -> dict[str, np.ndarray
     through G, reaching 1.25 half lengths so that it shows beyond the body's ends.
     """
     half = geometry.half_length
-    u = np.linspace(-0.9 * half, 0.9 * half, points)
-    zero = np.zeros_like(u)
-    lift = 0.01 * (geometry.parameters[2] if geometry.kind == "ellipsoid" else half)
-    long_axis = np.stack([u, zero, _top_height(geometry, u, zero) + lift], axis=1)
+    if geometry.kernel_params:
+        # the top curve in the plane of axes 1 and 3: outward normals (cos θ, 0, sin θ)
+        theta = np.linspace(0.15 * np.pi, 0.85 * np.pi, points)
+        normals = np.stack([np.cos(theta), np.zeros_like(theta), np.sin(theta)], axis=1)
+        long_axis = support_points(geometry, normals) + np.array([0.0, 0.0, 0.01 * half])
+    else:
+        u = np.linspace(-0.9 * half, 0.9 * half, points)
+        zero = np.zeros_like(u)
+        lift = 0.01 * (geometry.parameters[2] if geometry.kind == "ellipsoid" else half)
+        long_axis = np.stack([u, zero, _top_height(geometry, u, zero) + lift], axis=1)
     reach = np.linspace(-1.25 * half, 1.25 * half, points)[:, None]
     principal = reach * geometry.principal_axis[None, :]
     return {"long_axis": long_axis, "principal_axis": principal}
