@@ -1,4 +1,11 @@
-"""LU factorisation with partial pivoting for small dense systems (real or complex)."""
+"""LU factorisation with partial pivoting for small dense systems (real or complex).
+
+The factors are stored for the Radau Newton iteration, which solves with the same
+factors many times per factorisation: the diagonal holds the reciprocal pivots
+1 / U[k, k] (a multiplication in every solve instead of a division), and the solves
+run column by column, so that the updates of one column are independent of each
+other instead of forming one long chain of dependent multiply-adds.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +14,8 @@ from celtstone.kernels._jit import kernel
 
 @kernel
 def lu_factor(matrix, pivots):
-    """Factor ``matrix`` in place (L unit lower, U upper); return False if singular."""
+    """Factor ``matrix`` in place: L unit lower below the diagonal, U strictly above
+    it, 1 / U[k, k] on it. Return False if singular."""
     size = matrix.shape[0]
     for k in range(size):
         best = k
@@ -23,6 +31,7 @@ def lu_factor(matrix, pivots):
             for j in range(size):
                 matrix[k, j], matrix[best, j] = matrix[best, j], matrix[k, j]
         inverse = 1.0 / matrix[k, k]
+        matrix[k, k] = inverse
         for i in range(k + 1, size):
             factor = matrix[i, k] * inverse
             matrix[i, k] = factor
@@ -40,13 +49,13 @@ def lu_solve(factored, pivots, rhs):
         p = pivots[k]
         if p != k:
             rhs[k], rhs[p] = rhs[p], rhs[k]
-    for i in range(size):
-        total = rhs[i]
-        for j in range(i):
-            total -= factored[i, j] * rhs[j]
-        rhs[i] = total
-    for i in range(size - 1, -1, -1):
-        total = rhs[i]
-        for j in range(i + 1, size):
-            total -= factored[i, j] * rhs[j]
-        rhs[i] = total / factored[i, i]
+    for j in range(size):  # L y = P b
+        value = rhs[j]
+        for i in range(j + 1, size):
+            rhs[i] -= factored[i, j] * value
+    for back in range(size):  # U x = y
+        j = size - 1 - back
+        value = rhs[j] * factored[j, j]
+        rhs[j] = value
+        for i in range(j):
+            rhs[i] -= factored[i, j] * value
