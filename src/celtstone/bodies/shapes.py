@@ -18,8 +18,27 @@ from celtstone.kernels import layout
 __all__ = ["Ellipsoid", "ImplicitPolynomial", "Paraboloid", "Shape", "Superellipsoid"]
 
 
+class _AboutCentre:
+    """Kernel parameters and rest height of a shape given by semi-axes and the offset h of
+    G below its centre O (ellipsoid, superellipsoid)."""
+
+    semi_axes: tuple[float, float, float]
+    com_offset: float
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(a, b, c, h) as the kernels read them [m]; a superellipsoid's exponent goes to
+        ``P_SHAPE_4``."""
+        a, b, c = self.semi_axes
+        return (a, b, c, self.com_offset)
+
+    @property
+    def rest_height(self) -> float:
+        """Height l of G above the contact point at rest, c - h [m]."""
+        return self.semi_axes[2] - self.com_offset
+
+
 @dataclass(frozen=True)
-class Ellipsoid:
+class Ellipsoid(_AboutCentre):
     """Ellipsoid x²/a² + y²/b² + z²/c² = 1 about its centre O.
 
     Parameters
@@ -53,16 +72,6 @@ class Ellipsoid:
     def code(self) -> int:
         """Kernel shape code."""
         return layout.SHAPE_ELLIPSOID
-
-    def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a, b, c, h) as the kernels read them [m]."""
-        a, b, c = self.semi_axes
-        return (a, b, c, self.com_offset)
-
-    @property
-    def rest_height(self) -> float:
-        """Height l of G above the contact point at rest, c - h [m]."""
-        return self.semi_axes[2] - self.com_offset
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
@@ -121,7 +130,7 @@ MAX_SUPERELLIPSOID_EXPONENT = 64.0  # beyond, |w|^(1/(p-1)) is a box to rounding
 
 
 @dataclass(frozen=True)
-class Superellipsoid:
+class Superellipsoid(_AboutCentre):
     """Superellipsoid |x/a|^p + |y/b|^p + |z/c|^p = 1 about its centre O.
 
     Parameters
@@ -167,16 +176,6 @@ class Superellipsoid:
     def code(self) -> int:
         """Kernel shape code."""
         return layout.SHAPE_SUPERELLIPSOID
-
-    def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a, b, c, h) as the kernels read them [m]; the exponent goes to ``P_SHAPE_4``."""
-        a, b, c = self.semi_axes
-        return (a, b, c, self.com_offset)
-
-    @property
-    def rest_height(self) -> float:
-        """Height l of G above the contact point at rest, c - h [m]."""
-        return self.semi_axes[2] - self.com_offset
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
