@@ -16,6 +16,7 @@ from celtstone.analysis import reversal_times as reversal_times
 from celtstone.analysis import spin_stability as spin_stability
 from celtstone.bodies import Body as Body
 from celtstone.bodies import Ellipsoid as Ellipsoid
+from celtstone.bodies import ImplicitFunction as ImplicitFunction
 from celtstone.bodies import ImplicitPolynomial as ImplicitPolynomial
 from celtstone.bodies import Paraboloid as Paraboloid
 from celtstone.bodies import Superellipsoid as Superellipsoid
@@ -43,6 +44,7 @@ __all__ = [
     "Ellipsoid",
     "FrictionSingularityError",
     "HybridModel",
+    "ImplicitFunction",
     "ImplicitPolynomial",
     "InitialState",
     "IntegrationError",

@@ -8,7 +8,7 @@ from importlib import metadata
 import numpy as np
 
 from celtstone import hybrid, schema, solvers
-from celtstone.bodies import Body, ImplicitPolynomial
+from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 from celtstone.models import HybridModel, Model, initial_vector, kernel_parameters
@@ -154,6 +154,10 @@ def simulate(
         attrs["body_shape_exponent"] = body.shape.exponent
     if isinstance(body.shape, ImplicitPolynomial):  # the terms make the run reproducible
         attrs["body_shape_terms"] = body.shape.terms_json()
+        attrs["body_shape_com_offset"] = body.shape.com_offset
+    if isinstance(body.shape, ImplicitFunction):  # recorded, but not enough to rerun it
+        attrs["body_shape_function"] = body.shape.name
+        attrs["body_shape_function_source"] = body.shape.source_text()
         attrs["body_shape_com_offset"] = body.shape.com_offset
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):

@@ -14,7 +14,7 @@ from typing import ClassVar
 import numpy as np
 
 from celtstone import schema
-from celtstone.bodies import Body, ImplicitPolynomial
+from celtstone.bodies import Body, ImplicitSurface
 from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, effective_modulus
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
@@ -316,7 +316,7 @@ class InitialState:
 
 def kernel_parameters(model: Model, body: Body) -> np.ndarray:
     """Flat float64 parameter array for the kernels (layout in ``kernels.layout``)."""
-    tail = body.shape.kernel_tail() if isinstance(body.shape, ImplicitPolynomial) else np.zeros(0)
+    tail = body.shape.kernel_tail() if isinstance(body.shape, ImplicitSurface) else np.zeros(0)
     params = np.zeros(layout.N_PARAMS + tail.size)  # the tail: docs/decisions.md section 17
     params[layout.N_PARAMS :] = tail
     params[layout.P_MASS] = body.mass
@@ -324,8 +324,8 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
     params[layout.P_INERTIA : layout.P_INERTIA + 9] = np.ravel(body.inertia)
     params[layout.P_SHAPE] = body.shape.code
     params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = body.shape.kernel_parameters()
-    if isinstance(body.shape, ImplicitPolynomial):
-        params[layout.P_SHAPE_4] = len(body.shape.terms)
+    if isinstance(body.shape, ImplicitSurface):
+        params[layout.P_SHAPE_4] = body.shape.kernel_count  # terms, or -1: a compiled function
     else:
         params[layout.P_SHAPE_4] = getattr(body.shape, "exponent", 0.0)  # superellipsoid only
     params[layout.P_DAMPING] = model.damping

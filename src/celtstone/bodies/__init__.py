@@ -14,7 +14,9 @@ from typing import Any
 from celtstone.bodies.body import Body
 from celtstone.bodies.shapes import (
     Ellipsoid,
+    ImplicitFunction,
     ImplicitPolynomial,
+    ImplicitSurface,
     Paraboloid,
     Shape,
     Superellipsoid,
@@ -24,7 +26,9 @@ from celtstone.errors import ParameterError
 __all__ = [
     "Body",
     "Ellipsoid",
+    "ImplicitFunction",
     "ImplicitPolynomial",
+    "ImplicitSurface",
     "Paraboloid",
     "Shape",
     "Superellipsoid",

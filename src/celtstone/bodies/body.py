@@ -25,7 +25,8 @@ class Body:
     mass : m [kg], > 0
     inertia : central inertia tensor A in body axes [kg m²], 3x3, symmetric and
         positive-definite, with principal moments obeying the triangle inequality
-    shape : the convex surface (:class:`Ellipsoid`, :class:`Paraboloid`, :class:`Superellipsoid`)
+    shape : the convex surface (:class:`Ellipsoid`, :class:`Paraboloid`, :class:`Superellipsoid`,
+        :class:`ImplicitPolynomial`, :class:`ImplicitFunction`)
     gravity : g [m/s²], > 0
     source : citation of the parameter set
     notes : conversions made from the source

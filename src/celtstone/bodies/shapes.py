@@ -11,11 +11,21 @@ import math
 from dataclasses import dataclass
 
 from celtstone import schema
+from celtstone.bodies.function import ImplicitFunction
+from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.bodies.polynomial import ImplicitPolynomial
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 
-__all__ = ["Ellipsoid", "ImplicitPolynomial", "Paraboloid", "Shape", "Superellipsoid"]
+__all__ = [
+    "Ellipsoid",
+    "ImplicitFunction",
+    "ImplicitPolynomial",
+    "ImplicitSurface",
+    "Paraboloid",
+    "Shape",
+    "Superellipsoid",
+]
 
 
 class _AboutCentre:
@@ -186,4 +196,4 @@ class Superellipsoid(_AboutCentre):
         return (a * a / c, b * b / c)
 
 
-Shape = Ellipsoid | Paraboloid | Superellipsoid | ImplicitPolynomial
+Shape = Ellipsoid | Paraboloid | Superellipsoid | ImplicitPolynomial | ImplicitFunction

@@ -3,6 +3,12 @@
 ``kernel`` compiles a module-level function with ``njit(cache=True)``. With
 ``NUMBA_DISABLE_JIT=1`` numba returns the Python function unchanged, so the
 same kernels run (slowly) as plain Python for coverage and debugging.
+
+A user's shape function reaches the compiled, cached kernels as a C function
+pointer stored (as a float64, exact below 2**53) in the params array:
+``compile_level_function`` compiles F, ∇F and the Hessian into one C callback,
+``call_level_function`` calls it from inside a kernel (docs/decisions.md section 18);
+such shapes need the JIT (not ``NUMBA_DISABLE_JIT``).
 """
 
 from __future__ import annotations
@@ -10,12 +16,118 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-from numba import njit
+import numpy as np
+from llvmlite import ir
+from numba import cfunc, njit, types
+from numba.core import cgutils
+from numba.core.errors import NumbaError
+from numba.extending import intrinsic
 
 F = TypeVar("F", bound=Callable[..., Any])
+
+LEVEL_OUTPUTS = 13  # F [1], ∇F [1/m] (3), Hessian row-major [1/m²] (9)
+HESSIAN_STEP = 1e-5  # central-difference step of the Hessian, relative to the body size
+_SIGNATURE = types.void(types.float64, types.float64, types.float64, types.CPointer(types.float64))
 
 
 def kernel(function: F) -> F:
     """Compile ``function`` in nopython mode with the on-disk cache on."""
     compiled: F = njit(cache=True, error_model="numpy")(function)  # type: ignore[assignment]
     return compiled
+
+
+@intrinsic
+def call_level_function(typingctx, address, x0, x1, x2):
+    """(F, ∇F, H) at (x0, x1, x2) from the C callback at ``address`` (an int64)."""
+    result = types.UniTuple(types.float64, LEVEL_OUTPUTS)
+    signature = result(types.int64, types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, sig, args):
+        pointer, a, b, c = args
+        double = ir.DoubleType()
+        buffer = cgutils.alloca_once(builder, double, size=LEVEL_OUTPUTS)
+        function_type = ir.FunctionType(
+            ir.VoidType(), [double, double, double, double.as_pointer()]
+        )
+        function = builder.inttoptr(pointer, function_type.as_pointer())
+        builder.call(function, [a, b, c, buffer])
+        index = ir.IntType(32)
+        values = [
+            builder.load(builder.gep(buffer, [ir.Constant(index, k)])) for k in range(LEVEL_OUTPUTS)
+        ]
+        return context.make_tuple(builder, result, values)
+
+    return signature, codegen
+
+
+def jit_user_function(function: Callable[..., Any], parameter: str) -> Any:
+    """``function`` compiled by numba (nopython), or a ValueError naming ``parameter``."""
+    try:
+        compiled = njit(error_model="numpy")(function)
+        compiled(np.zeros(3))
+    except NumbaError as error:
+        lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+        reason = next((line for line in lines if not line.startswith("Failed in")), lines[0])
+        raise ValueError(f"{parameter}: numba cannot compile it: {reason}") from None
+    return compiled
+
+
+def compile_batch_values(value: Any) -> Any:
+    """A compiled loop: ``value`` at each row of points (k, 3) [m] -> (k,)."""
+
+    @njit(error_model="numpy")
+    def values(points):
+        out = np.empty(points.shape[0])
+        for k in range(points.shape[0]):
+            out[k] = value(points[k].copy())
+        return out
+
+    return values
+
+
+def compile_level_function(value: Any, gradient: Any, hessian: Any | None, size: float) -> Any:
+    """One C callback writing F, ∇F and H at x into a 13-vector (numba ``cfunc``).
+
+    ``value``, ``gradient``, ``hessian`` are numba-compiled functions of x, an array
+    of 3 [m]. Without ``hessian`` it is the central difference of ``gradient`` with
+    step ``HESSIAN_STEP`` × ``size`` [m], symmetrised (error ~1e-10 relative).
+    """
+    step = HESSIAN_STEP * size
+
+    if hessian is not None:
+
+        @cfunc(_SIGNATURE, error_model="numpy")
+        def evaluate(x0, x1, x2, out):
+            x = np.empty(3)
+            x[0], x[1], x[2] = x0, x1, x2
+            out[0] = value(x)
+            g = gradient(x)
+            h = hessian(x)
+            for i in range(3):
+                out[1 + i] = g[i]
+                for j in range(3):
+                    out[4 + 3 * i + j] = h[i, j]
+
+        return evaluate
+
+    @cfunc(_SIGNATURE, error_model="numpy")
+    def evaluate_differenced(x0, x1, x2, out):
+        x = np.empty(3)
+        x[0], x[1], x[2] = x0, x1, x2
+        out[0] = value(x)
+        g = gradient(x)
+        columns = np.empty((3, 3))
+        for j in range(3):
+            x[j] += step
+            ahead = gradient(x)
+            x[j] -= 2.0 * step
+            behind = gradient(x)
+            x[j] += step
+            for i in range(3):
+                columns[i, j] = (ahead[i] - behind[i]) / (2.0 * step)
+        for i in range(3):
+            out[1 + i] = g[i]
+            for j in range(3):
+                out[4 + 3 * i + j] = 0.5 * (columns[i, j] + columns[j, i])
+
+    return evaluate_differenced

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import math
 
-from celtstone.kernels._jit import kernel
+import numpy as np
+
+from celtstone.kernels._jit import call_level_function, kernel
 from celtstone.kernels.layout import (
     P_IMPLICIT_CENTRE,
     P_IMPLICIT_TERMS,
@@ -81,6 +83,32 @@ def polynomial(x: Vec, params) -> tuple[float, Vec, Mat]:
         hxz += c * dx * py * dz
         hyz += c * px * dy * dz
     return value, (g0, g1, g2), (hxx, hxy, hxz, hxy, hyy, hyz, hxz, hyz, hzz)
+
+
+@kernel
+def level_function(x: Vec, params) -> tuple[float, Vec, Mat]:
+    """F(x) [1], ∇F(x) [1/m], H(x) [1/m²]: the polynomial of the params tail, or, when
+    ``params[P_SHAPE_4]`` < 0, the user's compiled function whose C address is the
+    first number after the start centre (``bodies.function.ImplicitFunction``)."""
+    if params[P_SHAPE_4] >= 0.0:
+        return polynomial(x, params)
+    address = np.int64(params[P_IMPLICIT_TERMS])
+    out: tuple[float, ...] = call_level_function(address, x[0], x[1], x[2])  # type: ignore[call-arg]
+    return (
+        out[0],
+        (out[1], out[2], out[3]),
+        (
+            out[4],
+            out[5],
+            out[6],
+            out[7],
+            out[8],
+            out[9],
+            out[10],
+            out[11],
+            out[12],
+        ),
+    )
 
 
 @kernel
@@ -180,7 +208,7 @@ def implicit_point(n: Vec, params) -> tuple[Vec, float, Vec, Mat, bool]:
         params[P_IMPLICIT_CENTRE + 1] - qb * n[1] / s,
         params[P_IMPLICIT_CENTRE + 2] - qc * n[2] / s,
     )
-    value, gradient, hessian = polynomial(x, params)
+    value, gradient, hessian = level_function(x, params)
     lam = -dot(gradient, n) / dot(n, n)
     residual = _residual(value, gradient, lam, n, length)
     converged = False
@@ -196,7 +224,7 @@ def implicit_point(n: Vec, params) -> tuple[Vec, float, Vec, Mat, bool]:
         if math.sqrt(dot(step, step)) <= STEP_TOLERANCE * length:
             x = (x[0] + step[0], x[1] + step[1], x[2] + step[2])
             lam += lam_step
-            value, gradient, hessian = polynomial(x, params)
+            value, gradient, hessian = level_function(x, params)
             converged = True
             break
         t = 1.0
@@ -206,7 +234,7 @@ def implicit_point(n: Vec, params) -> tuple[Vec, float, Vec, Mat, bool]:
         for _ in range(MAX_HALVINGS):
             trial = (x[0] + t * step[0], x[1] + t * step[1], x[2] + t * step[2])
             trial_lam = lam + t * lam_step
-            trial_value, trial_gradient, trial_hessian = polynomial(trial, params)
+            trial_value, trial_gradient, trial_hessian = level_function(trial, params)
             trial_residual = _residual(trial_value, trial_gradient, trial_lam, n, length)
             if trial_residual <= (1.0 - 1e-4 * t) * residual:
                 accepted = True

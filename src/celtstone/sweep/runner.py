@@ -23,7 +23,7 @@ import xarray as xr
 
 from celtstone import schema, solvers
 from celtstone.analysis.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
-from celtstone.bodies import Body, ImplicitPolynomial, load_body
+from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial, load_body
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.integrate import STATUS_NAMES, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
@@ -123,6 +123,15 @@ class Sweep:
             raise ParameterError("model", model, "one of: " + ", ".join(MODELS))
         self.model_name = model
         self.base_body = body if isinstance(body, Body) else load_body(body)
+        if isinstance(self.base_body.shape, ImplicitFunction):
+            raise ParameterError(
+                "body",
+                self.base_body.name,
+                "a body whose shape is data (ellipsoid, paraboloid, superellipsoid, "
+                "implicit polynomial)",
+                "a Python function's compiled callback lives in this process only; "
+                "give the shape as an implicit polynomial to sweep it",
+            )
         self.t_end = schema.check("t_end", t_end)
         self.rtol = schema.check("rtol", rtol)
         self.atol = schema.check("atol", atol)

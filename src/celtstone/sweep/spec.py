@@ -248,7 +248,7 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
             shape = Superellipsoid(semi_axes, offset, values.get("exponent", shape.exponent))
         else:
             shape = Ellipsoid(semi_axes, offset)
-    else:
+    elif isinstance(shape, Paraboloid):
         radii = list(shape.radii_of_curvature)
         radii[0] = values.get("radius_of_curvature_1", radii[0])
         radii[1] = values.get("radius_of_curvature_2", radii[1])

@@ -187,6 +187,14 @@ def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
     """
     attrs = dict(dataset.attrs)
     kind = str(attrs.get("body_shape", ""))
+    if kind == "implicit_function":
+        raise ParameterError(
+            "run",
+            str(attrs.get("body_shape_function", kind)),
+            "a run of a body whose shape is stored in its file",
+            "a shape given by a Python function cannot be redrawn from the file; "
+            "write it as an implicit polynomial to animate it",
+        )
     if kind not in SHAPE_KINDS:
         raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(SHAPE_KINDS))
     parameters = tuple(float(v) for v in _attr_numbers(attrs, "body_shape_parameters"))

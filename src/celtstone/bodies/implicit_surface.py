@@ -1,0 +1,198 @@
+"""What every body bounded by an implicit surface F(x) = 1 shares, whatever gives F.
+
+Validated once here (bounded, G inside, strictly convex, resting upright) with the
+Newton contact solve of ``kernels.implicit``, and packed for the kernels (layout in
+``kernels.layout``, docs/decisions.md sections 17 and 18). Subclasses say how F is
+evaluated: ``bodies.polynomial.ImplicitPolynomial`` (terms, stored with the run) and
+``bodies.function.ImplicitFunction`` (a user's compiled Python function).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from celtstone.errors import ParameterError
+from celtstone.kernels import implicit, layout
+
+N_DIRECTIONS = 2000  # Fibonacci-sphere normals on which convexity is checked
+RAY_LIMIT = 1e3  # m: a ray from G that has not left the body by then: unbounded
+AXIS_TOLERANCE = 1e-9  # |x|, |y| of the rest contact relative to the body size
+SUPPORT_TOLERANCE = 1e-9  # slack of the "lowest point" check, relative to the body size
+
+Evaluate = Callable[[np.ndarray], np.ndarray]  # F at points of shape (k, 3) [m] -> (k,)
+
+
+def fibonacci_directions(count: int = N_DIRECTIONS) -> np.ndarray:
+    """``count`` nearly uniform unit vectors, shape (count, 3)."""
+    k = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * k / count
+    radius = np.sqrt(1.0 - z * z)
+    angle = math.pi * (3.0 - math.sqrt(5.0)) * k
+    return np.column_stack([radius * np.cos(angle), radius * np.sin(angle), z])
+
+
+def ray_points(
+    evaluate: Evaluate, centre: np.ndarray, directions: np.ndarray, parameter: str
+) -> np.ndarray:
+    """First crossing of F = 1 on rays from ``centre`` (F < 1 there), shape (k, 3) [m]."""
+    low = np.zeros(len(directions))
+    high = np.full(len(directions), 1e-6)
+    outside = evaluate(centre + high[:, None] * directions) > 1.0
+    while not outside.all():
+        low = np.where(outside, low, high)
+        high = np.where(outside, high, 2.0 * high)
+        if high.max() > RAY_LIMIT:
+            worst = directions[np.argmax(high)]
+            raise ParameterError(
+                parameter,
+                "the surface",
+                "a bounded body {F <= 1}",
+                f"it extends beyond {RAY_LIMIT:g} m in the direction {np.round(worst, 3).tolist()}",
+            )
+        outside = evaluate(centre + high[:, None] * directions) > 1.0
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        inside = evaluate(centre + middle[:, None] * directions) <= 1.0
+        low = np.where(inside, middle, low)
+        high = np.where(inside, high, middle)
+    return centre + (0.5 * (low + high))[:, None] * directions
+
+
+class ImplicitSurface:
+    """Body {F(x) <= 1}, x about the origin O [m], G = (0, 0, -h) inside.
+
+    Subclasses are frozen dataclasses with the fields ``com_offset``, ``start_centre``
+    and ``start_semi_axes`` (the last two derived by :meth:`_validate`), and define
+    ``parameter`` (the input named in errors), ``_evaluate`` and ``_tail``.
+    """
+
+    com_offset: float
+    start_centre: tuple[float, float, float]
+    start_semi_axes: tuple[float, float, float]
+    parameter = "terms"
+
+    def _evaluate(self, points: np.ndarray) -> np.ndarray:
+        """F at ``points`` (k, 3) about O [m]."""
+        raise NotImplementedError
+
+    def _tail(self) -> tuple[float, np.ndarray]:
+        """(params[P_SHAPE_4], the params tail after the start centre)."""
+        raise NotImplementedError
+
+    def _prepare(self, surface_points: np.ndarray) -> None:
+        """Hook run once the start ellipsoid and points on F = 1 (k, 3) [m] are known,
+        before the first kernel call."""
+
+    def _validate(self) -> None:
+        """Check G inside, bounded, strictly convex and upright; set the start ellipsoid."""
+        try:
+            offset = float(self.com_offset)
+        except (TypeError, ValueError):
+            raise ParameterError("com_offset", self.com_offset, "a number in m") from None
+        centre = np.array([0.0, 0.0, -offset])
+        if not math.isfinite(offset) or not self._evaluate(centre[None, :])[0] < 1.0:
+            raise ParameterError(
+                "com_offset", self.com_offset, "a number in m with F(0, 0, -h) < 1", "G inside"
+            )
+        object.__setattr__(self, "com_offset", offset)
+        points = ray_points(self._evaluate, centre, fibonacci_directions(), self.parameter)
+        low, high = points.min(axis=0), points.max(axis=0)
+        object.__setattr__(self, "start_centre", tuple(float(v) for v in 0.5 * (low + high)))
+        object.__setattr__(self, "start_semi_axes", tuple(float(v) for v in 0.5 * (high - low)))
+        self._prepare(points)
+        self._check_convex(points)
+        self._check_upright()
+
+    # --- kernel packing -------------------------------------------------------
+
+    @property
+    def code(self) -> int:
+        """Kernel shape code."""
+        return layout.SHAPE_IMPLICIT
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(a0, b0, c0, h): start-ellipsoid semi-axes and h, as the kernels read them [m].
+
+        The start ellipsoid is the box of the body's extents (derived, not an input).
+        """
+        a, b, c = self.start_semi_axes
+        return (a, b, c, self.com_offset)
+
+    @property
+    def kernel_count(self) -> float:
+        """params[P_SHAPE_4]: the number of terms, or -1 for a compiled function."""
+        return self._tail()[0]
+
+    def kernel_tail(self) -> np.ndarray:
+        """The params tail: start-ellipsoid centre [m], then the shape's own numbers."""
+        return np.concatenate([self.start_centre, self._tail()[1]]).astype(float)
+
+    def kernel_array(self) -> np.ndarray:
+        """A full params array with only the shape filled (for the geometry kernels)."""
+        tail = self.kernel_tail()
+        params = np.zeros(layout.N_PARAMS + tail.size)
+        params[layout.P_SHAPE] = self.code
+        params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = self.kernel_parameters()
+        params[layout.P_SHAPE_4] = self.kernel_count
+        params[layout.N_PARAMS :] = tail
+        return params
+
+    # --- geometry --------------------------------------------------------------
+
+    @property
+    def size(self) -> float:
+        """Largest half-extent of the body [m]."""
+        return max(self.start_semi_axes)
+
+    def contact_point(self, n: tuple[float, float, float]) -> tuple[float, ...] | None:
+        """Lowest point x* about O for the upward vertical n [m], or None if not found."""
+        x, _, _, _, ok = implicit.implicit_point(n, self.kernel_array())
+        return tuple(x) if ok else None
+
+    def _check_convex(self, points: np.ndarray) -> None:
+        params = self.kernel_array()
+        size = self.size
+        normals = fibonacci_directions()
+        for n in normals:
+            x, _, _, _, ok = implicit.implicit_point((n[0], n[1], n[2]), params)
+            lowest = float(np.min(points @ n))
+            if not ok or float(np.dot(x, n)) > lowest + SUPPORT_TOLERANCE * size:
+                outward = np.round(-n, 3).tolist()
+                raise ParameterError(
+                    self.parameter,
+                    "the surface",
+                    "a strictly convex closed surface F = 1",
+                    f"not strictly convex where the outward normal is {outward}",
+                )
+
+    def _check_upright(self) -> None:
+        x = self.contact_point((0.0, 0.0, 1.0))
+        size = self.size
+        if x is None:
+            raise ParameterError(
+                self.parameter, "the surface", "a surface curved at its lowest point (n = e3)"
+            )
+        if abs(x[0]) > AXIS_TOLERANCE * size or abs(x[1]) > AXIS_TOLERANCE * size:
+            raise ParameterError(
+                self.parameter,
+                "the surface",
+                "a lowest point (n = e3) on body axis 3",
+                f"it is at x = {x[0]:.3g} m, y = {x[1]:.3g} m: the stone does not rest upright",
+            )
+
+    @property
+    def rest_height(self) -> float:
+        """Height l of G above the contact point at rest, -(z* + h) [m]."""
+        x = self.contact_point((0.0, 0.0, 1.0))
+        assert x is not None  # checked at construction
+        return -(x[2] + self.com_offset)
+
+    @property
+    def radii_of_curvature(self) -> tuple[float, float]:
+        """Normal radii of curvature along body axes 1, 2 at the rest contact, |∇F|/H_ii [m]."""
+        _, _, gradient, hessian, _ = implicit.implicit_point((0.0, 0.0, 1.0), self.kernel_array())
+        norm = math.sqrt(gradient[0] ** 2 + gradient[1] ** 2 + gradient[2] ** 2)
+        return (norm / hessian[0], norm / hessian[4])
