@@ -85,6 +85,26 @@ def compile_batch_values(value: Any) -> Any:
     return values
 
 
+def differenced_hessian(gradient: Any, step: float) -> Any:
+    """A compiled Hessian: the symmetrised central difference of ``gradient``, step [m]."""
+
+    @njit(error_model="numpy")
+    def hessian(x):
+        shifted = x.copy()
+        columns = np.empty((3, 3))
+        for j in range(3):
+            shifted[j] = x[j] + step
+            ahead = gradient(shifted)
+            shifted[j] = x[j] - step
+            behind = gradient(shifted)
+            shifted[j] = x[j]
+            for i in range(3):
+                columns[i, j] = (ahead[i] - behind[i]) / (2.0 * step)
+        return 0.5 * (columns + columns.T)
+
+    return hessian
+
+
 def compile_level_function(value: Any, gradient: Any, hessian: Any | None, size: float) -> Any:
     """One C callback writing F, ∇F and H at x into a 13-vector (numba ``cfunc``).
 
@@ -92,42 +112,18 @@ def compile_level_function(value: Any, gradient: Any, hessian: Any | None, size:
     of 3 [m]. Without ``hessian`` it is the central difference of ``gradient`` with
     step ``HESSIAN_STEP`` × ``size`` [m], symmetrised (error ~1e-10 relative).
     """
-    step = HESSIAN_STEP * size
-
-    if hessian is not None:
-
-        @cfunc(_SIGNATURE, error_model="numpy")
-        def evaluate(x0, x1, x2, out):
-            x = np.empty(3)
-            x[0], x[1], x[2] = x0, x1, x2
-            out[0] = value(x)
-            g = gradient(x)
-            h = hessian(x)
-            for i in range(3):
-                out[1 + i] = g[i]
-                for j in range(3):
-                    out[4 + 3 * i + j] = h[i, j]
-
-        return evaluate
+    second = hessian if hessian is not None else differenced_hessian(gradient, HESSIAN_STEP * size)
 
     @cfunc(_SIGNATURE, error_model="numpy")
-    def evaluate_differenced(x0, x1, x2, out):
+    def evaluate(x0, x1, x2, out):
         x = np.empty(3)
         x[0], x[1], x[2] = x0, x1, x2
         out[0] = value(x)
         g = gradient(x)
-        columns = np.empty((3, 3))
-        for j in range(3):
-            x[j] += step
-            ahead = gradient(x)
-            x[j] -= 2.0 * step
-            behind = gradient(x)
-            x[j] += step
-            for i in range(3):
-                columns[i, j] = (ahead[i] - behind[i]) / (2.0 * step)
+        h = second(x)
         for i in range(3):
             out[1 + i] = g[i]
             for j in range(3):
-                out[4 + 3 * i + j] = 0.5 * (columns[i, j] + columns[j, i])
+                out[4 + 3 * i + j] = h[i, j]
 
-    return evaluate_differenced
+    return evaluate
