@@ -136,6 +136,16 @@ def wrong_gradient(x: np.ndarray) -> np.ndarray:
     return np.array([2 * x[0] / A**2, 2 * x[1] / B**2, 3 * x[2] / C**2])
 
 
+def wrong_hessian(x: np.ndarray) -> np.ndarray:
+    return np.diag(np.array([2 / A**2, 2 / B**2, 3 / C**2]))
+
+
+def test_a_wrong_hessian_is_refused() -> None:
+    with pytest.raises(ParameterError, match="Hessian of value") as error:
+        cs.ImplicitFunction(ellipsoid_value, ellipsoid_gradient, H, hessian=wrong_hessian)
+    assert error.value.name == "hessian"
+
+
 def waist_value(x: np.ndarray) -> float:  # x⁴/a⁴ − x²/(2a²) + ...: a waist at x = 0
     return (x[0] / A) ** 4 - 0.5 * (x[0] / A) ** 2 + (x[1] / B) ** 2 + (x[2] / C) ** 2
 

@@ -19,8 +19,10 @@ import numpy as np
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
 from celtstone.kernels._jit import (
+    HESSIAN_STEP,
     compile_batch_values,
     compile_level_function,
+    differenced_hessian,
     jit_user_function,
 )
 
@@ -49,7 +51,8 @@ class ImplicitFunction(ImplicitSurface):
     -----
     The functions must be compilable by numba in nopython mode (NumPy arithmetic on
     x). Checked once here: they compile, the gradient agrees with a central
-    difference of F at 50 points on the surface (1e-5 relative), and the body is
+    difference of F and the Hessian with one of the gradient at 50 points on the
+    surface (1e-5 relative), and the body is
     bounded, strictly convex and upright as for :class:`ImplicitPolynomial`. The
     compiled callback lives in this process: a run's file records the functions'
     source text but cannot be redrawn or repeated without them, and sweeps, which
@@ -116,8 +119,9 @@ class ImplicitFunction(ImplicitSurface):
 
     def _check_gradient(self, points: np.ndarray) -> None:
         """∇F against a central difference of F at ``points`` (k, 3) [m]."""
-        value, gradient = self._compiled[0], self._compiled[1]
+        value, gradient, hessian = self._compiled
         step = GRADIENT_CHECK_STEP * self.size
+        differenced_second = differenced_hessian(gradient, HESSIAN_STEP * self.size)
         for x in points:
             given = np.asarray(gradient(x), dtype=float)
             differenced = np.array(
@@ -131,6 +135,19 @@ class ImplicitFunction(ImplicitSurface):
                     "the gradient of value",
                     f"at x = {np.round(x, 6).tolist()} m it is {given.tolist()}, "
                     f"the difference of value gives {differenced.tolist()}",
+                )
+            if hessian is None:
+                continue
+            given_second = np.asarray(hessian(x), dtype=float)
+            expected = differenced_second(x)
+            scale = float(np.linalg.norm(expected))
+            if not np.linalg.norm(given_second - expected) <= GRADIENT_CHECK_TOLERANCE * scale:
+                raise ParameterError(
+                    "hessian",
+                    getattr(self.hessian, "__name__", "hessian"),
+                    "the Hessian of value (the derivative of gradient)",
+                    f"at x = {np.round(x, 6).tolist()} m it differs from the difference of "
+                    "gradient by more than 1e-5 relative",
                 )
 
     def source_text(self) -> str:
