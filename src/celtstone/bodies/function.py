@@ -118,36 +118,26 @@ class ImplicitFunction(ImplicitSurface):
         return -1.0, np.array([float(self._callback.address)])
 
     def _check_gradient(self, points: np.ndarray) -> None:
-        """∇F against a central difference of F at ``points`` (k, 3) [m]."""
+        """∇F against a central difference of F, and a given Hessian against one of ∇F,
+        at ``points`` (k, 3) [m]."""
         value, gradient, hessian = self._compiled
         step = GRADIENT_CHECK_STEP * self.size
         differenced_second = differenced_hessian(gradient, HESSIAN_STEP * self.size)
         for x in points:
-            given = np.asarray(gradient(x), dtype=float)
             differenced = np.array(
                 [(value(x + step * e) - value(x - step * e)) / (2.0 * step) for e in np.eye(3)]
             )
-            scale = float(np.linalg.norm(differenced))
-            if not np.linalg.norm(given - differenced) <= GRADIENT_CHECK_TOLERANCE * scale:
-                raise ParameterError(
-                    "gradient",
-                    getattr(self.gradient, "__name__", "gradient"),
-                    "the gradient of value",
-                    f"at x = {np.round(x, 6).tolist()} m it is {given.tolist()}, "
-                    f"the difference of value gives {differenced.tolist()}",
-                )
-            if hessian is None:
-                continue
-            given_second = np.asarray(hessian(x), dtype=float)
-            expected = differenced_second(x)
-            scale = float(np.linalg.norm(expected))
-            if not np.linalg.norm(given_second - expected) <= GRADIENT_CHECK_TOLERANCE * scale:
-                raise ParameterError(
+            _refuse_unless_close(
+                "gradient", self.gradient, "the gradient of value", gradient(x), differenced, x
+            )
+            if hessian is not None:
+                _refuse_unless_close(
                     "hessian",
-                    getattr(self.hessian, "__name__", "hessian"),
+                    self.hessian,
                     "the Hessian of value (the derivative of gradient)",
-                    f"at x = {np.round(x, 6).tolist()} m it differs from the difference of "
-                    "gradient by more than 1e-5 relative",
+                    hessian(x),
+                    differenced_second(x),
+                    x,
                 )
 
     def source_text(self) -> str:
@@ -161,3 +151,23 @@ class ImplicitFunction(ImplicitSurface):
             except (OSError, TypeError):
                 parts.append(f"# {getattr(function, '__qualname__', function)}: no source")
         return "\n".join(parts)
+
+
+def _refuse_unless_close(
+    parameter: str,
+    function: object,
+    allowed: str,
+    given: object,
+    expected: np.ndarray,
+    x: np.ndarray,
+) -> None:
+    """A ParameterError naming ``parameter`` unless |given - expected| <= 1e-5 |expected|."""
+    values = np.asarray(given, dtype=float)
+    if not np.linalg.norm(values - expected) <= GRADIENT_CHECK_TOLERANCE * np.linalg.norm(expected):
+        raise ParameterError(
+            parameter,
+            getattr(function, "__name__", parameter),
+            allowed,
+            f"at x = {np.round(x, 6).tolist()} m it is {values.tolist()}, the central "
+            f"difference gives {expected.tolist()}",
+        )
