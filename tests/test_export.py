@@ -150,10 +150,22 @@ def test_csv_of_a_small_dataset(small_dataset: xr.Dataset, tmp_path: Path) -> No
     np.testing.assert_array_equal(columns["omega_2"], [1.0, 4.0, 7.0])
 
 
-def test_write_replaces_an_existing_file(small_dataset: xr.Dataset, tmp_path: Path) -> None:
+def test_write_refuses_an_existing_file(small_dataset: xr.Dataset, tmp_path: Path) -> None:
     target = tmp_path / "run.csv"
     target.write_text("old contents\n", encoding="utf-8")
-    export.write(small_dataset, target)
+    with pytest.raises(cs.ParameterError, match="--overwrite") as caught:
+        export.write(small_dataset, target)
+    assert caught.value.name == "out"
+    assert target.read_text(encoding="utf-8") == "old contents\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["run.csv"]
+
+
+def test_write_replaces_an_existing_file_when_asked(
+    small_dataset: xr.Dataset, tmp_path: Path
+) -> None:
+    target = tmp_path / "run.csv"
+    target.write_text("old contents\n", encoding="utf-8")
+    export.write(small_dataset, target, overwrite=True)
     assert target.read_text(encoding="utf-8").startswith("# synthetic")
     assert [p.name for p in tmp_path.iterdir()] == ["run.csv"]
 
@@ -248,7 +260,7 @@ def test_failed_write_keeps_the_previous_file(
     target = tmp_path / f"run{suffix}"
     target.write_bytes(b"the previous, complete file")
     with pytest.raises(kind):
-        export.write(small_dataset, target)
+        export.write(small_dataset, target, overwrite=True)
     assert target.read_bytes() == b"the previous, complete file"
     assert list(tmp_path.iterdir()) == [target]
 

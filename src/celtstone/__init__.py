@@ -23,10 +23,12 @@ from celtstone.bodies import Superellipsoid as Superellipsoid
 from celtstone.bodies import list_bodies as list_bodies
 from celtstone.bodies import load_body as load_body
 from celtstone.errors import CeltstoneError as CeltstoneError
+from celtstone.errors import CeltstoneWarning as CeltstoneWarning
 from celtstone.errors import FrictionSingularityError as FrictionSingularityError
 from celtstone.errors import IntegrationError as IntegrationError
 from celtstone.errors import LiftOffError as LiftOffError
 from celtstone.errors import ParameterError as ParameterError
+from celtstone.errors import PlausibilityWarning as PlausibilityWarning
 from celtstone.integrate import simulate as simulate
 from celtstone.integrate import version as version
 from celtstone.models import MODELS as MODELS
@@ -41,6 +43,7 @@ __all__ = [
     "MODELS",
     "Body",
     "CeltstoneError",
+    "CeltstoneWarning",
     "Ellipsoid",
     "FrictionSingularityError",
     "HybridModel",
@@ -51,6 +54,7 @@ __all__ = [
     "LiftOffError",
     "Paraboloid",
     "ParameterError",
+    "PlausibilityWarning",
     "RollingModel",
     "SlidingModel",
     "SpinStability",

@@ -7,11 +7,15 @@ Every error a user can cause names what to change. The CLI turns a
 from __future__ import annotations
 
 __all__ = [
+    "BodyFileError",
     "CeltstoneError",
+    "CeltstoneWarning",
     "FrictionSingularityError",
     "IntegrationError",
     "LiftOffError",
+    "OutputError",
     "ParameterError",
+    "PlausibilityWarning",
 ]
 
 
@@ -45,6 +49,29 @@ class ParameterError(CeltstoneError, ValueError):
         super().__init__(message)
 
 
+class BodyFileError(ParameterError):
+    """A body file's content is refused: one line naming the file and the key.
+
+    ``name``, ``value``, ``allowed`` and ``hint`` are those of :class:`ParameterError`;
+    ``problem`` replaces the standard "NAME = VALUE is not allowed" text where the
+    key itself is the fault (unknown, missing).
+    """
+
+    def __init__(
+        self,
+        file: str,
+        name: str,
+        value: object,
+        allowed: str,
+        hint: str = "",
+        *,
+        problem: str = "",
+    ) -> None:
+        super().__init__(name, value, allowed, hint)
+        self.file = file
+        Exception.__init__(self, f"body file {file}: {problem or self.args[0]}")
+
+
 class IntegrationError(CeltstoneError, RuntimeError):
     """The integrator could not continue (step size underflow, too many steps)."""
 
@@ -55,3 +82,40 @@ class LiftOffError(CeltstoneError):
 
 class FrictionSingularityError(CeltstoneError):
     """The friction state has no unique solution (paper eq. 11, or a Painlevé-type case)."""
+
+
+class OutputError(OSError):
+    """An output file could not be written (disk full, no permission, ...).
+
+    Nothing was left behind: neither the file nor a temporary. Not a
+    :class:`CeltstoneError`, because nothing the user gave is wrong: the CLI reports
+    it as it reports any ``OSError``, in one line with exit status 1.
+
+    Parameters
+    ----------
+    path : str
+        The output file as the user named it.
+    cause : str
+        Why, in words (``"No space left on device"``).
+    errno : int, optional
+        The system's error number, when there is one.
+    """
+
+    def __init__(self, path: str, cause: str, errno: int | None = None) -> None:
+        super().__init__(f"{path}: {cause}")
+        self.errno = errno
+        self.strerror = cause
+        self.filename = path
+        self.path = path
+        self.cause = cause
+
+    def __str__(self) -> str:
+        return f"{self.path}: {self.cause}"
+
+
+class CeltstoneWarning(UserWarning):
+    """Base class of every warning celtstone issues; the CLI prints each as one line."""
+
+
+class PlausibilityWarning(CeltstoneWarning):
+    """A parameter is allowed but implausible for a rattleback (``celtstone.plausibility``)."""

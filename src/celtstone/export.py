@@ -1,10 +1,29 @@
-"""Writers that produce a file whole or not at all (temporary file + ``os.replace``)."""
+"""Writers that produce a file whole or not at all, and never replace what was not asked for.
+
+Every file is written to a temporary name beside its target and moved into place
+only when it is complete. The policy, shared by the CLI and the Python API:
+
+* an existing target is refused (:class:`ParameterError` naming ``out``) unless
+  ``overwrite=True`` (``--overwrite``), and ``overwrite`` replaces only a file,
+  never a directory; without it the final move cannot replace a file that appeared
+  while the output was computed (a hard link, which fails if the name is taken);
+* a temporary is named ``.NAME.<pid>.<random>.part``: a process killed while writing
+  (SIGKILL) leaves one behind, and the next write to the same target removes those
+  whose process is gone (:func:`remove_stale_temporaries`), never one of a live
+  process and never a file of another naming;
+* a failed write (disk full, no permission) raises :class:`OutputError` naming the
+  file and the cause, and leaves neither the target nor a temporary.
+"""
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
+import re
+import shutil
+import stat
 import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
@@ -13,14 +32,19 @@ from typing import Any
 import pandas as pd
 import xarray as xr
 
-from celtstone.errors import ParameterError
+from celtstone.errors import OutputError, ParameterError
 
 __all__ = [
     "FORMATS",
+    "OVERWRITE_HINT",
     "atomic_path",
     "check_target",
+    "make_temporary_directory",
+    "output_beside",
+    "output_error",
     "read_run",
     "read_table",
+    "remove_stale_temporaries",
     "to_csv",
     "write",
     "write_json",
@@ -28,49 +52,247 @@ __all__ = [
 ]
 
 FORMATS = (".nc", ".csv")
+OVERWRITE_HINT = "add --overwrite to replace it"
+MIN_SAMPLES = 2  # a run to plot or export has a start and an end
+_RUN_ALLOWED = "an existing NetCDF file written by `celtstone run --out RUN.nc`"
+_TEMPORARY_SUFFIX = ".part"
+_RANDOM = r"[a-z0-9_]{8}"  # tempfile's random names and secrets.token_hex(4)
+# free space [bytes] below which a failed NetCDF write is put down to a full disk
+_FULL_DISK_MARGIN = 1 << 20
+# file systems without hard links: the no-replace move falls back to check + rename
+_NO_HARD_LINKS = {errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EMLINK, errno.ENOSYS}
 
 _UMASK = os.umask(0o022)  # read the process's umask once (os.umask can only set it) ...
 os.umask(_UMASK)  # ... and put it back
 
 
+def _directory(target: Path) -> Path:
+    return target.parent if str(target.parent) else Path(".")
+
+
+def _exists_error(target: Path, parameter: str) -> ParameterError:
+    return ParameterError(parameter, str(target), "a file that does not exist yet", OVERWRITE_HINT)
+
+
+def _refuse_existing(target: Path, *, overwrite: bool, parameter: str) -> None:
+    """Raise unless ``target`` is free, or ``overwrite`` and it is a file (or a link)."""
+    if not os.path.lexists(target):
+        return
+    if target.is_dir():
+        raise ParameterError(
+            parameter,
+            str(target),
+            "a file name, not a directory",
+            "--overwrite replaces only a file" if overwrite else "it is a directory",
+        )
+    if not overwrite:
+        raise _exists_error(target, parameter)
+    with contextlib.suppress(OSError):  # a dangling link is replaced like a file
+        if not stat.S_ISREG(target.stat().st_mode):
+            raise ParameterError(
+                parameter,
+                str(target),
+                "a file name, not a device, pipe or socket",
+                "--overwrite replaces only a regular file",
+            )
+
+
 def check_target(
-    path: str | Path, formats: Sequence[str] = FORMATS, parameter: str = "out"
+    path: str | Path,
+    formats: Sequence[str] = FORMATS,
+    parameter: str = "out",
+    *,
+    overwrite: bool = False,
 ) -> Path:
     """``path`` as a :class:`Path` if it can be written: a suffix in ``formats``, an existing
-    directory. Call it before a long computation whose result goes to ``path``.
+    directory, and no file there unless ``overwrite`` (never a directory). Call it before
+    a long computation whose result goes to ``path``.
 
     Raises
     ------
     ParameterError
-        naming ``parameter``, for another suffix or a directory that does not exist.
+        naming ``parameter``, for an empty path, another suffix, a directory that does
+        not exist, an existing file (without ``overwrite``) or an existing directory.
     """
+    allowed = "a file name ending in " + " or ".join(formats)
+    if str(path) == "":
+        raise ParameterError(parameter, str(path), allowed, "the path is empty")
     target = Path(path)
     if target.suffix.lower() not in formats:
-        allowed = "a file name ending in " + " or ".join(formats)
         raise ParameterError(parameter, str(path), allowed)
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
+    if not _directory(target).is_dir():
         raise ParameterError(parameter, str(path), "a file in an existing directory")
+    _refuse_existing(target, overwrite=overwrite, parameter=parameter)
     return target
 
 
+def output_beside(run: str | Path, suffix: str) -> Path:
+    """The default output of a command on the run file ``run``: its name with ``suffix``.
+
+    Raises
+    ------
+    ParameterError
+        naming ``run`` when it names no file (empty, ``.``, ``..``, ``/``).
+    """
+    source = Path(run)
+    if str(run) == "" or source.name in ("", ".", ".."):
+        raise ParameterError("run", str(run), _RUN_ALLOWED, "the path names no file")
+    return source.with_suffix(suffix)
+
+
+# ---------------------------------------------------------------------------------------
+# Temporaries: named after their process, removed when their process is gone
+# ---------------------------------------------------------------------------------------
+
+
+def _temporary_prefix(target: Path) -> str:
+    return f".{target.name}.{os.getpid()}."
+
+
+def _is_alive(pid: int) -> bool:
+    """Whether process ``pid`` exists (this PID namespace); in doubt, yes."""
+    if pid <= 0 or pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True  # another user's process, or not a PID this system can have
+    return True
+
+
+def remove_stale_temporaries(target: str | Path) -> list[Path]:
+    """Remove the temporaries of ``target`` left by processes that are gone; return them.
+
+    A temporary of ours is named ``.NAME.<pid>.<random>.part`` beside ``target``
+    (a file, or a directory for a sweep store or a staging area). Only names of
+    exactly that form whose process no longer exists are removed: never one of a
+    live process, never any other file.
+
+    Notes
+    -----
+    Liveness is that of this PID namespace: a directory shared by machines (NFS)
+    holding a temporary of a live process on another machine would lose it, and
+    that process's write then fails with a message; none of its output is mixed.
+    """
+    path = Path(target)
+    pattern = re.compile(rf"\.{re.escape(path.name)}\.(\d{{1,10}})\.{_RANDOM}\.part")
+    removed = []
+    try:
+        entries = list(os.scandir(_directory(path)))
+    except OSError:
+        return []
+    for entry in entries:
+        match = pattern.fullmatch(entry.name)
+        if match is None or _is_alive(int(match.group(1))):
+            continue
+        try:
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path)
+            else:
+                os.unlink(entry.path)
+        except FileNotFoundError:
+            pass  # another process removed it first
+        except OSError:
+            continue  # not ours to force; left as it is
+        removed.append(Path(entry.path))
+    return removed
+
+
+def make_temporary_directory(target: str | Path) -> Path:
+    """A new empty directory ``.NAME.<pid>.<random>.part`` beside ``target``.
+
+    Stale temporaries of ``target`` are removed first. The caller removes the
+    directory (or renames it to ``target``) when done.
+
+    Raises
+    ------
+    OutputError
+        if the directory cannot be made.
+    """
+    path = Path(target)
+    remove_stale_temporaries(path)
+    try:
+        name = tempfile.mkdtemp(
+            prefix=_temporary_prefix(path), suffix=_TEMPORARY_SUFFIX, dir=_directory(path)
+        )
+    except OSError as error:
+        raise output_error(path, error) from error
+    return Path(name)
+
+
+def output_error(target: str | Path, error: OSError) -> OutputError:
+    """``error`` met while writing ``target``, as an :class:`OutputError` naming ``target``
+    (never the temporary) and the cause."""
+    if isinstance(error, OutputError):
+        return error
+    cause = error.strerror or str(error) or type(error).__name__
+    return OutputError(str(target), cause, error.errno)
+
+
+def _move_into_place(temporary: Path, target: Path, overwrite: bool, parameter: str) -> None:
+    if overwrite:
+        _refuse_existing(target, overwrite=True, parameter=parameter)
+        os.replace(temporary, target)
+        return
+    try:
+        os.link(temporary, target)  # fails if the name is taken: never replaces
+    except FileExistsError:
+        raise _exists_error(target, parameter) from None
+    except OSError as error:
+        if error.errno not in _NO_HARD_LINKS:
+            raise
+        if os.path.lexists(target):
+            raise _exists_error(target, parameter) from None
+        os.rename(temporary, target)
+
+
 @contextlib.contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
-    """Yield a temporary path beside ``path``; move it into place only on success."""
+def atomic_path(
+    path: str | Path, *, overwrite: bool = False, parameter: str = "out"
+) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; move it into place only on success.
+
+    An existing ``path`` is refused unless ``overwrite`` (a directory always is);
+    stale temporaries of ``path`` are removed first (:func:`remove_stale_temporaries`).
+
+    Raises
+    ------
+    ParameterError
+        naming ``parameter``, for a directory that does not exist or a target in use.
+    OutputError
+        if writing fails (an ``OSError`` in the ``with`` block or in the final move):
+        neither the target nor the temporary is left.
+    """
     target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise ParameterError("out", str(path), "a file in an existing directory")
-    handle, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=directory)
-    os.close(handle)
+    if not _directory(target).is_dir():
+        raise ParameterError(parameter, str(path), "a file in an existing directory")
+    _refuse_existing(target, overwrite=overwrite, parameter=parameter)
+    remove_stale_temporaries(target)
+    try:
+        handle, name = tempfile.mkstemp(
+            prefix=_temporary_prefix(target), suffix=_TEMPORARY_SUFFIX, dir=_directory(target)
+        )
+    except OSError as error:
+        raise output_error(target, error) from error
     temporary = Path(name)
     try:
+        os.close(handle)
         yield temporary
         # mkstemp makes the file private (0600); give it the mode a plain open() would
         os.chmod(temporary, 0o666 & ~_UMASK)
-        os.replace(temporary, target)
+        _move_into_place(temporary, target, overwrite, parameter)
+    except OSError as error:
+        raise output_error(target, error) from error
     finally:
-        temporary.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            temporary.unlink(missing_ok=True)
+
+
+# ---------------------------------------------------------------------------------------
+# Writers
+# ---------------------------------------------------------------------------------------
 
 
 def to_csv(dataset: xr.Dataset, path: Path) -> None:
@@ -101,26 +323,57 @@ def to_csv(dataset: xr.Dataset, path: Path) -> None:
             stream.write(",".join(repr(float(columns[k][row])) for k in names) + "\n")
 
 
-def write(dataset: xr.Dataset, path: str | Path) -> Path:
-    """Write ``dataset`` to ``path`` (.nc NetCDF-4 or .csv), whole or not at all."""
-    target = check_target(path)
+def _free_bytes(directory: Path) -> int | None:
+    try:
+        stats = os.statvfs(directory)
+    except (OSError, AttributeError):
+        return None
+    return stats.f_bavail * stats.f_frsize
+
+
+def _to_netcdf(dataset: xr.Dataset, temporary: Path, target: Path) -> None:
+    """NetCDF-4 to ``temporary``; the library's errors (no errno) become OutputError."""
+    try:
+        dataset.to_netcdf(temporary, engine="netcdf4")
+    except RuntimeError as error:  # e.g. "NetCDF: HDF error" on a full disk
+        free = _free_bytes(_directory(target))
+        written = temporary.stat().st_size if temporary.exists() else 0
+        if free is not None and (free < _FULL_DISK_MARGIN or free < dataset.nbytes - written):
+            cause = f"{os.strerror(errno.ENOSPC)} ({free} bytes free)"
+            raise OutputError(str(target), cause, errno.ENOSPC) from error
+        raise OutputError(str(target), f"the NetCDF library failed: {error}") from error
+
+
+def write(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = False) -> Path:
+    """Write ``dataset`` to ``path`` (.nc NetCDF-4 or .csv), whole or not at all.
+
+    An existing file is refused unless ``overwrite``; see the module docstring.
+    """
+    target = check_target(path, overwrite=overwrite)
     suffix = target.suffix.lower()
-    with atomic_path(target) as temporary:
+    with atomic_path(target, overwrite=overwrite) as temporary:
         if suffix == ".nc":
-            dataset.to_netcdf(temporary, engine="netcdf4")
+            _to_netcdf(dataset, temporary, target)
         else:
             to_csv(dataset, temporary)
     return target
 
 
-def write_table(table: pd.DataFrame, path: str | Path, provenance: Mapping[str, Any]) -> Path:
+def write_table(
+    table: pd.DataFrame,
+    path: str | Path,
+    provenance: Mapping[str, Any],
+    *,
+    overwrite: bool = False,
+) -> Path:
     """Write ``table`` as CSV, whole or not at all, after ``# key: value`` header lines.
 
     ``provenance`` names the body source, model, friction law, tolerances and the
-    celtstone version; :func:`read_table` reads the file back.
+    celtstone version; :func:`read_table` reads the file back. An existing file is
+    refused unless ``overwrite``.
     """
     target = Path(path)
-    with atomic_path(target) as temporary:
+    with atomic_path(target, overwrite=overwrite) as temporary:
         with open(temporary, "w", encoding="utf-8", newline="") as stream:
             for key, value in provenance.items():
                 text = str(value).replace("\n", " ")
@@ -141,11 +394,13 @@ def read_table(path: str | Path) -> tuple[pd.DataFrame, dict[str, str]]:
     return pd.read_csv(path, skiprows=len(provenance)), provenance
 
 
-def write_json(data: Any, path: str | Path) -> Path:
-    """Write ``data`` as indented JSON, whole or not at all."""
+def write_json(data: Any, path: str | Path, *, overwrite: bool = False) -> Path:
+    """Write ``data`` as indented JSON, whole or not at all (an existing file is refused
+    unless ``overwrite``)."""
     target = Path(path)
-    with atomic_path(target) as temporary:
-        temporary.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+    text = json.dumps(data, indent=2, allow_nan=False) + "\n"
+    with atomic_path(target, overwrite=overwrite) as temporary:
+        temporary.write_text(text, encoding="utf-8")
     return target
 
 
@@ -155,18 +410,28 @@ def read_run(path: str | Path) -> xr.Dataset:
     Raises
     ------
     ParameterError
-        if ``path`` is not a readable NetCDF file with a celtstone run in it.
+        if ``path`` is not a readable NetCDF file with a celtstone run of at least
+        two samples in it.
     """
     source = Path(path)
-    allowed = "an existing NetCDF file written by `celtstone run --out RUN.nc`"
+    if str(path) == "":
+        raise ParameterError("run", str(path), _RUN_ALLOWED, "the path is empty")
     if not source.is_file():
-        raise ParameterError("run", str(path), allowed)
+        raise ParameterError("run", str(path), _RUN_ALLOWED)
     try:
         with xr.open_dataset(source, engine="netcdf4") as opened:
             dataset = opened.load()
-    except (OSError, ValueError) as error:
-        raise ParameterError("run", str(path), allowed, f"cannot read it: {error}") from None
+    except (OSError, ValueError, RuntimeError) as error:
+        raise ParameterError("run", str(path), _RUN_ALLOWED, f"cannot read it: {error}") from None
     missing = [name for name in ("spin", "energy", "time") if name not in dataset.variables]
     if dataset.attrs.get("software") != "celtstone" or missing:
-        raise ParameterError("run", str(path), allowed, "it is not a celtstone run")
+        raise ParameterError("run", str(path), _RUN_ALLOWED, "it is not a celtstone run")
+    samples = int(dataset.sizes.get("time", 0))
+    if samples < MIN_SAMPLES:
+        raise ParameterError(
+            "run",
+            str(path),
+            f"a run with at least {MIN_SAMPLES} samples",
+            f"it has {samples}; run it again with a later --t-end",
+        )
     return dataset

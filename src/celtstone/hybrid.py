@@ -16,6 +16,7 @@ can only start where slip and spin vanish together.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,6 +79,11 @@ def capture(params: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float, float
     return captured, float(jump), float(margin)
 
 
+def _shifted(progress: Callable[[float], None], t0: float) -> Callable[[float], None]:
+    """``progress`` for a phase that starts at ``t0`` [s]."""
+    return lambda time: progress(t0 + time)
+
+
 def solve_phases(
     params: np.ndarray,
     y0: np.ndarray,
@@ -91,8 +97,11 @@ def solve_phases(
     sample_times: np.ndarray,
     max_crossings: int,
     max_steps: int,
+    progress: Callable[[float], None] | None = None,
 ) -> HybridSolution:
     """Integrate the hybrid contact over [0, t_end]; see the module docstring.
+
+    ``progress``, if given, is called with the time reached [s] while phases run.
 
     The run starts in stick if y0 neither slides nor pivots (slip–spin speed
     <= ``capture_speed``) and stick is admissible there; else it starts sliding.
@@ -133,6 +142,7 @@ def solve_phases(
             max_crossings=max(max_crossings - n_crossings_total, 1),
             max_steps=steps_left,
             capture_speed=capture_speed if kind == SLIP else 0.0,
+            progress=None if progress is None else _shifted(progress, t0),
         )
         for key in statistics:
             statistics[key] += getattr(raw, key)

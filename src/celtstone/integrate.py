@@ -3,15 +3,23 @@
 from __future__ import annotations
 
 import difflib
+import warnings
+from collections.abc import Callable
 from importlib import metadata
 
 import numpy as np
 
-from celtstone import hybrid, schema, solvers
+from celtstone import hybrid, plausibility, schema, solvers
 from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial
-from celtstone.errors import ParameterError
+from celtstone.errors import CeltstoneWarning, ParameterError, PlausibilityWarning
 from celtstone.kernels import layout
-from celtstone.models import HybridModel, Model, initial_vector, kernel_parameters
+from celtstone.models import (
+    HybridModel,
+    Model,
+    contact_settings,
+    initial_vector,
+    kernel_parameters,
+)
 from celtstone.models import InitialState as InitialState
 from celtstone.trajectory import Trajectory, build_dataset
 
@@ -67,9 +75,18 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
                 "sample_times", sample_times, f"increasing times in [0, {t_end:g}] s"
             )
         return times
-    count = int(schema.check("n_samples", n_samples)) if n_samples is not None else None
-    if count is None:
-        count = max(201, round(t_end * SAMPLES_PER_SECOND) + 1)
+    if n_samples is not None:
+        return np.linspace(0.0, t_end, int(schema.check("n_samples", n_samples)))
+    count = max(201, round(t_end * SAMPLES_PER_SECOND) + 1)
+    if count > schema.MAX_SAMPLES:
+        count = schema.MAX_SAMPLES
+        warnings.warn(
+            f"t_end = {t_end:g} s at the default {SAMPLES_PER_SECOND} samples/s would need "
+            f"{round(t_end * SAMPLES_PER_SECOND) + 1:.3g} samples; sampling {count} "
+            f"({(count - 1) / t_end:.3g} per s, the most) instead: set n_samples to choose",
+            CeltstoneWarning,
+            stacklevel=3,
+        )
     return np.linspace(0.0, t_end, count)
 
 
@@ -98,6 +115,7 @@ def simulate(
     sample_times: np.ndarray | None = None,
     max_steps: int = 20_000_000,
     max_crossings: int = 100_000,
+    progress: Callable[[float], None] | None = None,
 ) -> Trajectory:
     """Integrate ``model`` for ``body`` from ``initial_state`` over [0, t_end].
 
@@ -114,6 +132,8 @@ def simulate(
     sample_times : explicit output times [s], increasing, in [0, t_end]
     max_steps : largest number of steps before the run stops
     max_crossings : largest number of spin zero crossings stored
+    progress : called about ten times a second with the time reached [s] while the
+        compiled loop runs in another thread (a progress bar); None runs in this thread
 
     Returns
     -------
@@ -130,6 +150,9 @@ def simulate(
     times = _sample_times(t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
     y0 = initial_vector(initial_state)
+    concerns = plausibility.concerns(body, contact_settings(model))
+    for concern in concerns:
+        warnings.warn(str(concern), PlausibilityWarning, stacklevel=2)
     attrs: dict[str, str | float | int] = {
         "title": f"celtstone {model.name} run of {body.name}",
         "software": "celtstone",
@@ -175,6 +198,7 @@ def simulate(
             sample_times=times,
             max_crossings=max_crossings,
             max_steps=max_steps,
+            progress=progress,
         )
         attrs.update(capture_speed=capture_speed, stick_method=stick_method)
         attrs["rejected_captures"] = solution.rejected_captures
@@ -207,6 +231,7 @@ def simulate(
             sample_times=times,
             max_crossings=max_crossings,
             max_steps=max_steps,
+            progress=progress,
         )
         code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
         sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
@@ -214,6 +239,9 @@ def simulate(
     status = STATUS_NAMES.get(code, "failed")
     final_n = (samples if len(samples) else y0[None, :])[-1, layout.Y_N : layout.Y_N + 3]
     message = _status_message(status, code, t_stop, final_n)
+    if status != "success" and concerns:
+        names = ", ".join(dict.fromkeys(concern.parameter for concern in concerns))
+        message += f"; look first at the implausible {names} (warned before the run)"
     attrs.update(status=status, message=message)
     dataset = build_dataset(
         model.code, params, sample_times_out, samples, crossings, attrs, **phase_data

@@ -13,7 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from celtstone import schema
+from celtstone import plausibility, schema
 from celtstone.bodies import Body, ImplicitSurface
 from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, effective_modulus
 from celtstone.errors import ParameterError
@@ -243,7 +243,10 @@ CONTACTS: dict[str, type[SlidingModel]] = {"sliding": SlidingModel, "hybrid": Hy
 def model_from_name(name: str, **settings: float | str | None) -> Model:
     """Build a model by registry name; unknown names list the valid ones.
 
-    ``contact`` ("sliding" or "hybrid") picks the contact of the sliding model.
+    ``contact`` ("sliding" or "hybrid") picks the contact of the sliding model. Settings
+    that are None are left at their defaults; a setting the model does not have (a
+    friction setting of the rolling model, a capture speed without the hybrid contact)
+    is refused.
     """
     _choice("model", name, MODELS)
     contact = settings.pop("contact", None)
@@ -257,21 +260,22 @@ def model_from_name(name: str, **settings: float | str | None) -> Model:
             raise ParameterError(
                 "contact", contact, "sliding with the rolling model", "use --model sliding"
             )
-    if cls is not HybridModel and "capture_speed" in settings:
-        schema.check("capture_speed", settings.pop("capture_speed"))  # type: ignore[arg-type]
+    if cls is SlidingModel and "capture_speed" in settings:
+        raise ParameterError(
+            "capture_speed",
+            settings["capture_speed"],
+            "no value with the sliding contact",
+            "the capture speed belongs to the stick-slip contact: add contact 'hybrid'",
+        )
     if cls is RollingModel:
-        # the sliding settings do not apply, but a bad value is still refused
-        choices = {
-            "normal_force": NORMAL_FORCE_OPTIONS,
-            "friction_law": FRICTION_LAWS,
-            "contact_pressure": CONTACT_PRESSURES,
-        }
         for key, value in settings.items():
-            if key in choices:
-                _choice(key, str(value), choices[key])
-            elif key != "damping" and key in schema.PARAMETERS and value is not None:
-                schema.check(key, value)  # type: ignore[arg-type]
-        settings = {k: v for k, v in settings.items() if k == "damping"}
+            if key != "damping":  # a sliding setting given to rolling is a mistake, not a no-op
+                raise ParameterError(
+                    key,
+                    value,
+                    "no value with the rolling model (its one setting is damping)",
+                    "the contact does not slide; use the model 'sliding' for friction settings",
+                )
     return cls(**settings)  # type: ignore[arg-type]
 
 
@@ -315,7 +319,15 @@ class InitialState:
 
 
 def kernel_parameters(model: Model, body: Body) -> np.ndarray:
-    """Flat float64 parameter array for the kernels (layout in ``kernels.layout``)."""
+    """Flat float64 parameter array for the kernels (layout in ``kernels.layout``).
+
+    Raises
+    ------
+    ParameterError
+        where no run of ``body`` with ``model`` can mean anything
+        (:func:`celtstone.plausibility.require_runnable`).
+    """
+    plausibility.require_runnable(body, contact_settings(model))
     tail = body.shape.kernel_tail() if isinstance(body.shape, ImplicitSurface) else np.zeros(0)
     params = np.zeros(layout.N_PARAMS + tail.size)  # the tail: docs/decisions.md section 17
     params[layout.N_PARAMS :] = tail
@@ -337,22 +349,17 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
         params[layout.P_FRICTION_LAW] = FRICTION_LAWS[model.friction_law]
         params[layout.P_CONTACT_PRESSURE] = CONTACT_PRESSURES[model.contact_pressure]
         if model.is_hertz_radius:
-            _check_convex(body)
             params[layout.P_CONTACT_MODULUS] = model.effective_modulus
     return params
 
 
-def _check_convex(body: Body) -> None:
-    """The Hertz radius needs finite positive radii of curvature at the rest contact."""
-    radii = body.shape.radii_of_curvature
-    if not all(0.0 < radius < math.inf for radius in radii):
-        raise ParameterError(
-            "shape",
-            body.shape.kind,
-            "a convex surface with finite radii of curvature > 0 at rest, for the Hertz "
-            "contact radius",
-            f"radii of curvature {tuple(radii)} m (a flat contact has no Hertz radius)",
+def contact_settings(model: Model) -> plausibility.ContactSettings:
+    """What the plausibility checks read of ``model`` (``celtstone.plausibility``)."""
+    if isinstance(model, SlidingModel):
+        return plausibility.ContactSettings(
+            model.damping, model.contact_radius, model.effective_modulus
         )
+    return plausibility.ContactSettings(model.damping)
 
 
 def initial_vector(state: InitialState) -> np.ndarray:

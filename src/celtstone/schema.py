@@ -56,6 +56,12 @@ def _q(name: str, symbol: str, unit: str, description: str, **bounds: float | bo
     return Quantity(name, symbol, unit, description, **bounds)  # type: ignore[arg-type]
 
 
+# Bounds beyond which no run means anything or the output cannot be held in memory:
+MAX_SAMPLES = 1_000_000  # output samples of one run (about 0.3 GB with derived quantities)
+MAX_T_END = 1e6  # s; a rolling K&L run takes ~360 steps/s, so 1e6 s is 3.6e8 steps
+MAX_ATOL = 1e-3  # an absolute error above this lets |n| = 1 drift visibly in one step
+MAX_ANGULAR_SPEED = 1e4  # rad/s (95 000 rpm); spun faster, every stone lifts off at once
+
 _POSITIVE = {"lower": 0.0, "lower_open": True}
 _NON_NEGATIVE = {"lower": 0.0}
 
@@ -118,10 +124,25 @@ PARAMETERS: dict[str, Quantity] = {
             "hybrid contact: slip-spin speed counted as zero, where stick may start",
             **_POSITIVE,
         ),
-        _q("t_end", "t_end", "s", "duration of the run", **_POSITIVE),
+        _q("t_end", "t_end", "s", "duration of the run", upper=MAX_T_END, **_POSITIVE),
         _q("rtol", "rtol", "", "relative tolerance of the integrator", lower=1e-14, upper=1e-2),
-        _q("atol", "atol", "", "absolute tolerance of the integrator", **_POSITIVE),
-        _q("omega", "omega0", "rad/s", "initial angular velocity, body axes"),
+        _q(
+            "atol",
+            "atol",
+            "",
+            "absolute tolerance of the integrator on every state component (n [1], "
+            "omega [rad/s], slip velocity [m/s])",
+            upper=MAX_ATOL,
+            **_POSITIVE,
+        ),
+        _q(
+            "omega",
+            "omega0",
+            "rad/s",
+            "initial angular velocity, body axes",
+            lower=-MAX_ANGULAR_SPEED,
+            upper=MAX_ANGULAR_SPEED,
+        ),
         _q(
             "tilt",
             "alpha, beta",
@@ -131,7 +152,7 @@ PARAMETERS: dict[str, Quantity] = {
             upper=89.0,
         ),
         _q("max_steps", "max_steps", "", "largest number of integrator steps", lower=1.0),
-        _q("n_samples", "n_samples", "", "number of output samples", lower=2.0),
+        _q("n_samples", "n_samples", "", "number of output samples", lower=2.0, upper=MAX_SAMPLES),
         _q(
             "reversal_band",
             "band",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import re
 from pathlib import Path
@@ -63,6 +64,27 @@ def test_title_is_escaped(sliding_run: xr.Dataset) -> None:
     assert "<script>alert" not in page
     assert "&lt;script&gt;alert(1)&lt;/script&gt;" in page  # in <title> and <h1>
     assert _data(page)["label"] == "<script>alert(1)</script>"  # the data keeps it whole
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "__CELTSTONE_TITLE__",
+        "/*__CELTSTONE_DATA__*/",
+        "x __CELTSTONE_TITLE__ /*__CELTSTONE_DATA__*/",
+        'a "quoted" back\\slash __CELTSTONE_TITLE__',
+    ],
+)
+def test_data_is_never_read_as_template(sliding_run: xr.Dataset, text: str) -> None:
+    """A label (body file name) or a title attribute holding the template's own markers is
+    inlined as data: the page keeps exactly one data block and it parses."""
+    run = sliding_run.assign_attrs(title=text, body=text)
+    page, _ = render_page(run, label=text)
+    data = _data(page)
+    assert data["label"] == text
+    assert data["title"] == text
+    assert page.count('id="celtstone-data"') == 1
+    assert f"<title>celtstone: {html.escape(text)}</title>" in page
 
 
 def test_100_s_run_page_stays_within_the_limits(long_run: xr.Dataset, tmp_path: Path) -> None:

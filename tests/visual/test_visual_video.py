@@ -59,7 +59,9 @@ def test_gif_slow_motion(rolling_runs: dict[str, xr.Dataset], tmp_path: Path) ->
     assert frames.shape[:3] == (41, 180, 240)
     assert iio.immeta(info.path)["duration"] == 50
     # 12 fps asked: gif delays are whole centiseconds, so 90 ms (11.1 fps), 23 frames
-    info = animate(rolling_run, tmp_path / "run.gif", speed=2.0, fps=12.0, size=(240, 180))
+    info = animate(
+        rolling_run, tmp_path / "run.gif", speed=2.0, fps=12.0, size=(240, 180), overwrite=True
+    )
     assert info.fps == pytest.approx(1 / 0.09)
     assert info.frames == 23  # floor(2 s / 0.09 s) + 1
     assert iio.immeta(info.path)["duration"] == 90

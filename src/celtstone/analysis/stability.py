@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from celtstone import schema
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
@@ -343,8 +344,13 @@ def spin_stability(
     spins = np.asarray(spin_rates, dtype=float)
     if spins.ndim != 1 or not 1 <= spins.size <= MAX_SPIN_COUNT:
         raise ParameterError("spin", spin_rates, f"1 to {MAX_SPIN_COUNT} spin rates in rad/s")
-    if not np.all(np.isfinite(spins)):
-        raise ParameterError("spin", spin_rates, "finite spin rates in rad/s")
+    if not np.all(np.abs(spins) <= schema.MAX_ANGULAR_SPEED):  # NaN fails too
+        raise ParameterError(
+            "spin",
+            spin_rates,
+            f"finite spin rates in [-{schema.MAX_ANGULAR_SPEED:g}, {schema.MAX_ANGULAR_SPEED:g}] "
+            "rad/s",
+        )
     eigenvalues = np.array([_ordered_eigenvalues(linearised_matrix(body, s, model)) for s in spins])
     mirror = np.array([_ordered_eigenvalues(linearised_matrix(body, -s, model)) for s in spins])
     return SpinStability(body, model, spins, eigenvalues, mirror)
@@ -356,7 +362,8 @@ def parse_spin_range(text: str) -> np.ndarray:
     COUNT is an integer in [1, MAX_SPIN_COUNT]; COUNT = 1 needs START = STOP.
     """
     allowed = (
-        f"START:STOP:COUNT with finite START <= STOP in rad/s and an integer COUNT "
+        f"START:STOP:COUNT with START <= STOP in [-{schema.MAX_ANGULAR_SPEED:g}, "
+        f"{schema.MAX_ANGULAR_SPEED:g}] rad/s and an integer COUNT "
         f"in [1, {MAX_SPIN_COUNT}], e.g. -10:10:201"
     )
     parts = str(text).split(":")
@@ -367,7 +374,8 @@ def parse_spin_range(text: str) -> np.ndarray:
         count = int(parts[2])
     except ValueError:
         raise ParameterError("spin", text, allowed) from None
-    if not (math.isfinite(start) and math.isfinite(stop)) or not 1 <= count <= MAX_SPIN_COUNT:
+    in_range = abs(start) <= schema.MAX_ANGULAR_SPEED and abs(stop) <= schema.MAX_ANGULAR_SPEED
+    if not in_range or not 1 <= count <= MAX_SPIN_COUNT:
         raise ParameterError("spin", text, allowed)
     if start > stop or (count == 1 and start != stop) or (count > 1 and start == stop):
         raise ParameterError("spin", text, allowed, "START < STOP, or START = STOP with COUNT 1")

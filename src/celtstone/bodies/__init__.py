@@ -1,17 +1,37 @@
 """Bodies: validated parameter sets, loaded from TOML data files.
 
-``list_bodies()`` names the shipped sets; ``load_body(name_or_path)`` reads one.
+``list_bodies()`` names the shipped sets; ``load_body(name_or_path)`` reads one. What
+a file may hold (tables, keys, forms, units) is declared in ``bodies.file_schema``.
 """
 
 from __future__ import annotations
 
 import difflib
 import tomllib
+from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from celtstone.bodies.body import Body
+from celtstone.bodies.file_schema import (
+    BODY_ENTRIES,
+    SHAPES,
+    SOURCE_KEYS,
+    TABLES,
+    TOP_LEVEL,
+    BodyFileError,
+    Entry,
+    ShapeFile,
+    check_derivation,
+    check_form,
+    check_keys,
+    check_required,
+    check_text,
+    check_types,
+    closest,
+    type_problem,
+)
 from celtstone.bodies.shapes import (
     Ellipsoid,
     ImplicitFunction,
@@ -25,6 +45,7 @@ from celtstone.errors import ParameterError
 
 __all__ = [
     "Body",
+    "BodyFileError",
     "Ellipsoid",
     "ImplicitFunction",
     "ImplicitPolynomial",
@@ -62,70 +83,196 @@ def _citation(source: dict[str, Any]) -> str:
     return " ".join(p for p in parts if p.strip())
 
 
-def body_from_dict(name: str, data: dict[str, Any]) -> Body:
-    """Build a validated :class:`Body` from the parsed TOML structure."""
-    try:
-        body = data["body"]
-        shape_data = dict(data["shape"])
-    except KeyError as missing:
-        raise ParameterError(
-            "body file", name, f"a [body] and a [shape] table ({missing})"
-        ) from None
-    kind = shape_data.pop("kind", None)
-    shape: Shape
-    try:
-        if kind == "ellipsoid":
-            shape = Ellipsoid(tuple(shape_data["semi_axes"]), shape_data["com_offset"])
-        elif kind == "paraboloid":
-            shape = Paraboloid(tuple(shape_data["radii_of_curvature"]), shape_data["com_height"])
-        elif kind == "superellipsoid":
-            shape = Superellipsoid(
-                tuple(shape_data["semi_axes"]), shape_data["com_offset"], shape_data["exponent"]
-            )
-        elif kind == "implicit_polynomial":
-            shape = ImplicitPolynomial(
-                tuple(tuple(term) for term in shape_data["terms"]), shape_data["com_offset"]
-            )
-        else:
-            raise ParameterError(
-                "shape.kind",
-                kind,
-                "one of: ellipsoid, paraboloid, superellipsoid, implicit_polynomial",
-            )
-        source = data.get("source", {})
-        return Body(
-            name=name,
-            mass=body["mass"],
-            inertia=body["inertia"],
-            shape=shape,
-            gravity=body.get("gravity", 9.81),
-            source=_citation(source) if isinstance(source, dict) else str(source),
-            notes=str(data.get("notes", "")),
-            citation={k: str(v) for k, v in source.items()} if isinstance(source, dict) else {},
+def _table(file: str, data: Mapping[str, Any], key: str) -> dict[str, Any]:
+    """The table ``[key]`` of the file, which must be there."""
+    if key not in data:
+        raise BodyFileError(
+            file,
+            key,
+            None,
+            f"a [{key}] table",
+            problem=f"no [{key}] table (a body file has [body] and [shape] tables)",
         )
-    except KeyError as missing:
-        raise ParameterError("body file", name, f"the entry {missing}") from None
-    except TypeError as error:
-        raise ParameterError(
-            "body file", name, f"numbers of the documented form ({error})"
+    table = data[key]
+    if not isinstance(table, dict):
+        raise BodyFileError(file, key, table, f"a [{key}] table")
+    return table
+
+
+def _top_label(key: str) -> str:
+    return f"[{key}]" if key in TABLES else key
+
+
+def _citation_entries(file: str, source: object) -> dict[str, str]:
+    """The ``[source]`` table as strings (a plain ``source = "..."`` has none)."""
+    if isinstance(source, str):
+        return {}
+    if not isinstance(source, dict):
+        raise BodyFileError(file, "source", source, "a [source] table or a string")
+    check_keys(file, source, list(SOURCE_KEYS), "[source]")
+    for key, value in source.items():
+        check_text(file, f"source.{key}", value, integers=True)
+    return {key: str(value) for key, value in source.items()}
+
+
+def _shape_file(file: str, table: Mapping[str, Any]) -> ShapeFile:
+    """The declared shape kind of a ``[shape]`` table."""
+    kinds = ", ".join(SHAPES)
+    if "kind" not in table:
+        raise BodyFileError(
+            file,
+            "shape.kind",
+            None,
+            f"one of: {kinds}",
+            problem=f"[shape] has no kind (expected kind = one of: {kinds})",
+        )
+    kind = table["kind"]
+    if not isinstance(kind, str) or kind not in SHAPES:
+        hint = closest(kind, list(SHAPES)) if isinstance(kind, str) else "a string in quotes"
+        raise BodyFileError(file, "shape.kind", kind, f"one of: {kinds}", hint)
+    return SHAPES[kind]
+
+
+def _home_of(key: str) -> str:
+    """Where a key foreign to the table it is in belongs, for messages."""
+    if key in {entry.key for entry in BODY_ENTRIES}:
+        return f"{key} is a key of [body]"
+    kinds = [kind for kind, shape in SHAPES.items() if key in {e.key for e in shape.entries}]
+    if kinds:
+        return f"{key} is a [shape] key of kind = {' or '.join(map(repr, kinds))}"
+    return ""
+
+
+def _frozen(value: object) -> object:
+    """Arrays as (nested) tuples, as the frozen shape objects hold them."""
+    return tuple(_frozen(item) for item in value) if isinstance(value, list) else value
+
+
+def _read_entries(
+    file: str,
+    table: Mapping[str, Any],
+    entries: tuple[Entry, ...],
+    where: str,
+    *,
+    also: tuple[str, ...] = (),
+) -> dict[str, object]:
+    """The entries of ``table``: no unknown key (``also`` names keys read elsewhere),
+    the required ones present, arrays of the declared lengths and nesting."""
+    known = [*also, *(entry.key for entry in entries)]
+    check_keys(file, table, known, where, elsewhere=_home_of)
+    check_required(file, table, entries, where)
+    values = {}
+    for entry in entries:
+        if entry.key in table:
+            check_form(file, entry, table[entry.key])
+            values[entry.key] = table[entry.key]
+    return values
+
+
+def _in_file(file: str, error: ParameterError, raw: Mapping[str, object]) -> BodyFileError:
+    """``error`` of a shape or body check, naming the file (and a non-number's TOML type)."""
+    problem = type_problem(raw[error.name]) if error.name in raw else ""
+    hint = "; ".join(h for h in (error.hint, problem) if h)
+    return BodyFileError(file, error.name, error.value, error.allowed, hint)
+
+
+def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = None) -> Body:
+    """Build a validated :class:`Body` from the parsed TOML structure.
+
+    Every key is checked against ``bodies.file_schema`` first (unknown keys, missing
+    keys, array lengths); then the shape and the body check their values, which know
+    the ranges in context (``com_offset`` inside the body); last, a value those checks
+    took but that is not a TOML number (``true``, ``"1.0"``) is refused.
+
+    Raises
+    ------
+    BodyFileError
+        (a ``ParameterError``) naming ``file`` (default ``name``) and the key.
+    """
+    where = file or name
+    check_keys(where, data, list(TOP_LEVEL), "the top level", label=_top_label)
+    for key in ("title", "notes"):
+        if key in data:
+            check_text(where, key, data[key])
+    source = data.get("source", {})
+    citation = _citation_entries(where, source)
+    if "derivation" in data:
+        check_derivation(where, data["derivation"])
+    body_table, shape_table = _table(where, data, "body"), _table(where, data, "shape")
+    body_values = _read_entries(where, body_table, BODY_ENTRIES, "[body]")
+    shape_file = _shape_file(where, shape_table)
+    shape_values = _read_entries(
+        where,
+        shape_table,
+        shape_file.entries,
+        f"[shape] with kind = {shape_file.kind!r}",
+        also=("kind",),
+    )
+    raw = {**body_values, **shape_values}
+    try:
+        shape = shape_file.build(**{k: _frozen(v) for k, v in shape_values.items()})
+        body = Body(
+            name=name,
+            shape=shape,
+            source=_citation(citation) if citation else str(source) if source else "",
+            notes=str(data.get("notes", "")),
+            citation=citation,
+            **body_values,  # type: ignore[arg-type]
+        )
+    except ParameterError as error:
+        raise _in_file(where, error, raw) from None
+    for entry in (*BODY_ENTRIES, *shape_file.entries):
+        if entry.key in raw:
+            check_types(where, entry, raw[entry.key])
+    return body
+
+
+def _decode(file: str, raw: bytes) -> dict[str, Any]:
+    """Parse TOML bytes: UTF-8, with or without a byte-order mark."""
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        byte = raw[error.start]
+        raise BodyFileError(
+            file,
+            "body",
+            file,
+            "a UTF-8 text file",
+            problem=f"not UTF-8 text (byte 0x{byte:02x} at offset {error.start}); "
+            "a body file is TOML, saved as UTF-8",
+        ) from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise BodyFileError(
+            file, "body", file, "a valid TOML file", problem=f"not valid TOML: {error}"
         ) from None
 
 
 def load_body(name_or_path: str | Path) -> Body:
     """Load a shipped parameter set by name, or a TOML file by path.
 
+    The file's keys, forms and units are those of ``bodies.file_schema``; a UTF-8
+    byte-order mark is allowed.
+
     Raises
     ------
     ParameterError
-        for an unknown name (with the closest match) or a malformed file.
+        for an unknown name (with the closest match) or a malformed file
+        (:class:`~celtstone.bodies.file_schema.BodyFileError`, naming the file and key).
     """
     text = str(name_or_path)
     path = Path(text)
     if text.endswith(".toml") or path.is_file():
         if not path.is_file():
             raise ParameterError("body", text, "a shipped body name or an existing .toml file")
-        raw = path.read_bytes()
-        name = path.stem
+        try:
+            raw = path.read_bytes()
+        except OSError as error:
+            raise BodyFileError(
+                text, "body", text, "a readable file", problem=f"cannot read it: {error}"
+            ) from None
+        name, file = path.stem, text
     else:
         entry = _DATA / f"{text}.toml"
         if not entry.is_file():
@@ -136,9 +283,5 @@ def load_body(name_or_path: str | Path) -> Body:
             hint = f"did you mean {close[0]!r}?" if close else ""
             raise ParameterError("body", text, "one of: " + ", ".join(sorted(names)), hint)
         raw = entry.read_bytes()
-        name = text
-    try:
-        data = tomllib.loads(raw.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
-        raise ParameterError("body", text, f"a valid TOML file ({error})") from None
-    return body_from_dict(name, data)
+        name, file = text, f"{text}.toml (shipped)"
+    return body_from_dict(name, _decode(file, raw), file=file)

@@ -35,6 +35,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--out", required=True, metavar="FILE.mp4|FILE.gif", help="the video")
+    parser.add_argument("--overwrite", action="store_true", help="replace the video if it exists")
     parser.add_argument(
         "--speed",
         default="1",
@@ -48,11 +49,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Write the video and say how many frames at which rate."""
-    check_video_target(args.out)
+    check_video_target(args.out, overwrite=args.overwrite)
     speed = _float("speed", args.speed)
     fps = _float("fps", args.fps) if args.fps is not None else None
     size = _size(args.size) if args.size is not None else None
-    info = animate(load_run(args.run), args.out, speed=speed, fps=fps, size=size)
+    info = animate(
+        load_run(args.run), args.out, speed=speed, fps=fps, size=size, overwrite=args.overwrite
+    )
     pace = "real time" if info.speed == 1.0 else f"{info.speed:.3g} × real time"
     print(
         f"wrote {info.path}: {info.frames} frames at {info.fps:.3g} fps ({pace}), "

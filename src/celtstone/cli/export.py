@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from celtstone.errors import ParameterError
-from celtstone.export import read_run, write
+from celtstone.export import check_target, output_beside, read_run, write
 
 HELP = "convert a saved run (RUN.nc) to CSV"
 
@@ -16,14 +15,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--csv", action="store_true", help="write CSV (the one format so far)")
     parser.add_argument("--out", default=None, metavar="FILE.csv", help="default: RUN.csv")
+    parser.add_argument("--overwrite", action="store_true", help="replace the CSV if it exists")
 
 
 def handle(args: argparse.Namespace) -> int:
     """Write the CSV whole or not at all."""
     if not args.csv:
         raise ParameterError("format", "none", "--csv")
-    target = Path(args.out) if args.out else Path(args.run).with_suffix(".csv")
-    if target.suffix.lower() != ".csv":
-        raise ParameterError("out", str(target), "a file name ending in .csv")
-    print(f"csv: {write(read_run(args.run), target)}")
+    out = args.out if args.out is not None else output_beside(args.run, ".csv")
+    target = check_target(out, (".csv",), overwrite=args.overwrite)
+    print(f"csv: {write(read_run(args.run), target, overwrite=args.overwrite)}")
     return 0

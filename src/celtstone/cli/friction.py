@@ -11,7 +11,7 @@ import numpy as np
 
 from celtstone import ParameterError
 from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, check_choice, friction_functions
-from celtstone.export import atomic_path
+from celtstone.export import atomic_path, check_target
 from celtstone.schema import PARAMETERS
 
 HELP = "force F/(f N) and pivoting moment M/(f N eps) of a friction law against u"
@@ -44,6 +44,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.png|FILE.svg|FILE.pdf",
         help="draw both laws against u for the chosen pressure",
     )
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --plot file")
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -52,10 +53,10 @@ def handle(args: argparse.Namespace) -> int:
     check_choice("contact_pressure", args.pressure, CONTACT_PRESSURES)
     ratios = _ratios(args.u)
     if args.plot is not None:
-        _check_plot_target(args.plot)
+        check_target(args.plot, PLOT_FORMATS, "plot", overwrite=args.overwrite)
     force, moment = friction_functions(ratios, args.law, args.pressure)
     if args.plot is not None:
-        _plot(args.plot, args.pressure)
+        _plot(args.plot, args.pressure, overwrite=args.overwrite)
     if args.json:
         print(
             json.dumps(
@@ -76,16 +77,7 @@ def handle(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_plot_target(path: str) -> None:
-    target = Path(path)
-    if target.suffix.lower() not in PLOT_FORMATS:
-        raise ParameterError("plot", path, "a file name ending in " + ", ".join(PLOT_FORMATS))
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise ParameterError("plot", path, "a file in an existing directory")
-
-
-def _plot(path: str, pressure: str) -> None:
+def _plot(path: str, pressure: str, *, overwrite: bool) -> None:
     """Both laws' F/(fN) and M/(fNε) against u on a logarithmic axis."""
     import matplotlib
 
@@ -109,5 +101,5 @@ def _plot(path: str, pressure: str) -> None:
         axes.legend()
     figure.suptitle(f"Coulomb–Contensou friction on a disk, {pressure} pressure")
     suffix = Path(path).suffix.lower().lstrip(".")
-    with atomic_path(path) as temporary:
+    with atomic_path(path, overwrite=overwrite, parameter="plot") as temporary:
         figure.savefig(temporary, format=suffix)

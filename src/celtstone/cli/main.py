@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import argparse
 import re
+import signal
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
-from celtstone import CeltstoneError, version
+from celtstone import CeltstoneError, CeltstoneWarning, version
 from celtstone.cli import (
     animate,
     bodies,
@@ -38,6 +41,49 @@ SUBCOMMANDS = {
 EXIT_OK = 0
 EXIT_STOPPED = 3  # a run that stopped before t_end (lift-off, singular friction, ...)
 EXIT_USAGE = 2
+EXIT_INTERRUPTED = 128 + signal.SIGINT  # 130
+EXIT_TERMINATED = 128 + signal.SIGTERM  # 143
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that it unwinds like Ctrl-C.
+
+    ``finally`` blocks remove temporaries, and every ``except KeyboardInterrupt``
+    (the sweep's resume message) handles it as it handles Ctrl-C.
+    """
+
+
+class _Termination:
+    """The SIGTERM handler: raises :class:`Terminated` once; remembers that it came."""
+
+    def __init__(self) -> None:
+        self.received = False
+
+    def __call__(self, signum: int, frame: object) -> None:
+        self.received = True
+        # a second SIGTERM must not cut the clean-up short (SIGKILL still ends it)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated
+
+
+@contextmanager
+def _sigterm_unwinds() -> Iterator[_Termination]:
+    """SIGTERM raises :class:`Terminated` inside (main thread only; an ignored SIGTERM
+    stays ignored); the previous handler is back afterwards."""
+    termination = _Termination()
+    previous = signal.getsignal(signal.SIGTERM)
+    installed = False
+    if previous is not signal.SIG_IGN:
+        try:
+            signal.signal(signal.SIGTERM, termination)
+            installed = True
+        except ValueError:  # not the main thread: signals stay as they are
+            pass
+    try:
+        yield termination
+    finally:
+        if installed:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -57,36 +103,92 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"celtstone: error: {message}\n")
 
 
+class HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """Help that shows every option's default (unless it is None, False or already said)
+    and keeps the epilogs' line breaks."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        default = action.default
+        if (
+            default in (None, False, [], argparse.SUPPRESS)
+            or "default" in text
+            or not action.option_strings
+        ):
+            return text
+        return text + " (default: %(default)s)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser."""
     parser = _Parser(
         prog="celtstone",
         description="Simulate the Celt stone (rattleback): rolling, or rolling with sliding.",
+        epilog="`celtstone COMMAND --help` lists a command's options with units and defaults.",
     )
     parser.add_argument("--version", action="version", version=f"celtstone {version()}")
-    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    commands = parser.add_subparsers(
+        dest="command", required=True, parser_class=_Parser, metavar="COMMAND", title="commands"
+    )
     for name, module in SUBCOMMANDS.items():
-        sub = commands.add_parser(name, help=module.HELP, description=module.HELP)
+        sub = commands.add_parser(
+            name, help=module.HELP, description=module.HELP, formatter_class=HelpFormatter
+        )
         module.add_args(sub)
         sub.set_defaults(handler=module.handle)
     return parser
 
 
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: Any = None,
+    line: str | None = None,
+) -> None:
+    """A warning as one line on standard error: ``celtstone: warning: ...``."""
+    text = " ".join(str(message).split())
+    if not issubclass(category, CeltstoneWarning):
+        text = f"{category.__name__}: {text}"
+    print(f"celtstone: warning: {text}", file=sys.stderr)
+
+
+@contextmanager
+def _one_line_warnings() -> Iterator[None]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = _show_warning
+        yield
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
     parser = build_parser()
+    arguments = sys.argv[1:] if argv is None else list(argv)
+    if not arguments:
+        parser.print_help(sys.stderr)
+        return EXIT_USAGE
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(arguments)
     except SystemExit as stop:
         return int(stop.code) if isinstance(stop.code, int) else EXIT_USAGE
     try:
-        return int(args.handler(args))
+        with _one_line_warnings(), _sigterm_unwinds() as termination:
+            status = int(args.handler(args))
+        # a handler that caught the interrupt itself (sweep: its resume message) says 130
+        if termination.received and status == EXIT_INTERRUPTED:
+            return EXIT_TERMINATED
+        return status
     except CeltstoneError as error:
         print(f"celtstone: error: {error}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as error:
         print(f"celtstone: error: cannot write output: {error}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as stop:
+        if isinstance(stop, Terminated):
+            print("celtstone: terminated; no partial output was written", file=sys.stderr)
+            return EXIT_TERMINATED
         print("celtstone: interrupted; no partial output was written", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED

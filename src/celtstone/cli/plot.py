@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from celtstone.export import read_run
+from celtstone.export import output_beside, read_run
 from celtstone.plotting import plot_run, save_figure
 from celtstone.plotting.save import check_figure_target
 from celtstone.schema import check
@@ -20,6 +19,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--out", default=None, metavar="FILE.png|FILE.svg", help="figure file (default: RUN.png)"
     )
     parser.add_argument(
+        "--overwrite", action="store_true", help="replace the figure file if it exists"
+    )
+    parser.add_argument(
         "--band",
         type=str,
         default=None,
@@ -29,8 +31,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Draw the run and write the figure."""
-    target = check_figure_target(args.out or Path(args.run).with_suffix(".png"))
+    out = args.out if args.out is not None else output_beside(args.run, ".png")
+    target = check_figure_target(out, overwrite=args.overwrite)
     band = None if args.band is None else check("reversal_band", args.band)
     figure = plot_run(read_run(args.run), threshold=band)
-    print(f"figure: {save_figure(figure, target)}")
+    print(f"figure: {save_figure(figure, target, overwrite=args.overwrite)}")
     return 0

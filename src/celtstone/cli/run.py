@@ -6,10 +6,13 @@ import argparse
 import json
 import math
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 from celtstone import (
     InitialState,
     ParameterError,
+    SlidingModel,
     load_body,
     model_from_name,
     simulate,
@@ -48,6 +51,11 @@ def _optional_number(name: str, text: str | None) -> float | None:
     return None if text is None else _number(name)(text)
 
 
+def _sliding_default(name: str) -> str:
+    """Help text: the sliding model's default of ``name``; rolling refuses the option."""
+    return f" (default: {getattr(SlidingModel, name)}; sliding model only)"
+
+
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone run``; help text comes from ``schema``."""
     p = PARAMETERS
@@ -64,13 +72,21 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--t-end", type=str, default="10", help=p["t_end"].help())
     parser.add_argument("--damping", type=str, default="0", help=p["damping"].help())
     parser.add_argument(
-        "--friction-coefficient", type=str, default="0.35", help=p["friction_coefficient"].help()
+        "--friction-coefficient",
+        type=str,
+        default=None,
+        help=p["friction_coefficient"].help() + _sliding_default("friction_coefficient"),
     )
     parser.add_argument(
-        "--contact-radius", type=str, default="0.001", help=p["contact_radius"].help()
+        "--contact-radius",
+        type=str,
+        default=None,
+        help=p["contact_radius"].help() + _sliding_default("contact_radius"),
     )
     parser.add_argument(
-        "--normal-force", default="static", help="static (N = m g, the paper's) or dynamic"
+        "--normal-force",
+        default=None,
+        help="static (N = m g, the paper's) or dynamic" + _sliding_default("normal_force"),
     )
     parser.add_argument(
         "--contact",
@@ -82,35 +98,71 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--regularisation-speed",
         type=str,
         default=None,
-        help=p["regularisation_speed"].help() + " (default 1e-6; hybrid contact 1e-12)",
+        help=p["regularisation_speed"].help()
+        + " (default: 1e-6, hybrid contact 1e-12; sliding model only)",
     )
     parser.add_argument(
         "--capture-speed",
         type=str,
         default=None,
-        help=p["capture_speed"].help() + " (default 100 atol)",
+        help=p["capture_speed"].help() + " (default: 100 atol; hybrid contact only)",
     )
     parser.add_argument(
         "--friction-law",
-        default="pade",
-        help="pade (Zhuravlev, paper eq. 10) or exact (Coulomb-Contensou integrals)",
+        default=None,
+        help="pade (Zhuravlev, paper eq. 10) or exact (Coulomb-Contensou integrals)"
+        + _sliding_default("friction_law"),
     )
     parser.add_argument(
-        "--contact-pressure", default="hertz", help="hertz (paper eq. 2) or uniform"
+        "--contact-pressure",
+        default=None,
+        help="hertz (paper eq. 2) or uniform" + _sliding_default("contact_pressure"),
     )
     parser.add_argument(
         "--elastic-modulus",
         type=str,
         default=None,
-        help=p["elastic_modulus"].help() + "; with --poisson-ratio, replaces --contact-radius",
+        help=p["elastic_modulus"].help()
+        + "; with --poisson-ratio, replaces --contact-radius (sliding model only)",
     )
-    parser.add_argument("--poisson-ratio", type=str, default=None, help=p["poisson_ratio"].help())
+    parser.add_argument(
+        "--poisson-ratio",
+        type=str,
+        default=None,
+        help=p["poisson_ratio"].help() + " (sliding model only)",
+    )
     parser.add_argument("--method", default=None, help="dop853 or radau5 (default by model)")
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
     parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
     parser.add_argument("--samples", type=str, default=None, help=p["n_samples"].help())
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (shown on a terminal when a run lasts over a second)",
+    )
     parser.add_argument("--out", default=None, metavar="FILE.nc|FILE.csv", help="save the run")
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace the --out file if it exists"
+    )
+
+
+@contextmanager
+def _progress_bar(t_end: float, enabled: bool) -> Iterator[Callable[[float], None] | None]:
+    """A progress callback drawing a bar of simulated time on standard error, shown only on
+    a terminal and only once the run has lasted a second; None when not shown."""
+    if not enabled or not sys.stderr.isatty():
+        yield None
+        return
+    from tqdm import tqdm
+
+    format_ = "{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]"
+    with tqdm(total=t_end, desc="run", file=sys.stderr, delay=1.0, bar_format=format_) as bar:
+
+        def progress(time: float) -> None:
+            bar.update(time - bar.n)
+
+        yield progress
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -119,8 +171,8 @@ def handle(args: argparse.Namespace) -> int:
     tilt = _numbers("tilt", 2)(args.tilt)
     settings = {
         "damping": _number("damping")(args.damping),
-        "friction_coefficient": _number("friction_coefficient")(args.friction_coefficient),
-        "contact_radius": _number("contact_radius")(args.contact_radius),
+        "friction_coefficient": _optional_number("friction_coefficient", args.friction_coefficient),
+        "contact_radius": _optional_number("contact_radius", args.contact_radius),
         "normal_force": args.normal_force,
         "contact": args.contact,
         "regularisation_speed": _optional_number("regularisation_speed", args.regularisation_speed),
@@ -137,15 +189,24 @@ def handle(args: argparse.Namespace) -> int:
     if args.samples is not None:
         n_samples = int(check("n_samples", _number("n_samples")(args.samples)))
     if args.out is not None:
-        check_target(args.out)  # before the run, not after it
+        check_target(args.out, overwrite=args.overwrite)  # before the run, not after it
     model = model_from_name(args.model, **settings)
     body = load_body(args.body)
     state = InitialState(omega=omega, tilt=tilt)
-    trajectory = simulate(
-        model, body, state, t_end, method=args.method, rtol=rtol, atol=atol, n_samples=n_samples
-    )
+    with _progress_bar(t_end, enabled=not args.no_progress) as progress:
+        trajectory = simulate(
+            model,
+            body,
+            state,
+            t_end,
+            method=args.method,
+            rtol=rtol,
+            atol=atol,
+            n_samples=n_samples,
+            progress=progress,
+        )
     if args.out is not None:
-        write(trajectory.dataset, args.out)
+        write(trajectory.dataset, args.out, overwrite=args.overwrite)
     summary = trajectory.summary()
     if args.json:
         print(json.dumps(summary))

@@ -36,13 +36,19 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", default=None, metavar="FILE.png|FILE.svg", help="plot the growth rates"
     )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace existing --csv, --netcdf, --plot files"
+    )
 
 
-def _write_csv(result: SpinStability, path: Path) -> None:
+def _write_csv(result: SpinStability, path: Path, overwrite: bool) -> None:
     table = result.table()
     names = list(table)
     options = result.options()
-    with atomic_path(path) as temporary, open(temporary, "w", encoding="utf-8") as stream:
+    with (
+        atomic_path(path, overwrite=overwrite, parameter="csv") as temporary,
+        open(temporary, "w", encoding="utf-8") as stream,
+    ):
         stream.write(f"# celtstone linear stability of steady spin, {result.body.name}\n")
         stream.write("# " + ", ".join(f"{k} = {v}" for k, v in options.items()) + "\n")
         stream.write("# units: " + ", ".join(f"{k} [{table[k][0]}]" for k in names) + "\n")
@@ -59,19 +65,24 @@ def handle(args: argparse.Namespace) -> int:
     except ValueError:
         raise ParameterError("damping", args.damping, PARAMETERS["damping"].allowed) from None
     model = RollingModel(damping=damping)
-    csv = check_target(args.csv, (".csv",), "csv") if args.csv is not None else None
-    netcdf = check_target(args.netcdf, (".nc",), "netcdf") if args.netcdf is not None else None
-    plot = check_figure_target(args.plot, "plot") if args.plot is not None else None
+    replace = args.overwrite
+    csv = netcdf = plot = None
+    if args.csv is not None:
+        csv = check_target(args.csv, (".csv",), "csv", overwrite=replace)
+    if args.netcdf is not None:
+        netcdf = check_target(args.netcdf, (".nc",), "netcdf", overwrite=replace)
+    if args.plot is not None:
+        plot = check_figure_target(args.plot, "plot", overwrite=replace)
     body = load_body(args.body)
     result = spin_stability(body, spins, model)
     if csv is not None:
-        _write_csv(result, csv)
+        _write_csv(result, csv, replace)
     if netcdf is not None:
         dataset = result.to_dataset()
         dataset.attrs["spin_range"] = args.spin
-        write(dataset, netcdf)
+        write(dataset, netcdf, overwrite=replace)
     if plot is not None:
-        save_figure(growth_rate_figure(result), plot)
+        save_figure(growth_rate_figure(result), plot, overwrite=replace)
     summary = {
         **result.summary(),
         "spin_range": args.spin,

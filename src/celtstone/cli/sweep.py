@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from celtstone import ParameterError
 from celtstone.schema import PARAMETERS as SCHEMA
@@ -15,11 +16,19 @@ from celtstone.sweep import (
     PARAMETERS,
     SAMPLES_PER_SECOND,
     Sweep,
-    parse_axis,
     parse_setting,
 )
-from celtstone.sweep.plots import write_maps
-from celtstone.sweep.spec import CHOICES
+from celtstone.sweep.budget import (
+    HARD_POINT_LIMIT,
+    LONG_SWEEP_SECONDS,
+    POINT_LIMIT,
+    STORE_LIMIT_BYTES,
+)
+from celtstone.sweep.plots import map_paths, write_maps
+from celtstone.sweep.points import read_points
+from celtstone.sweep.runner import MAX_CHUNK_POINTS, MAX_WORKERS, check_run_options
+from celtstone.sweep.spec import CHOICES, parse_axis_spec
+from celtstone.sweep.store import check_store_target
 
 HELP = "run a parameter sweep (grid or list of points) into a Zarr store"
 
@@ -38,8 +47,7 @@ EPILOG = (
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
-    """Options of ``celtstone sweep``."""
-    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    """Options of ``celtstone sweep`` (the parser's formatter keeps the epilog's lines)."""
     parser.epilog = EPILOG
     parser.add_argument(
         "--vary",
@@ -82,8 +90,24 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         metavar="tcp://HOST:PORT",
         help="run on a dask.distributed cluster (default: threads on this machine)",
     )
-    parser.add_argument("--workers", type=int, default=None, help="local threads (all cores)")
-    parser.add_argument("--chunk-points", type=int, default=256, help="points per stored block")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help=f"local threads, 1 to {MAX_WORKERS} (default: every core; not with --scheduler)",
+    )
+    parser.add_argument(
+        "--chunk-points",
+        type=int,
+        default=256,
+        help=f"points per stored block, 1 to {MAX_CHUNK_POINTS}",
+    )
+    parser.add_argument(
+        "--force",
+        action="store_true",
+        help=f"run a sweep of more than {POINT_LIMIT} points or a store above "
+        f"{STORE_LIMIT_BYTES / 1e9:g} GB (never more than {HARD_POINT_LIMIT} points)",
+    )
     parser.add_argument(
         "--maps", default=None, metavar="DIR", help="directory of the maps (STORE_maps)"
     )
@@ -98,50 +122,79 @@ def _number(name: str, text: str) -> float:
         raise ParameterError(name, text, "a number") from None
 
 
-def read_points(path: str) -> dict[str, list[float]]:
-    """Columns of a CSV file whose header names sweep parameters."""
-    try:
-        with open(path, newline="", encoding="utf-8") as stream:
-            rows = [row for row in csv.reader(stream) if row and not row[0].startswith("#")]
-    except OSError as error:
-        raise ParameterError("points", path, "a readable CSV file", str(error)) from None
-    if len(rows) < 2:
-        raise ParameterError("points", path, "a header of names and at least one row")
-    names = [name.strip() for name in rows[0]]
-    columns: dict[str, list[float]] = {name: [] for name in names}
-    for number, row in enumerate(rows[1:], start=2):
-        if len(row) != len(names):
-            raise ParameterError("points", f"{path}:{number}", f"{len(names)} values")
-        for name, text in zip(names, row, strict=True):
-            columns[name].append(_number(name, text))
-    return columns
+def _validation_progress(enabled: bool) -> Callable[[int, int], None]:
+    """A bar on standard error for the validation of the points, shown only if it
+    takes more than a second."""
+    bar: Any = None
+
+    def progress(built: int, total: int) -> None:
+        nonlocal bar
+        if not enabled:
+            return
+        if bar is None:
+            from tqdm import tqdm
+
+            bar = tqdm(
+                total=total,
+                desc="validating",
+                unit="object",
+                file=sys.stderr,
+                delay=1.0,
+                leave=False,
+            )
+        bar.update(built - bar.n)
+        if built >= total:
+            bar.close()
+
+    return progress
 
 
-def handle(args: argparse.Namespace) -> int:
-    """Validate every point, run the sweep, write the store and the maps."""
+def _sweep(args: argparse.Namespace) -> tuple[Sweep, int]:
+    """The validated sweep of the command line and its local threads (0 with a
+    scheduler): options first, then the size from the counts, then every point."""
     if not args.vary and args.points is None:
         raise ParameterError("vary", None, "at least one --vary NAME=... or --points FILE.csv")
-    axes = [parse_axis(text) for text in args.vary]
-    points = read_points(args.points) if args.points is not None else None
+    if args.vary and args.points is not None:
+        raise ParameterError("points", args.points, "either --vary axes or --points, not both")
+    _, threads = check_run_options(args.scheduler, args.workers, args.chunk_points)
+    settings = {
+        "t_end": _number("t_end", args.t_end),
+        "rtol": _number("rtol", args.rtol),
+        "atol": _number("atol", args.atol),
+        "samples_per_second": _number("samples_per_second", args.samples_per_second),
+        "reversal_threshold": (
+            None
+            if args.reversal_threshold is None
+            else _number("reversal_threshold", args.reversal_threshold)
+        ),
+    }
+    axes = [parse_axis_spec(text) for text in args.vary]  # counts only: no values made yet
     fixed = dict(parse_setting(text) for text in args.set)
+    points = read_points(args.points, force=args.force) if args.points is not None else None
     sweep = Sweep(
         axes,
         points=points,
         body=args.body,
         model=args.model,
         fixed=fixed,
-        t_end=_number("t_end", args.t_end),
         method=args.method,
-        rtol=_number("rtol", args.rtol),
-        atol=_number("atol", args.atol),
-        samples_per_second=_number("samples_per_second", args.samples_per_second),
-        reversal_threshold=(
-            None
-            if args.reversal_threshold is None
-            else _number("reversal_threshold", args.reversal_threshold)
-        ),
+        force=args.force,
+        progress=_validation_progress(not args.no_progress),
+        **settings,  # type: ignore[arg-type]
     )
-    out = Path(args.out)
+    return sweep, threads
+
+
+def handle(args: argparse.Namespace) -> int:
+    """Validate every option and point, run the sweep, write the store and the maps."""
+    out = check_store_target(args.out, overwrite=args.overwrite, resume=args.resume)
+    maps = None if args.no_maps else Path(args.maps or out.with_name(out.stem + "_maps"))
+    replace_maps = args.overwrite or args.resume  # the maps belong to the store replaced
+    if maps is not None:
+        map_paths(maps, overwrite=replace_maps)  # before the sweep, not after it
+    sweep, threads = _sweep(args)
+    if sweep.estimate.wall_seconds(threads) > LONG_SWEEP_SECONDS:
+        print(f"celtstone: sweep of {sweep.estimate.describe(threads or None)}", file=sys.stderr)
     progress_bar = None
     counts = {"done": 0, "failed": 0, "total": sweep.size}
 
@@ -186,9 +239,8 @@ def handle(args: argparse.Namespace) -> int:
     finally:
         if progress_bar is not None:
             progress_bar.close()
-    if not args.no_maps:
-        maps = Path(args.maps) if args.maps else out.with_name(out.stem + "_maps")
-        write_maps(results, maps)
+    if maps is not None:
+        write_maps(results, maps, overwrite=replace_maps)
     failed = results["status"] != "success"
     statuses = sorted({str(s) for s in results["status"].values[failed.values]})
     print(

@@ -14,12 +14,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone view``."""
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page")
+    parser.add_argument("--overwrite", action="store_true", help="replace the page if it exists")
 
 
 def handle(args: argparse.Namespace) -> int:
     """Write the page and say how big it is."""
-    check_page_target(args.out)
-    info = write_viewer(load_run(args.run), args.out)
+    check_page_target(args.out, overwrite=args.overwrite)
+    info = write_viewer(load_run(args.run), args.out, overwrite=args.overwrite)
     print(
         f"wrote {info.path}: {info.frames} frames, {info.plot_points} points per plot, "
         f"{info.bytes / 1e6:.2f} MB; open it in a browser (works offline)"

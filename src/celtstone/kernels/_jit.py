@@ -31,8 +31,9 @@ _SIGNATURE = types.void(types.float64, types.float64, types.float64, types.CPoin
 
 
 def kernel(function: F) -> F:
-    """Compile ``function`` in nopython mode with the on-disk cache on."""
-    compiled: F = njit(cache=True, error_model="numpy")(function)  # type: ignore[assignment]
+    """Compile ``function`` in nopython mode with the on-disk cache on; called from Python
+    it releases the GIL, so a run in a thread leaves the caller free (a progress bar)."""
+    compiled: F = njit(cache=True, nogil=True, error_model="numpy")(function)  # type: ignore[assignment]
     return compiled
 
 

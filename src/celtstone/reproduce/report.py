@@ -115,6 +115,49 @@ sliding stone whose spin has died changes sign many times without reversing
 """
 
 BRAKING_FRICTION = 0.35
+_UNKNOWN_RUN = "unknown (made before runs were recorded)"
+
+
+def _provenance(results: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
+    """A warning when the results come from several runs (or versions), and the table
+    of when, by which version and in which run each target was made."""
+    table = [
+        "## Where each result comes from",
+        "",
+        "| target | body | finished (UTC) | celtstone | run (targets asked for) |",
+        "|---|---|---|---|---|",
+    ]
+    runs: set[str] = set()
+    versions: set[str] = set()
+    for result in sorted(results, key=lambda r: (r["target"], r["body"])):
+        run = result.get("run")
+        if not isinstance(run, dict):
+            runs.add(_UNKNOWN_RUN)
+            table.append(
+                f"| {result['target']} | {result['body']} | unknown | unknown | {_UNKNOWN_RUN} |"
+            )
+            continue
+        runs.add(str(run["id"]))
+        versions.add(str(run["celtstone_version"]))
+        table.append(
+            f"| {result['target']} | {result['body']} | {run['finished_utc']} | "
+            f"{run['celtstone_version']} | `{run['id']}` ({', '.join(run['targets'])}) |"
+        )
+    table.append("")
+    warning = []
+    if len(runs) > 1:
+        warning.append(
+            f"**The results below come from {len(runs)} different runs of `celtstone "
+            'reproduce`, not from one:** see "Where each result comes from" for which '
+            "target was made when. Reproduce into an empty directory for one consistent set."
+        )
+    if len(versions) > 1:
+        warning.append(
+            "**They were made by different celtstone versions: "
+            + ", ".join(sorted(versions))
+            + ".**"
+        )
+    return ([*warning, ""] if warning else []), table
 
 
 def _braking_table(fig2: dict[str, dict[str, Any]]) -> str:
@@ -158,6 +201,8 @@ def render_report(out: Path) -> str:
     ]
     bodies = sorted({*fig2, *fig3, *threshold})
     everything = [r for target in results.values() for r in target.values()]
+    warning, provenance = _provenance(everything)
+    lines[3:3] = warning
     if any(r["study"].startswith("REDUCED") for r in everything):
         lines[3:3] = [
             "**Some results below come from the shortened `--quick` form: a smoke test, not "
@@ -175,6 +220,7 @@ def render_report(out: Path) -> str:
         cells = [judge(source[b]).reproduced if b in source else "not run" for b in bodies]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     lines.append("")
+    lines += provenance
 
     def figs(result: dict[str, Any]) -> list[str]:
         return list(result["figures"])
@@ -221,8 +267,8 @@ def render_report(out: Path) -> str:
 
 
 def write_report(out: Path) -> Path:
-    """Write ``out/report.md`` whole or not at all."""
+    """Write ``out/report.md`` whole or not at all (it replaces the previous report)."""
     target = out / "report.md"
-    with atomic_path(target) as temporary:
+    with atomic_path(target, overwrite=True) as temporary:
         temporary.write_text(render_report(out), encoding="utf-8")
     return target

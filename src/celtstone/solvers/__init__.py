@@ -5,7 +5,10 @@
 
 from __future__ import annotations
 
+import threading
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -19,6 +22,7 @@ from celtstone.solvers.codes import (
 from celtstone.solvers.codes import (
     METHODS as METHODS,
 )
+from celtstone.solvers.codes import N_STATS, STAT_SAMPLES_WRITTEN
 from celtstone.solvers.codes import (
     STATUS_LIFT_OFF as STATUS_LIFT_OFF,
 )
@@ -107,22 +111,24 @@ def solve(
     max_steps: int = 10_000_000,
     adaptive: bool = True,
     capture_speed: float = 0.0,
+    progress: Callable[[float], None] | None = None,
 ) -> RawSolution:
     """Integrate the kernel system ``model`` from t = 0 to ``t_end`` with ``method_name``.
 
     ``capture_speed`` [m/s] > 0 stops a sliding run (status ``STATUS_PHASE_CHANGE``)
     when sqrt(|V1|² + ε²(ω·n)²) falls below it; a stick run (``MODEL_STICK``) always
     stops when its stick margin falls below zero. ``final_state`` is the state at
-    ``t_stop``.
+    ``t_stop``. ``progress``, if given, is called about ten times a second from this
+    thread with the time [s] reached, while the compiled loop runs in another.
     """
     if method_name not in METHODS:
         raise ParameterError("method", method_name, "one of: " + ", ".join(METHODS))
     times = np.ascontiguousarray(sample_times, dtype=np.float64)
     samples = np.zeros((times.shape[0], y0.shape[0]))
     crossings = np.zeros(max(int(max_crossings), 1))
-    stats = np.zeros(8, dtype=np.int64)
+    stats = np.zeros(N_STATS, dtype=np.int64)
     final_state = np.empty(y0.shape[0])
-    status, n_samples, n_crossings, t_stop, min_normal, t_min_normal = integrate(
+    arguments = (
         int(model),
         METHODS[method_name],
         np.ascontiguousarray(params, dtype=np.float64),
@@ -141,6 +147,11 @@ def solve(
         float(capture_speed),
         final_state,
     )
+    if progress is None:
+        returned = integrate(*arguments)
+    else:
+        returned = _watched(arguments, times, stats, progress)
+    status, n_samples, n_crossings, t_stop, min_normal, t_min_normal = returned
     stored = min(int(n_crossings), crossings.shape[0])
     return RawSolution(
         status=int(status),
@@ -158,3 +169,33 @@ def solve(
         n_rejected=int(stats[4]),
         final_state=final_state,
     )
+
+
+_POLL_INTERVAL = 0.1  # s between progress reports
+
+
+def _watched(
+    arguments: tuple[Any, ...],
+    times: np.ndarray,
+    stats: np.ndarray,
+    progress: Callable[[float], None],
+) -> tuple[Any, ...]:
+    """``integrate(*arguments)`` in a daemon thread (the compiled loop releases the GIL),
+    reporting the last sample time written; Ctrl-C here abandons the thread."""
+    outcome: dict[str, Any] = {}
+
+    def work() -> None:
+        try:
+            outcome["returned"] = integrate(*arguments)
+        except BaseException as error:  # re-raised in the caller's thread
+            outcome["error"] = error
+
+    thread = threading.Thread(target=work, name="celtstone-run", daemon=True)
+    thread.start()
+    while thread.is_alive():
+        thread.join(_POLL_INTERVAL)
+        written = int(stats[STAT_SAMPLES_WRITTEN])
+        progress(float(times[written - 1]) if written > 0 else 0.0)
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["returned"]

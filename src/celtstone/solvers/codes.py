@@ -7,6 +7,15 @@ METHOD_RADAU5 = 1
 
 METHODS = {"dop853": METHOD_DOP853, "radau5": METHOD_RADAU5}
 
+# slots of the integrator's int64 statistics array (8 long)
+STAT_NFEV = 0
+STAT_NJEV = 1
+STAT_NLU = 2
+STAT_ACCEPTED = 3
+STAT_REJECTED = 4
+STAT_SAMPLES_WRITTEN = 5  # output samples filled so far, updated after every step
+N_STATS = 8
+
 STATUS_SUCCESS = 0
 STATUS_LIFT_OFF = 1
 STATUS_SINGULAR = 2

@@ -30,6 +30,7 @@ from celtstone.solvers import _radau as rad
 from celtstone.solvers._linalg import lu_solve
 from celtstone.solvers.codes import (
     METHOD_DOP853,
+    STAT_SAMPLES_WRITTEN,
     STATUS_LIFT_OFF,
     STATUS_MAX_STEPS,
     STATUS_NON_CONVEX,
@@ -190,7 +191,8 @@ def integrate(
     """Integrate from t = 0 to ``t_end``; see the module docstring.
 
     Returns (status, n_samples, n_crossings, t_stop, min_normal_force,
-    t_min_normal_force); ``stats`` receives nfev, njev, nlu, accepted, rejected;
+    t_min_normal_force); ``stats`` receives nfev, njev, nlu, accepted, rejected, and in
+    slot ``STAT_SAMPLES_WRITTEN``, after every step, the samples written so far;
     ``final_state`` the state at ``t_stop``. ``capture_speed`` [m/s] > 0 arms the
     slip-capture event of the sliding model (``system.phase_value``).
     """
@@ -584,6 +586,7 @@ def integrate(
         n_samples = _fill_samples(
             method, dense, y_old, t_old, h_try, t_limit, sample_times, samples, n_samples, y_new
         )
+        stats[STAT_SAMPLES_WRITTEN] = n_samples  # read while the loop runs (progress)
         if result == STATUS_LIFT_OFF or result == STATUS_PHASE_CHANGE:
             t = t_limit
             if x_limit >= 1.0:

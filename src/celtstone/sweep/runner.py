@@ -11,6 +11,7 @@ store, a block at a time as its tasks come back.
 from __future__ import annotations
 
 import json
+import math
 import os
 import queue
 import threading
@@ -29,15 +30,21 @@ from celtstone.integrate import STATUS_NAMES, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
 from celtstone.models import MODELS
 from celtstone.solvers import batch
-from celtstone.sweep.spec import PARAMETERS, Axis, PointBuilder
+from celtstone.sweep import budget
+from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder
 from celtstone.sweep.store import FORMAT, RESULT_FIELDS, Layout, SweepStore, open_sweep
 
 __all__ = [
     "DEFAULT_ATOL",
     "DEFAULT_CHUNK_POINTS",
     "DEFAULT_RTOL",
+    "MAX_CHUNK_POINTS",
+    "MAX_SAMPLES_PER_POINT",
+    "MAX_WORKERS",
     "SAMPLES_PER_SECOND",
+    "SCHEDULER_TIMEOUT_SECONDS",
     "Sweep",
+    "check_run_options",
 ]
 
 DEFAULT_RTOL = 1e-8  # sliding runs agree with rtol 1e-10 to about 1e-6 rad/s in the final spin
@@ -45,16 +52,60 @@ DEFAULT_ATOL = 1e-12
 SAMPLES_PER_SECOND = 200.0  # as simulate(): max tilt, normal force and the band are sampled
 DEFAULT_CHUNK_POINTS = 256  # points per block (Zarr chunk)
 DEFAULT_TASK_POINTS = 8  # points per compiled call
+MAX_CHUNK_POINTS = 1_000_000  # a block is held in memory and is what an interruption loses
+MAX_WORKERS = 1024  # local threads; beyond the number of cores they only share them
+# each thread holds every sample of its current point: 16 floats, 128 MB at this bound
+MAX_SAMPLES_PER_POINT = 1_000_000
+SCHEDULER_TIMEOUT_SECONDS = 10.0  # to connect to a dask scheduler, before anything is created
 
 Progress = Callable[[int, int], None]  # (points written now, failures among them)
 
 
-def _axes(value: Mapping[str, Iterable[float]] | Sequence[Axis] | None) -> tuple[Axis, ...]:
+AxesInput = Mapping[str, Iterable[float]] | Sequence[Axis | AxisSpec] | None
+
+
+def _axes(value: AxesInput) -> tuple[Axis | AxisSpec, ...]:
     if value is None:
         return ()
     if isinstance(value, Mapping):
         return tuple(Axis(str(name), tuple(values)) for name, values in value.items())
     return tuple(value)
+
+
+def _count(axis: Axis | AxisSpec) -> int:
+    return axis.count if isinstance(axis, AxisSpec) else len(axis.values)
+
+
+def _made(axis: Axis | AxisSpec) -> Axis:
+    return axis.axis() if isinstance(axis, AxisSpec) else axis
+
+
+def _samples_per_second(value: float, t_end: float) -> float:
+    """The sample density [1/s]: positive, finite, at most ``MAX_SAMPLES_PER_POINT``
+    samples in ``t_end``."""
+    allowed = "a number > 0 1/s"
+    try:
+        rate = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError("samples_per_second", value, allowed) from None
+    if not (math.isfinite(rate) and rate > 0.0):
+        raise ParameterError("samples_per_second", value, allowed)
+    if t_end * rate + 1 > MAX_SAMPLES_PER_POINT:
+        raise ParameterError(
+            "samples_per_second",
+            value,
+            f"at most {MAX_SAMPLES_PER_POINT} samples per point",
+            f"t_end = {t_end:g} s gives {t_end * rate:.3g}; lower --samples-per-second or --t-end",
+        )
+    return rate
+
+
+def _check_as(schema_name: str, name: str, value: float) -> float:
+    """``schema.check`` of ``schema_name``, the error naming ``name`` as the user spells it."""
+    try:
+        return schema.check(schema_name, value)
+    except ParameterError as error:
+        raise ParameterError(name, value, error.allowed, error.hint) from None
 
 
 def _shape_extras(body: Body) -> dict[str, object]:
@@ -70,7 +121,8 @@ class Sweep:
 
     Parameters
     ----------
-    vary : name -> values, one grid axis each (dimension order as given)
+    vary : name -> values, one grid axis each (dimension order as given), or a
+        sequence of :class:`Axis` or :class:`AxisSpec`
     points : name -> values, all of one length: a list of points (dimension ``point``);
         give ``vary`` or ``points``, not both
     body : a :class:`Body`, a shipped body name or a TOML path
@@ -87,15 +139,21 @@ class Sweep:
         ``analysis.reversal_bands``: 4 % of each point's initial |spin| (as
         ``celtstone reproduce``), at least 0.01 rad/s
     max_steps : step limit of each run
+    force : accept a sweep beyond ``budget.POINT_LIMIT`` points or
+        ``budget.STORE_LIMIT_BYTES`` (never beyond ``budget.HARD_POINT_LIMIT``)
+    progress : called with (objects built, objects to build) while the points are
+        validated
 
-    Every point is validated here, before anything is computed.
+    The settings and the size (from the number of values alone, ``vary`` may hold
+    unspaced :class:`AxisSpec`) are checked first, then every point is validated,
+    before anything is computed; ``estimate`` holds the size and expected CPU time.
     """
 
     def __init__(
         self,
-        vary: Mapping[str, Iterable[float]] | Sequence[Axis] | None = None,
+        vary: AxesInput = None,
         *,
-        points: Mapping[str, Iterable[float]] | Sequence[Axis] | None = None,
+        points: AxesInput = None,
         body: Body | str | Path = "kane_levinson_1982",
         model: str = "sliding",
         fixed: Mapping[str, float | str] | None = None,
@@ -106,22 +164,38 @@ class Sweep:
         samples_per_second: float = SAMPLES_PER_SECOND,
         reversal_threshold: float | None = None,
         max_steps: int = 20_000_000,
+        force: bool = False,
+        progress: Callable[[int, int], None] | None = None,
     ) -> None:
-        self.axes = _axes(vary)
-        self.point_axes = _axes(points)
-        if self.axes and self.point_axes:
-            raise ParameterError("points", "given with vary", "either a grid or a list of points")
-        names = [a.name for a in self.axes + self.point_axes]
-        duplicates = sorted({n for n in names if names.count(n) > 1})
-        if duplicates:
-            raise ParameterError("vary", duplicates[0], "each parameter varied once")
-        if self.point_axes:
-            lengths = {len(a.values) for a in self.point_axes}
-            if len(lengths) != 1:
-                raise ParameterError("points", sorted(lengths), "columns of one length")
+        # settings first, then the size from the counts alone, then the points
         if model not in MODELS:
             raise ParameterError("model", model, "one of: " + ", ".join(MODELS))
         self.model_name = model
+        self.t_end = schema.check("t_end", t_end)
+        self.rtol = schema.check("rtol", rtol)
+        self.atol = schema.check("atol", atol)
+        self.max_steps = int(schema.check("max_steps", max_steps))
+        self.samples_per_second = _samples_per_second(samples_per_second, self.t_end)
+        self.reversal_threshold = (
+            None
+            if reversal_threshold is None
+            else _check_as("reversal_band", "reversal_threshold", reversal_threshold)
+        )
+        self.fixed = dict(fixed or {})
+        grid, listed = _axes(vary), _axes(points)
+        self.estimate = self._check_axes(grid, listed, force)
+        self.axes = tuple(_made(axis) for axis in grid)
+        self.point_axes = tuple(_made(axis) for axis in listed)
+        for axis in self.axes:
+            values, counts = np.unique(axis.values, return_counts=True)
+            if counts.max() > 1:
+                value, times = values[np.argmax(counts)], counts.max()
+                raise ParameterError(
+                    axis.name,
+                    float(value),
+                    "each value of a grid axis once",
+                    f"it is {times} times",
+                )
         self.base_body = body if isinstance(body, Body) else load_body(body)
         if isinstance(self.base_body.shape, ImplicitFunction):
             raise ParameterError(
@@ -132,25 +206,36 @@ class Sweep:
                 "a Python function's compiled callback lives in this process only; "
                 "give the shape as an implicit polynomial to sweep it",
             )
-        self.t_end = schema.check("t_end", t_end)
-        self.rtol = schema.check("rtol", rtol)
-        self.atol = schema.check("atol", atol)
-        self.max_steps = int(schema.check("max_steps", max_steps))
-        if not (samples_per_second > 0 and np.isfinite(samples_per_second)):
-            raise ParameterError("samples_per_second", samples_per_second, "a number > 0 1/s")
-        self.samples_per_second = float(samples_per_second)
-        if reversal_threshold is not None and not (
-            reversal_threshold > 0 and np.isfinite(reversal_threshold)
-        ):
-            raise ParameterError("reversal_threshold", reversal_threshold, "a number > 0 rad/s")
-        self.reversal_threshold = None if reversal_threshold is None else float(reversal_threshold)
-        self.fixed = dict(fixed or {})
-        self.builder = PointBuilder(self.base_body, model, self.fixed, self._columns())
+        self.builder = PointBuilder(
+            self.base_body, model, self.fixed, self._columns(), progress=progress
+        )
         self.method = method if method is not None else self.builder.model.default_method
         if self.method not in solvers.METHODS:
             raise ParameterError("method", self.method, "one of: " + ", ".join(solvers.METHODS))
         count = max(2, round(self.t_end * self.samples_per_second) + 1)
         self.sample_times = np.linspace(0.0, self.t_end, count)
+
+    def _check_axes(
+        self,
+        grid: tuple[Axis | AxisSpec, ...],
+        listed: tuple[Axis | AxisSpec, ...],
+        force: bool,
+    ) -> budget.Estimate:
+        """Names and counts of the axes, and the sweep's size within ``budget``."""
+        if grid and listed:
+            raise ParameterError("points", "given with vary", "either a grid or a list of points")
+        names = [axis.name for axis in grid + listed]
+        duplicates = sorted({n for n in names if names.count(n) > 1})
+        if duplicates:
+            raise ParameterError("vary", duplicates[0], "each parameter varied once")
+        if listed:
+            lengths = {_count(axis) for axis in listed}
+            if len(lengths) != 1:
+                raise ParameterError("points", sorted(lengths), "columns of one length")
+            counts = {"points": lengths.pop()}
+        else:
+            counts = {axis.name: _count(axis) for axis in grid}
+        return budget.check_size(counts, t_end=self.t_end, model=self.model_name, force=force)
 
     # ----------------------------------------------------------------- shape
 
@@ -292,9 +377,15 @@ class Sweep:
         overwrite : replace an existing ``out``
         scheduler : address of a dask.distributed scheduler ("tcp://HOST:PORT");
             None runs on threads of this process
-        workers : number of local threads (default: every core)
-        chunk_points : points per block, the unit of writing and resuming
+        workers : number of local threads, 1 to ``MAX_WORKERS`` (default: every core);
+            not with ``scheduler``
+        chunk_points : points per block, the unit of writing and resuming, 1 to
+            ``MAX_CHUNK_POINTS``
         task_points : points per compiled call
+
+        Every option is checked and the scheduler connected (within
+        ``SCHEDULER_TIMEOUT_SECONDS``) before the store is created: a refused run
+        leaves nothing at ``out``.
         progress : called with (points written, failures among them) after each block
         on_start : called once with (points already done, points in all)
 
@@ -305,46 +396,40 @@ class Sweep:
             Ctrl-C (KeyboardInterrupt) stops after the blocks already written; the
             store can then be resumed.
         """
-        if int(chunk_points) < 1 or int(task_points) < 1:
-            raise ParameterError("chunk_points", chunk_points, "whole numbers >= 1")
-        layout = Layout.for_shape(self.dims, self.shape, int(chunk_points))
+        # every option is checked, and a cluster connected, before a store is created
+        chunk_points, threads = check_run_options(scheduler, workers, chunk_points)
+        task_points = _whole("task_points", task_points, MAX_CHUNK_POINTS)
+        if resume and out is None:
+            raise ParameterError("resume", True, "a store to resume (out)")
+        layout = Layout.for_shape(self.dims, self.shape, chunk_points)
         attrs = self.attrs(chunk_points)
+        target = None if out is None else Path(out)
         store: SweepStore | None = None
-        memory: dict[str, np.ndarray] = {}
-        if out is not None:
-            target = Path(out)
-            if resume and target.exists():
-                store = SweepStore.open(target, expected_spec=attrs["sweep_spec"])
-            else:
+        if target is not None and resume and target.exists():
+            store = SweepStore.open(target, expected_spec=attrs["sweep_spec"])
+        pool: _Pool = _DaskPool(scheduler) if scheduler is not None else _ThreadPool(threads)
+        try:
+            if target is not None and store is None:
                 store = SweepStore.create(
                     target, layout, self._coords(), attrs, overwrite=overwrite
                 )
-            done = store.done_blocks()
-        else:
-            if resume:
-                raise ParameterError("resume", True, "a store to resume (out)")
-            done = set()
-            for name, (dtype, fill, _, _) in RESULT_FIELDS.items():
-                memory[name] = np.full(layout.size, fill, dtype=object if dtype == "str" else dtype)
-        blocks = [b for b in layout.blocks() if b[0] not in done]
-        if on_start is not None:
-            on_start(layout.size - sum(end - first for first, end, _ in blocks), layout.size)
+            memory = {} if store is not None else _empty_results(layout.size)
+            done = store.done_blocks() if store is not None else set()
+            blocks = [b for b in layout.blocks() if b[0] not in done]
+            if on_start is not None:
+                on_start(layout.size - sum(end - first for first, end, _ in blocks), layout.size)
 
-        def write(first: int, end: int, region: tuple[slice, ...], raw: np.ndarray) -> None:
-            fields = _fields(raw)
-            if store is not None:
-                store.write_block(region, fields)
-            else:
-                for name, values in fields.items():
-                    memory[name][first:end] = values
-            if progress is not None:
-                progress(end - first, int(np.sum(fields["status"] != "success")))
+            def write(first: int, end: int, region: tuple[slice, ...], raw: np.ndarray) -> None:
+                fields = _fields(raw)
+                if store is not None:
+                    store.write_block(region, fields)
+                else:
+                    for name, values in fields.items():
+                        memory[name][first:end] = values
+                if progress is not None:
+                    progress(end - first, int(np.sum(fields["status"] != "success")))
 
-        pool: _Pool = (
-            _DaskPool(scheduler) if scheduler is not None else _ThreadPool(workers or _cores())
-        )
-        try:
-            self._execute(blocks, int(task_points), pool, write)
+            self._execute(blocks, task_points, pool, write)
         finally:
             pool.close()
         if store is not None:
@@ -422,6 +507,58 @@ class Sweep:
         )
 
 
+def _whole(name: str, value: object, largest: int) -> int:
+    """``value`` as a whole number from 1 to ``largest``."""
+    allowed = f"a whole number from 1 to {largest}"
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise ParameterError(name, value, allowed)
+    if not (math.isfinite(value) and value == int(value) and 1 <= value <= largest):
+        raise ParameterError(name, value, allowed)
+    return int(value)
+
+
+def check_run_options(
+    scheduler: str | None, workers: int | None, chunk_points: int = DEFAULT_CHUNK_POINTS
+) -> tuple[int, int]:
+    """Check the options of :meth:`Sweep.run` that need no sweep; return the points per
+    block and the number of local threads (0 with a scheduler, whose workers run the
+    points). Nothing is connected or created.
+
+    Raises
+    ------
+    ParameterError
+        for ``workers`` outside 1..``MAX_WORKERS`` or given with a scheduler, and
+        ``chunk_points`` outside 1..``MAX_CHUNK_POINTS``.
+    """
+    return _whole("chunk_points", chunk_points, MAX_CHUNK_POINTS), _threads(scheduler, workers)
+
+
+def _threads(scheduler: str | None, workers: int | None) -> int:
+    """Local threads to run on: ``workers``, or every core; none with a scheduler."""
+    if scheduler is not None:
+        if workers is not None:
+            raise ParameterError(
+                "workers",
+                workers,
+                "no value with --scheduler",
+                "the cluster's workers run the points; --workers sets local threads",
+            )
+        if not isinstance(scheduler, str) or not scheduler.strip():
+            raise ParameterError("scheduler", scheduler, "an address tcp://HOST:PORT")
+        return 0
+    if workers is None:
+        return min(_cores(), MAX_WORKERS)
+    return _whole("workers", workers, MAX_WORKERS)
+
+
+def _empty_results(size: int) -> dict[str, np.ndarray]:
+    """Every result field of ``size`` points, holding its fill value."""
+    return {
+        name: np.full(size, fill, dtype=object if dtype == "str" else dtype)
+        for name, (dtype, fill, _, _) in RESULT_FIELDS.items()
+    }
+
+
 def _fields(raw: np.ndarray) -> dict[str, np.ndarray]:
     """Result fields by name from the batch driver's columns."""
     codes = raw[:, batch.F_STATUS].astype(int)
@@ -480,12 +617,17 @@ class _ThreadPool(_Pool):
         self.slots = threads
         self._tasks: queue.Queue[tuple[int, tuple, dict] | None] = queue.Queue()
         self._done: queue.Queue[tuple[int, np.ndarray | BaseException]] = queue.Queue()
-        self._threads = [
-            threading.Thread(target=self._work, name=f"celtstone-sweep-{k}", daemon=True)
-            for k in range(threads)
-        ]
-        for thread in self._threads:
-            thread.start()
+        self._threads: list[threading.Thread] = []
+        for k in range(threads):
+            thread = threading.Thread(target=self._work, name=f"celtstone-sweep-{k}", daemon=True)
+            try:
+                thread.start()
+            except RuntimeError as error:  # the system's thread limit
+                self.close()
+                raise ParameterError(
+                    "workers", threads, f"at most {k} threads on this system", str(error)
+                ) from None
+            self._threads.append(thread)
 
     def _work(self) -> None:
         while True:
@@ -530,10 +672,14 @@ class _DaskPool(_Pool):
         except ImportError as error:  # pragma: no cover - pinned dependency
             raise CeltstoneError(f"dask.distributed is not installed: {error}") from None
         try:
-            self._client = Client(address, timeout="20s")
-        except (OSError, TimeoutError, ValueError) as error:
+            self._client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_SECONDS:g}s")
+        except (OSError, TimeoutError, ValueError, TypeError) as error:
             raise ParameterError(
-                "scheduler", address, "the address of a running dask scheduler", str(error)
+                "scheduler",
+                address,
+                "the address tcp://HOST:PORT of a running dask scheduler, "
+                f"answering within {SCHEDULER_TIMEOUT_SECONDS:g} s",
+                str(error),
             ) from None
         self.slots = max(1, sum(self._client.nthreads().values()))
         self._completed = as_completed()

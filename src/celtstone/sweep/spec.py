@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -30,6 +30,7 @@ from celtstone.models import (
     kernel_parameters,
     model_from_name,
 )
+from celtstone.sweep import budget
 
 __all__ = [
     "BODY",
@@ -37,9 +38,11 @@ __all__ = [
     "PARAMETERS",
     "STATE",
     "Axis",
+    "AxisSpec",
     "PointBuilder",
     "check_name",
     "parse_axis",
+    "parse_axis_spec",
 ]
 
 BODY = "body"
@@ -118,6 +121,7 @@ CHOICES: dict[str, tuple[str, ...]] = {
     "contact_pressure": tuple(CONTACT_PRESSURES),
 }
 _CONFLICTS = (("spin", "omega3"), ("misalignment_angle", "inertia_12"))
+VALIDATION_PROGRESS_EVERY = 1000  # objects built between two progress reports
 
 
 def check_name(name: str) -> SweepParameter:
@@ -159,8 +163,60 @@ def _float(name: str, text: str) -> float:
         raise ParameterError(name, text, "a number") from None
 
 
-def parse_axis(text: str) -> Axis:
-    """Parse ``name=start:stop:count`` (evenly spaced, ends included) or ``name=v1,v2,...``."""
+def _count(name: str, text: str) -> int:
+    """The COUNT of START:STOP:COUNT: a whole number, at most ``HARD_POINT_LIMIT``,
+    read without making anything of that size."""
+    allowed = f"a whole number from 1 to {budget.HARD_POINT_LIMIT}"
+    try:
+        count = int(text)
+    except ValueError:
+        value = _float(f"{name} count", text)
+        if not (math.isfinite(value) and value == int(value)):
+            raise ParameterError(f"{name} count", text, allowed) from None
+        count = int(value)
+    if not 1 <= count <= budget.HARD_POINT_LIMIT:
+        raise ParameterError(f"{name} count", text, allowed)
+    return count
+
+
+def _spaced(name: str, start: float, stop: float, count: int) -> tuple[float, ...]:
+    """``count`` evenly spaced values from ``start`` to ``stop``, ends included."""
+    if count == 1:
+        return (start,)
+    try:
+        with np.errstate(all="raise"):
+            values = np.linspace(start, stop, count)
+    except FloatingPointError:
+        raise ParameterError(
+            name, f"{start:g}:{stop:g}:{count}", "START and STOP less than 1e308 apart"
+        ) from None
+    return tuple(values.tolist())
+
+
+@dataclass(frozen=True)
+class AxisSpec:
+    """A grid axis as written, its values not made yet: its name and count are known
+    cheaply, so a sweep is sized (``budget``) before it is built.
+
+    Either ``listed`` holds the values, or ``count`` values run from ``start`` to
+    ``stop`` (ends included).
+    """
+
+    name: str
+    count: int
+    start: float = 0.0
+    stop: float = 0.0
+    listed: tuple[float, ...] | None = None
+
+    def axis(self) -> Axis:
+        """The axis with its values."""
+        if self.listed is not None:
+            return Axis(self.name, self.listed)
+        return Axis(self.name, _spaced(self.name, self.start, self.stop, self.count))
+
+
+def parse_axis_spec(text: str) -> AxisSpec:
+    """Parse ``name=start:stop:count`` or ``name=v1,v2,...`` without spacing the values."""
     name, sep, rest = text.partition("=")
     name = name.strip().replace("-", "_")
     if not sep or not rest.strip():
@@ -173,13 +229,16 @@ def parse_axis(text: str) -> Axis:
         if len(parts) != 3:
             raise ParameterError(name, rest, "START:STOP:COUNT, e.g. 0.02:0.5:64")
         start, stop = _float(name, parts[0]), _float(name, parts[1])
-        count_value = _float(name, parts[2])
-        if count_value != int(count_value) or count_value < 1:
-            raise ParameterError(f"{name} count", parts[2], "a whole number >= 1")
-        count = int(count_value)
-        values = np.linspace(start, stop, count) if count > 1 else np.array([start])
-        return Axis(name, tuple(values.tolist()))
-    return Axis(name, tuple(_float(name, part) for part in rest.split(",")))
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise ParameterError(name, rest, "a finite START and STOP")
+        return AxisSpec(name, _count(name, parts[2].strip()), start, stop)
+    values = tuple(_float(name, part) for part in rest.split(","))
+    return AxisSpec(name, len(values), listed=values)
+
+
+def parse_axis(text: str) -> Axis:
+    """Parse ``name=start:stop:count`` (evenly spaced, ends included) or ``name=v1,v2,...``."""
+    return parse_axis_spec(text).axis()
 
 
 def parse_setting(text: str) -> tuple[str, float | str]:
@@ -299,6 +358,7 @@ class PointBuilder:
     model_name : "rolling" or "sliding"
     fixed : parameter name -> value for the whole sweep (the ``CHOICES`` take strings)
     columns : name -> values of every point, shape (n_points,) each
+    progress : called with (objects built, objects to build) while validating
     """
 
     def __init__(
@@ -307,6 +367,7 @@ class PointBuilder:
         model_name: str,
         fixed: Mapping[str, float | str],
         columns: Mapping[str, np.ndarray],
+        progress: Callable[[int, int], None] | None = None,
     ) -> None:
         settings = dict(fixed)
         choices = {name: str(settings.pop(name)) for name in CHOICES if name in settings}
@@ -343,7 +404,7 @@ class PointBuilder:
         self._params: dict[tuple[tuple[float, ...], tuple[float, ...]], np.ndarray] = {}
         self._states: dict[tuple[float, ...], np.ndarray] = {}
         # every point checked here; the first point's body and model describe the sweep
-        self.validate()
+        self.validate(progress)
         body_key, model_key, _ = self._keys(0)
         self.model = self._model(model_key)
         self.body = self._body(body_key)
@@ -379,22 +440,80 @@ class PointBuilder:
         """The varied values of point ``index``."""
         return {name: float(values[index]) for name, values in self.columns.items()}
 
-    def validate(self) -> None:
-        """Build every distinct body, model and state once; the first bad one raises."""
-        for index in range(self.n_points):
-            body_key, model_key, state_key = self._keys(index)
-            try:
-                self._body(body_key)
-                self._model(model_key)
-                self._state(state_key)
-            except CeltstoneError as error:
-                where = ", ".join(f"{k}={v:g}" for k, v in self.point(index).items())
-                if isinstance(error, ParameterError):
-                    hint = f"at sweep point {index} ({where})"
-                    if error.hint:
-                        hint = f"{error.hint}; {hint}"
-                    raise ParameterError(error.name, error.value, error.allowed, hint) from None
-                raise
+    def _distinct(self, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+        """The distinct value rows of the columns ``names``, shape (m, k), and the first
+        point of each, shape (m,), in the order the points first show them.
+
+        Vectorised (a lexicographic sort), so a grid of a million points with a few
+        thousand distinct values per group costs a fraction of a second.
+        """
+        if not names:
+            return np.empty((1, 0)), np.zeros(1, dtype=np.intp)
+        table = np.column_stack([self.columns[name] for name in names])
+        order = np.lexsort(table.T[::-1])
+        ordered = table[order]
+        starts = np.ones(len(order), dtype=bool)
+        starts[1:] = np.any(ordered[1:] != ordered[:-1], axis=1)
+        first = np.sort(np.minimum.reduceat(order, np.flatnonzero(starts)))
+        return table[first], first
+
+    def _stages(self) -> list[tuple[list[str], Callable[[tuple[float, ...]], object]]]:
+        """What is built to validate the points: the columns each stage depends on and
+        the function building one distinct row of them."""
+        n_body = len(self._groups[BODY])
+        return [
+            (self._groups[BODY], self._body),
+            (self._groups[MODEL], self._model),
+            (self._groups[STATE], self._state),
+            (  # a body and a model are also checked together
+                self._groups[BODY] + self._groups[MODEL],
+                lambda row: self._parameters(row[:n_body], row[n_body:]),
+            ),
+        ]
+
+    def validate(self, progress: Callable[[int, int], None] | None = None) -> None:
+        """Build every distinct body, model, state and body-model pair once; raise the
+        error of the first point that fails, as a point-by-point check would.
+
+        ``progress`` is called with (objects built, objects to build) now and then.
+        """
+        stages = [(self._distinct(names), build) for names, build in self._stages()]
+        total = sum(len(first) for (_, first), _ in stages)
+        built = 0
+        failures: list[tuple[int, int, CeltstoneError]] = []
+        for rank, ((rows, first), build) in enumerate(stages):
+            for row, index in zip(rows, first, strict=True):
+                try:
+                    build(tuple(float(v) for v in row))
+                except CeltstoneError as error:
+                    failures.append((int(index), rank, error))  # the stage's first failure
+                    break
+                built += 1
+                if progress is not None and built % VALIDATION_PROGRESS_EVERY == 0:
+                    progress(built, total)
+        if progress is not None:
+            progress(total, total)
+        if failures:
+            index, _, first_error = min(failures, key=lambda failure: failure[:2])
+            raise self._at_point(index, first_error)
+
+    def _at_point(self, index: int, error: CeltstoneError) -> CeltstoneError:
+        """``error`` with the point it came from added to its hint."""
+        if not isinstance(error, ParameterError):
+            return error
+        where = ", ".join(f"{k}={v:g}" for k, v in self.point(index).items())
+        hint = f"at sweep point {index} ({where})"
+        if error.hint:
+            hint = f"{error.hint}; {hint}"
+        return ParameterError(error.name, error.value, error.allowed, hint)
+
+    def _parameters(self, body_key: tuple[float, ...], model_key: tuple[float, ...]) -> np.ndarray:
+        """Kernel parameters of a body and a model, which are checked together here
+        (``models.kernel_parameters``: a run of them must be able to mean something)."""
+        pair = (body_key, model_key)
+        if pair not in self._params:
+            self._params[pair] = kernel_parameters(self._model(model_key), self._body(body_key))
+        return self._params[pair]
 
     def arrays(self, indices: Sequence[int] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Kernel parameters (k, N_PARAMS) and initial states (k, N_STATE) of ``indices``."""
@@ -402,9 +521,6 @@ class PointBuilder:
         states = []
         for index in indices:
             body_key, model_key, state_key = self._keys(int(index))
-            pair = (body_key, model_key)
-            if pair not in self._params:
-                self._params[pair] = kernel_parameters(self._model(model_key), self._body(body_key))
-            params.append(self._params[pair])
+            params.append(self._parameters(body_key, model_key))
             states.append(self._state(state_key))
         return np.array(params), np.array(states)

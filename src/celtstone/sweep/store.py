@@ -15,6 +15,14 @@ Layout (Zarr v3, readable with ``xarray.open_zarr(path, consolidated=False)``):
 Zarr's local store writes every chunk and metadata document to a temporary file and
 renames it into place, and the skeleton is built in a temporary directory and renamed
 to the target: a store killed at any moment is never corrupt, only unfinished.
+
+An existing path is replaced (``overwrite``) only if it is a celtstone sweep store,
+recognised by its own group metadata (``zarr.json`` with ``format`` =
+``celtstone-sweep-1``); any other directory or file is refused and left as it is.
+The old store is moved aside, the new one moved in, then the old one deleted. The
+skeleton and the store moved aside are named ``.NAME.<pid>.<random>.part``, so
+that the next store made at the same path removes those of a killed process
+(``export.remove_stale_temporaries``).
 """
 
 from __future__ import annotations
@@ -22,8 +30,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import secrets
 import shutil
-import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,8 +42,16 @@ import xarray as xr
 import zarr
 
 from celtstone.errors import CeltstoneError, ParameterError
+from celtstone.export import make_temporary_directory, output_error
 
-__all__ = ["RESULT_FIELDS", "Layout", "SweepStore", "open_sweep"]
+__all__ = [
+    "RESULT_FIELDS",
+    "Layout",
+    "SweepStore",
+    "check_store_target",
+    "is_sweep_store",
+    "open_sweep",
+]
 
 # name: (dtype, fill value, unit, long name)
 RESULT_FIELDS: dict[str, tuple[str, Any, str, str]] = {
@@ -56,6 +72,65 @@ RESULT_FIELDS: dict[str, tuple[str, Any, str, str]] = {
 }
 MASK = "completed"
 FORMAT = "celtstone-sweep-1"
+_METADATA = "zarr.json"
+_METADATA_SIZE_LIMIT = 64 << 20  # bytes; a store's group metadata is far smaller
+
+
+def is_sweep_store(path: str | Path) -> bool:
+    """Whether ``path`` is a directory (not a link) holding a celtstone sweep store: its
+    group metadata ``zarr.json`` has the attribute ``format`` = ``celtstone-sweep-1``."""
+    target = Path(path)
+    if target.is_symlink() or not target.is_dir():
+        return False
+    metadata = target / _METADATA
+    try:
+        if not metadata.is_file() or metadata.stat().st_size > _METADATA_SIZE_LIMIT:
+            return False
+        document = json.loads(metadata.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    if not isinstance(document, dict) or document.get("node_type") != "group":
+        return False
+    attributes = document.get("attributes")
+    return isinstance(attributes, dict) and attributes.get("format") == FORMAT
+
+
+def check_store_target(path: str | Path, *, overwrite: bool = False, resume: bool = False) -> Path:
+    """``path`` as a Path if a sweep store may be made (or resumed) there.
+
+    Free paths are allowed; an existing one only with ``resume`` or ``overwrite``,
+    and then only if it is a celtstone sweep store (:func:`is_sweep_store`). Call it
+    before any computation; :meth:`SweepStore.create` checks again.
+
+    Raises
+    ------
+    ParameterError
+        naming ``out``: a directory that does not exist, or a path in use that may
+        not be replaced.
+    """
+    target = Path(path)
+    if str(path) == "":
+        raise ParameterError("out", str(path), "a path for the store", "the path is empty")
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise ParameterError("out", str(path), "a path in an existing directory")
+    if not os.path.lexists(target):
+        return target
+    if not (overwrite or resume):
+        raise ParameterError(
+            "out", str(path), "a path that does not exist yet", "use --resume or --overwrite"
+        )
+    if not is_sweep_store(target):
+        what = "a directory" if target.is_dir() else "a file"
+        raise ParameterError(
+            "out",
+            str(path),
+            "a new path, or an existing celtstone sweep store",
+            f"it is {what} but not a celtstone sweep store; "
+            + ("--overwrite" if overwrite else "--resume")
+            + " never touches anything else",
+        )
+    return target
 
 
 @dataclass(frozen=True)
@@ -114,6 +189,68 @@ def _array(group: zarr.Group, name: str) -> zarr.Array:
     return array
 
 
+def _build(
+    directory: Path,
+    layout: Layout,
+    coords: Mapping[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]],
+    attrs: Mapping[str, Any],
+) -> None:
+    """The empty store's arrays and attributes in ``directory``."""
+    group = zarr.open_group(directory, mode="w", zarr_format=3)
+    for name, (dims, values, var_attrs) in coords.items():
+        array = group.create_array(
+            name,
+            shape=values.shape,
+            chunks=values.shape,
+            dtype=values.dtype,
+            dimension_names=dims,
+            attributes=dict(var_attrs),
+        )
+        array[...] = values
+    for name, (dtype, fill, unit, long_name) in RESULT_FIELDS.items():
+        group.create_array(
+            name,
+            shape=layout.shape,
+            chunks=layout.chunks,
+            dtype=str if dtype == "str" else dtype,
+            fill_value=fill,
+            dimension_names=layout.dims,
+            attributes={"units": unit, "long_name": long_name}
+            if unit
+            else {"long_name": long_name},
+        )
+    group.create_array(
+        MASK,
+        shape=layout.shape,
+        chunks=layout.chunks,
+        dtype=bool,
+        fill_value=False,
+        dimension_names=layout.dims,
+        attributes={"long_name": "whether the point has been computed and written"},
+    )
+    group.attrs.update({**attrs, "format": FORMAT, "complete": False})
+
+
+def _move_into_place(temporary: Path, target: Path, overwrite: bool) -> None:
+    """Rename the new store to ``target``; an old store there is moved aside, then deleted."""
+    try:
+        if not os.path.lexists(target):
+            os.rename(temporary, target)
+            return
+        if not (overwrite and is_sweep_store(target)):  # it changed since the check
+            check_store_target(target, overwrite=overwrite)
+        aside = target.with_name(f".{target.name}.{os.getpid()}.{secrets.token_hex(4)}.part")
+        os.rename(target, aside)
+        try:
+            os.rename(temporary, target)
+        except OSError:
+            os.rename(aside, target)  # the old store back where it was
+            raise
+    except OSError as error:
+        raise output_error(target, error) from error
+    shutil.rmtree(aside, ignore_errors=True)
+
+
 class SweepStore:
     """An open sweep store (see the module docstring)."""
 
@@ -132,53 +269,26 @@ class SweepStore:
         *,
         overwrite: bool = False,
     ) -> SweepStore:
-        """Build the empty store in a temporary directory and move it to ``path``."""
-        target = Path(path)
-        parent = target.parent if str(target.parent) else Path(".")
-        if not parent.is_dir():
-            raise ParameterError("out", str(path), "a path in an existing directory")
-        if target.exists() and not overwrite:
-            raise ParameterError(
-                "out", str(path), "a path that does not exist yet", "use --resume or --overwrite"
-            )
-        temporary = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
+        """Build the empty store in a temporary directory and move it to ``path``.
+
+        With ``overwrite`` an existing celtstone sweep store at ``path`` is replaced;
+        anything else there is refused (:func:`check_store_target`).
+
+        Raises
+        ------
+        ParameterError
+            naming ``out`` (see :func:`check_store_target`).
+        OutputError
+            if the store cannot be written (disk full, ...): nothing is left behind.
+        """
+        target = check_store_target(path, overwrite=overwrite)
+        temporary = make_temporary_directory(target)
         try:
-            group = zarr.open_group(temporary, mode="w", zarr_format=3)
-            for name, (dims, values, var_attrs) in coords.items():
-                array = group.create_array(
-                    name,
-                    shape=values.shape,
-                    chunks=values.shape,
-                    dtype=values.dtype,
-                    dimension_names=dims,
-                    attributes=dict(var_attrs),
-                )
-                array[...] = values
-            for name, (dtype, fill, unit, long_name) in RESULT_FIELDS.items():
-                group.create_array(
-                    name,
-                    shape=layout.shape,
-                    chunks=layout.chunks,
-                    dtype=str if dtype == "str" else dtype,
-                    fill_value=fill,
-                    dimension_names=layout.dims,
-                    attributes={"units": unit, "long_name": long_name}
-                    if unit
-                    else {"long_name": long_name},
-                )
-            group.create_array(
-                MASK,
-                shape=layout.shape,
-                chunks=layout.chunks,
-                dtype=bool,
-                fill_value=False,
-                dimension_names=layout.dims,
-                attributes={"long_name": "whether the point has been computed and written"},
-            )
-            group.attrs.update({**attrs, "format": FORMAT, "complete": False})
-            if target.exists():
-                shutil.rmtree(target)
-            os.rename(temporary, target)
+            try:
+                _build(temporary, layout, coords, attrs)
+            except OSError as error:
+                raise output_error(target, error) from error
+            _move_into_place(temporary, target, overwrite)
         finally:
             shutil.rmtree(temporary, ignore_errors=True)
         return cls.open(target, expected_spec=attrs["sweep_spec"])
@@ -187,11 +297,14 @@ class SweepStore:
     def open(cls, path: str | Path, expected_spec: str | None = None) -> SweepStore:
         """Open an existing store for writing; ``expected_spec`` must equal its spec."""
         target = Path(path)
+        if not is_sweep_store(target):  # never opened for writing unless it is ours
+            what = "does not exist" if not os.path.lexists(target) else "is not one"
+            raise ParameterError("out", str(path), "a celtstone sweep store", f"it {what}")
         try:
             group = zarr.open_group(target, mode="r+", zarr_format=3)
             attrs = dict(group.attrs)
             mask = _array(group, MASK)
-        except (FileNotFoundError, KeyError, ValueError, zarr.errors.BaseZarrError) as error:
+        except (OSError, KeyError, ValueError, zarr.errors.BaseZarrError) as error:
             raise ParameterError(
                 "out", str(path), "a celtstone sweep store", f"cannot read it: {error}"
             ) from None
@@ -226,16 +339,22 @@ class SweepStore:
     def write_block(self, region: tuple[slice, ...], results: Mapping[str, np.ndarray]) -> None:
         """Write one block's results, then its mask."""
         shape = tuple(s.stop - s.start for s in region)
-        for name, values in _encode_results(results, shape).items():
-            _array(self.group, name)[region] = values
-        _array(self.group, MASK)[region] = np.ones(shape, dtype=bool)
+        try:
+            for name, values in _encode_results(results, shape).items():
+                _array(self.group, name)[region] = values
+            _array(self.group, MASK)[region] = np.ones(shape, dtype=bool)
+        except OSError as error:  # e.g. a full disk: the block stays unmarked, to resume
+            raise output_error(self.path, error) from error
 
     def mark_complete(self) -> None:
         """Set ``complete`` once every block's mask is set."""
         mask = np.asarray(_array(self.group, MASK)[...])
         if not mask.all():
             raise CeltstoneError(f"{self.path}: {int((~mask).sum())} points are not written yet")
-        self.group.attrs["complete"] = True
+        try:
+            self.group.attrs["complete"] = True
+        except OSError as error:
+            raise output_error(self.path, error) from error
 
 
 def open_sweep(path: str | Path, *, allow_incomplete: bool = False) -> xr.Dataset:

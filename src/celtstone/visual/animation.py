@@ -7,16 +7,25 @@ ffmpeg is needed. Files are written whole or not at all (``export.atomic_path``)
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import io
+import itertools
 import math
+import os
+import re
+import subprocess
+import tempfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from celtstone.errors import ParameterError
+from celtstone.errors import OutputError, ParameterError
 from celtstone.export import atomic_path, check_target
 from celtstone.visual import scene
 from celtstone.visual.frames import (
@@ -48,6 +57,7 @@ _BODY_COLOUR = np.array([0.56, 0.60, 0.70])
 _LIGHT = np.array([-0.35, -0.55, 1.0]) / np.linalg.norm([-0.35, -0.55, 1.0])
 _AMBIENT = 0.3
 _ELEVATION, _AZIMUTH = 24.0, -58.0  # camera [deg]
+_MP4_CRF = 25  # x264 quality: imageio's default (quality 5 of 10) in ffmpeg's terms
 
 
 @dataclass(frozen=True)
@@ -63,9 +73,10 @@ class VideoInfo:
     bytes: int
 
 
-def check_video_target(path: str | Path) -> Path:
-    """``path`` if it ends in .mp4 or .gif and its directory exists, else ParameterError."""
-    return check_target(path, VIDEO_FORMATS)
+def check_video_target(path: str | Path, *, overwrite: bool = False) -> Path:
+    """``path`` if it ends in .mp4 or .gif, its directory exists and it is not in use
+    (unless ``overwrite``; never a directory), else ParameterError."""
+    return check_target(path, VIDEO_FORMATS, overwrite=overwrite)
 
 
 class _Panel:
@@ -220,31 +231,145 @@ def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.n
         yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
 
 
-def _write(path: Path, suffix: str, frames: Iterator[np.ndarray], fps: float) -> None:
+def _write(
+    path: Path, suffix: str, frames: Iterator[np.ndarray], fps: float, *, overwrite: bool = False
+) -> None:
+    """Encode ``frames`` to ``path`` whole or not at all; a failure raises OutputError."""
+    with atomic_path(path, overwrite=overwrite) as temporary:
+        if suffix == ".mp4":
+            _write_mp4(temporary, path, frames, fps)
+        else:
+            _write_gif(temporary, frames, fps)
+
+
+def _write_gif(temporary: Path, frames: Iterator[np.ndarray], fps: float) -> None:
+    """Encode in memory, then write the bytes: a write error is one plain OSError (the
+    encoder never meets it, so nothing is left to fail again when it is collected)."""
     import imageio.v3 as iio
 
     opener: Any = iio.imopen  # plugin-specific keywords are beyond imageio's type stubs
-    with atomic_path(path) as temporary:
-        if suffix == ".mp4":
-            with opener(temporary, "w", extension=".mp4", plugin="FFMPEG") as file:
-                writer = file.legacy_get_writer(
-                    fps=fps,
-                    codec="libx264",
-                    pixelformat="yuv420p",
-                    macro_block_size=16,
-                    ffmpeg_log_level="error",
-                    output_params=["-f", "mp4"],
-                )
-                try:
-                    for frame in frames:
-                        writer.append_data(frame)
-                finally:
-                    writer.close()  # ffmpeg done before the temporary file is removed
-        else:
-            duration_ms = 1000.0 / fps
-            with opener(temporary, "w", extension=".gif", plugin="pillow") as file:
-                for frame in frames:
-                    file.write(frame, duration=duration_ms, loop=0, is_batch=False)
+    buffer = io.BytesIO()
+    duration_ms = 1000.0 / fps
+    with opener(buffer, "w", extension=".gif", plugin="pillow") as file:
+        for frame in frames:
+            file.write(frame, duration=duration_ms, loop=0, is_batch=False)
+    temporary.write_bytes(buffer.getvalue())
+
+
+def _ffmpeg_cause(log: bytes, status: int) -> str:
+    """Why ffmpeg failed, in a few words, from its error log."""
+    text = log.decode("utf-8", errors="replace")
+    if "No space left on device" in text:
+        return os.strerror(errno.ENOSPC)
+    lines = [line.strip() for line in text.splitlines() if line.strip()]
+    detail = lines[-1][:200] if lines else f"exit status {status}"
+    return f"ffmpeg failed: {detail}"
+
+
+def _write_mp4(temporary: Path, target: Path, frames: Iterator[np.ndarray], fps: float) -> None:
+    """H.264 (yuv420p) by the ffmpeg bundled with imageio-ffmpeg, checked before it is kept.
+
+    ffmpeg reports a failed write (e.g. "Error writing trailer: No space left on
+    device") only in its log and exit status: both are read, and the finished file
+    must read back with every frame, or :class:`OutputError` is raised.
+    """
+    import imageio_ffmpeg
+
+    first = next(frames)
+    height, width = first.shape[:2]
+    command = [
+        imageio_ffmpeg.get_ffmpeg_exe(),
+        "-nostdin",
+        "-y",
+        "-v",
+        "error",
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        "rgb24",
+        "-s",
+        f"{width}x{height}",
+        "-r",
+        str(Fraction(fps).limit_denominator()),
+        "-i",
+        "-",
+        "-an",
+        "-vcodec",
+        "libx264",
+        "-pix_fmt",
+        "yuv420p",
+        "-crf",
+        str(_MP4_CRF),
+        "-f",
+        "mp4",
+        str(temporary),
+    ]
+    count = 0
+    with tempfile.TemporaryFile() as log:
+        # its own session: Ctrl-C reaches celtstone, which stops ffmpeg below
+        process = subprocess.Popen(
+            command,
+            stdin=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            stderr=log,
+            start_new_session=True,
+        )
+        stdin = process.stdin
+        assert stdin is not None
+        try:
+            try:
+                for frame in itertools.chain([first], frames):
+                    stdin.write(np.ascontiguousarray(frame, dtype=np.uint8).tobytes())
+                    count += 1
+                stdin.close()
+            except BrokenPipeError:
+                pass  # ffmpeg stopped early: its status and log say why
+        except BaseException:
+            process.kill()  # interrupted or failed: no ffmpeg left writing the temporary
+            raise
+        finally:
+            with contextlib.suppress(OSError):  # data left in the pipe's buffer is dropped
+                stdin.close()
+            status = process.wait()
+        if status != 0:
+            log.seek(0)
+            raise OutputError(str(target), _ffmpeg_cause(log.read(), status))
+    frames_read = _count_frames(temporary)
+    if frames_read != count:
+        raise OutputError(
+            str(target),
+            f"the encoded video reads back with {frames_read} of its {count} frames",
+        )
+
+
+def _count_frames(path: Path) -> int:
+    """Frames of the first video stream of ``path``, read by ffmpeg without decoding;
+    -1 if ffmpeg cannot read the file."""
+    import imageio_ffmpeg
+
+    command = [
+        imageio_ffmpeg.get_ffmpeg_exe(),
+        "-nostdin",
+        "-v",
+        "error",
+        "-nostats",
+        "-i",
+        str(path),
+        "-map",
+        "0:v:0",
+        "-c",
+        "copy",
+        "-f",
+        "null",
+        "-progress",
+        "pipe:1",
+        "-",
+    ]
+    result = subprocess.run(command, capture_output=True, check=False)
+    counts = re.findall(rb"^frame=(\d+)", result.stdout, flags=re.MULTILINE)
+    if result.returncode != 0 or not counts:
+        return -1
+    return int(counts[-1])
 
 
 def animate_comparison(
@@ -255,6 +380,7 @@ def animate_comparison(
     speed: float = 1.0,
     fps: float | None = None,
     size: tuple[int, int] | None = None,
+    overwrite: bool = False,
 ) -> VideoInfo:
     """Animate runs side by side on a common clock (e.g. rolling beside sliding, Figure 2).
 
@@ -268,6 +394,8 @@ def animate_comparison(
         (0, 20] for gif (default 20; rounded down to a whole-centisecond delay)
     size : (width, height) [px] of the whole video; default 768 × 576 for one run
         (480 × 360 for gif), 640 (400) px wide per panel for several
+    overwrite : replace ``path`` if it is a file (never a directory); without it an
+        existing ``path`` is refused before any frame is drawn
 
     Returns
     -------
@@ -279,7 +407,7 @@ def animate_comparison(
     The clock runs over the shortest run; each panel shows its sample nearest to
     the frame's time.
     """
-    target = check_video_target(path)
+    target = check_video_target(path, overwrite=overwrite)
     suffix = target.suffix.lower()
     if len(datasets) == 0 or len(datasets) != len(labels):
         raise ParameterError("labels", list(labels), "one label per dataset, at least one")
@@ -308,7 +436,7 @@ def animate_comparison(
         for i, (ds, label) in enumerate(zip(runs, labels, strict=True))
     ]
     FigureCanvasAgg(figure)
-    _write(target, suffix, _frames(figure, panels, plan), plan.fps)
+    _write(target, suffix, _frames(figure, panels, plan), plan.fps, overwrite=overwrite)
     return VideoInfo(
         path=target,
         frames=plan.count,
@@ -334,6 +462,7 @@ def animate(
     fps: float | None = None,
     size: tuple[int, int] | None = None,
     label: str | None = None,
+    overwrite: bool = False,
 ) -> VideoInfo:
     """Animate one run in 3-D: shaded body, plane, contact track and read-out.
 
@@ -341,4 +470,6 @@ def animate(
     model and body of the run.
     """
     title = label if label is not None else default_label(dataset)
-    return animate_comparison([dataset], [title], path, speed=speed, fps=fps, size=size)
+    return animate_comparison(
+        [dataset], [title], path, speed=speed, fps=fps, size=size, overwrite=overwrite
+    )

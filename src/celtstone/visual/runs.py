@@ -7,6 +7,7 @@ from pathlib import Path
 import xarray as xr
 
 from celtstone.errors import ParameterError
+from celtstone.export import MIN_SAMPLES, read_run
 
 __all__ = ["REQUIRED_VARIABLES", "check_run", "default_label", "load_run"]
 
@@ -33,22 +34,19 @@ def check_run(dataset: xr.Dataset, name: str = "run") -> xr.Dataset:
         raise ParameterError(
             name, dataset.attrs.get("title", "dataset"), _ALLOWED, f"it lacks {', '.join(missing)}"
         )
-    if dataset.sizes.get("time", 0) < 1:
-        raise ParameterError(name, dataset.attrs.get("title", "dataset"), "a run with samples")
+    if dataset.sizes.get("time", 0) < MIN_SAMPLES:
+        raise ParameterError(
+            name,
+            dataset.attrs.get("title", "dataset"),
+            f"a run with at least {MIN_SAMPLES} samples",
+        )
     return dataset
 
 
 def load_run(path: str | Path) -> xr.Dataset:
-    """The run saved at ``path`` (NetCDF), loaded into memory and checked."""
-    source = Path(path)
-    if not source.is_file():
-        raise ParameterError("run", str(path), _ALLOWED, "no such file")
-    try:
-        with xr.open_dataset(source) as opened:
-            dataset = opened.load()
-    except (OSError, ValueError) as error:
-        raise ParameterError("run", str(path), _ALLOWED, f"cannot read it: {error}") from None
-    return check_run(dataset)
+    """The run saved at ``path`` (NetCDF), loaded into memory (``export.read_run``) and
+    checked for what drawing needs."""
+    return check_run(read_run(path))
 
 
 def default_label(dataset: xr.Dataset) -> str:

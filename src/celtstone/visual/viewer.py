@@ -53,9 +53,10 @@ class PageInfo:
     bytes: int
 
 
-def check_page_target(path: str | Path) -> Path:
-    """``path`` if it ends in .html and its directory exists, else ParameterError."""
-    return check_target(path, (".html", ".htm"))
+def check_page_target(path: str | Path, *, overwrite: bool = False) -> Path:
+    """``path`` if it ends in .html, its directory exists and it is not in use (unless
+    ``overwrite``; never a directory), else ParameterError."""
+    return check_target(path, (".html", ".htm"), overwrite=overwrite)
 
 
 class _Numbers:
@@ -144,15 +145,27 @@ def render_page(dataset: xr.Dataset, label: str | None = None) -> tuple[str, dic
     data = page_data(dataset, label)
     # JSON escapes for <, >, &: the data can never end or open an element early
     payload = _dumps(data).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
-    page = _template().replace(_DATA_MARK, payload).replace(_TITLE_MARK, html.escape(data["label"]))
+    # split the template at its markers first and fill in the pieces: neither the title
+    # nor the data is ever searched for a marker, so no value can be read as template
+    before, mark, after = _template().partition(_DATA_MARK)
+    if not mark or _DATA_MARK in after:
+        raise RuntimeError("the viewer template must hold the data marker exactly once")
+    title = html.escape(data["label"])
+    page = before.replace(_TITLE_MARK, title) + payload + after.replace(_TITLE_MARK, title)
     return page, data
 
 
-def write_viewer(dataset: xr.Dataset, path: str | Path, *, label: str | None = None) -> PageInfo:
-    """Write the interactive page of a run to ``path`` (.html), whole or not at all."""
-    target = check_page_target(path)
+def write_viewer(
+    dataset: xr.Dataset, path: str | Path, *, label: str | None = None, overwrite: bool = False
+) -> PageInfo:
+    """Write the interactive page of a run to ``path`` (.html), whole or not at all.
+
+    An existing ``path`` is refused unless ``overwrite`` (a directory always is); a
+    failed write raises ``OutputError`` and leaves nothing behind.
+    """
+    target = check_page_target(path, overwrite=overwrite)
     page, data = render_page(dataset, label)
-    with atomic_path(target) as temporary:
+    with atomic_path(target, overwrite=overwrite) as temporary:
         temporary.write_text(page, encoding="utf-8")
     return PageInfo(
         path=target,
