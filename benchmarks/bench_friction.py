@@ -21,15 +21,14 @@ from celtstone.kernels import layout
 from celtstone.kernels.friction import contact_friction
 
 CASES = {
-    "pade, hertz": (layout.FRICTION_PADE, layout.PRESSURE_HERTZ),
-    "exact, hertz": (layout.FRICTION_EXACT, layout.PRESSURE_HERTZ),
-    "pade, uniform": (layout.FRICTION_PADE, layout.PRESSURE_UNIFORM),
-    "exact, uniform": (layout.FRICTION_EXACT, layout.PRESSURE_UNIFORM),
+    f"{law.name.lower()}, {pressure.name.lower()}": (law.value, pressure.value)
+    for pressure in layout.ContactPressure
+    for law in layout.FrictionLaw
 }
 
 
 @njit(cache=True)
-def _sweep(slips: np.ndarray, spins: np.ndarray, law: float, pressure: float) -> float:
+def _sweep(slips: np.ndarray, spins: np.ndarray, law: int, pressure: int) -> float:
     total = 0.0
     for i in range(spins.size):
         slip = (slips[i, 0], slips[i, 1], slips[i, 2])
@@ -47,11 +46,11 @@ def main(count: int = 2_000_000, repeats: int = 5) -> None:
     slips = directions * (u * 1e-3 * np.abs(spins))[:, None]
     results = {}
     for name, (law, pressure) in CASES.items():
-        _sweep(slips[:10], spins[:10], float(law), float(pressure))  # compile
+        _sweep(slips[:10], spins[:10], int(law), int(pressure))  # compile
         best = np.inf
         for _ in range(repeats):
             start = time.perf_counter()
-            _sweep(slips, spins, float(law), float(pressure))
+            _sweep(slips, spins, int(law), int(pressure))
             best = min(best, time.perf_counter() - start)
         results[name] = best / count * 1e9
     base = results["pade, hertz"]

@@ -29,6 +29,9 @@ SUMMARY_KEYS = {
     "body",
     "t_end",
     "first_reversal_time",
+    "reversal_times",
+    "reversal_band",
+    "first_sign_change_time",
     "spin_zero_crossings",
     "spin_initial",
     "spin_final",
@@ -119,6 +122,29 @@ def test_json_has_every_key(upright: Result, reversing: Result) -> None:
         assert set(result.json()) >= SUMMARY_KEYS
 
 
+def test_first_reversal_is_the_held_reversal(tmp_path: Path) -> None:
+    """``first_reversal_time`` is the reversal of sweeps and the report: the last zero
+    crossing before the spin leaves the band ±4 % of |spin(0)| on the side opposite to the
+    start, checked here on the saved samples, not by the code's own function."""
+    target = tmp_path / "run.nc"
+    result = Result(["run", "--t-end", "20", "--samples", "20001", "--json", "--out", str(target)])
+    summary = result.json()
+    spin = xr.open_dataset(target)["spin"].values
+    time = xr.open_dataset(target)["time"].values
+    band = 0.04 * abs(summary["spin_initial"])
+    assert summary["reversal_band"] == pytest.approx(band, rel=1e-15)
+    first = summary["first_reversal_time"]
+    crossings = summary["spin_zero_crossings"]
+    assert first in crossings and first > summary["first_sign_change_time"]
+    # the start is negative: the first sample above +band comes after the reversal ...
+    leaves = time[np.argmax(spin > band)]
+    assert first < leaves
+    # ... and no zero crossing lies between the reversal and that sample
+    assert not [t for t in crossings if first < t < leaves]
+    assert summary["reversal_times"][0] == first
+    assert len(summary["reversal_times"]) < len(crossings)  # the raw spin dithers
+
+
 def test_upright_steady_spin(upright: Result) -> None:
     summary = upright.json()
     assert summary["model"] == "rolling"
@@ -130,6 +156,7 @@ def test_upright_steady_spin(upright: Result) -> None:
     assert summary["spin_initial"] == -5.0
     assert summary["spin_final"] == pytest.approx(-5.0, abs=1e-6)
     assert summary["first_reversal_time"] is None
+    assert summary["first_sign_change_time"] is None
     assert summary["spin_zero_crossings"] == []
     energy = 0.5 * C_MOMENT * 25.0 + MASS * GRAVITY * REST_HEIGHT  # 0.11935 J
     assert summary["energy_initial"] == pytest.approx(energy, rel=1e-12)
@@ -145,7 +172,7 @@ def test_reversal_is_the_first_zero_crossing(reversing: Result) -> None:
     summary = reversing.json()
     crossings = summary["spin_zero_crossings"]
     assert crossings, "Kane & Levinson's -5 rad/s start reverses within 3 s"
-    assert summary["first_reversal_time"] == crossings[0]
+    assert summary["first_sign_change_time"] == crossings[0]
     assert crossings == sorted(crossings)
     assert 0.0 < crossings[0] < 3.0
     # spin_initial: ω0 · n0 with n0 = (-cos α sin β, sin α, cos α cos β), ω0 = (0, 0, -5)
@@ -198,9 +225,9 @@ def test_sliding_json(sliding: tuple[Result, Path]) -> None:
     # energy balance E(0) - E(t) = W(t), to the solver's accuracy (rtol 1e-8)
     assert summary["dissipated_work"] == pytest.approx(lost, abs=1e-5 * summary["energy_initial"])
     if summary["spin_zero_crossings"]:
-        assert summary["first_reversal_time"] == summary["spin_zero_crossings"][0]
+        assert summary["first_sign_change_time"] == summary["spin_zero_crossings"][0]
     else:
-        assert summary["first_reversal_time"] is None
+        assert summary["first_sign_change_time"] is None
     # only the rolling model without damping conserves energy: no drift to report
     assert summary["max_relative_energy_drift"] is None
 

@@ -75,7 +75,7 @@ def test_function_ellipsoid_matches_closed_form(
     fixture: str, rate_tolerance: float, request: pytest.FixtureRequest
 ) -> None:
     """r to round-off either way; ṙ to round-off with the Hessian, ~1e-10 without."""
-    params = request.getfixturevalue(fixture).kernel_array()
+    params = request.getfixturevalue(fixture).kernel_record()
     for n, n_rate in random_pairs(300, 2):
         r, r_rate = geometry.contact(n, n_rate, params)
         r0, r0_rate = geometry.ellipsoid_contact(n, n_rate, A, B, C, H)
@@ -92,8 +92,8 @@ def test_function_egg_matches_the_polynomial_egg() -> None:
         [0.3 / C**3, 0, 0, 3],
         [0.1 / C**4, 0, 0, 4],
     ]
-    polynomial = cs.ImplicitPolynomial(terms=terms, com_offset=H).kernel_array()
-    function = cs.ImplicitFunction(egg_value, egg_gradient, H).kernel_array()
+    polynomial = cs.ImplicitPolynomial(terms=terms, com_offset=H).kernel_record()
+    function = cs.ImplicitFunction(egg_value, egg_gradient, H).kernel_record()
     for n, n_rate in random_pairs(200, 3):
         r, r_rate = geometry.contact(n, n_rate, function)
         r0, r0_rate = geometry.contact(n, n_rate, polynomial)

@@ -26,15 +26,21 @@ EGG_TERMS = [*ELLIPSOID_TERMS, [0.3 / C**3, 0, 0, 3], [0.1 / C**4, 0, 0, 4]]
 STATE = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
 
 
-def raw_params(terms: list, start_axes: tuple, centre: tuple = (0.0, 0.0, 0.0)) -> np.ndarray:
-    """A params array for the kernels, bypassing the shape's validation."""
-    params = np.zeros(layout.N_PARAMS + 3 + 4 * len(terms))
-    params[layout.P_SHAPE] = layout.SHAPE_IMPLICIT
-    params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (*start_axes, H)
-    params[layout.P_SHAPE_4] = len(terms)
-    params[layout.P_IMPLICIT_CENTRE : layout.P_IMPLICIT_CENTRE + 3] = centre
-    params[layout.P_IMPLICIT_TERMS :] = np.ravel(terms)
-    return params
+def raw_params(terms: list, start_axes: tuple, centre: tuple = (0.0, 0.0, 0.0)) -> np.record:
+    """A parameter record for the kernels, bypassing the shape's validation."""
+    coefficients = np.zeros(layout.MAX_TERMS)
+    exponents = np.zeros((layout.MAX_TERMS, 3), dtype=np.int64)
+    coefficients[: len(terms)] = [term[0] for term in terms]
+    exponents[: len(terms)] = [term[1:] for term in terms]
+    return layout.parameter_record(
+        shape_code=layout.ShapeCode.IMPLICIT,
+        start_semi_axes=start_axes,
+        com_offset=H,
+        start_centre=centre,
+        term_count=len(terms),
+        term_coefficients=coefficients,
+        term_exponents=exponents,
+    )
 
 
 def random_pairs(count: int, seed: int) -> list[tuple[tuple, tuple]]:
@@ -57,7 +63,7 @@ def egg() -> cs.ImplicitPolynomial:
 
 
 def test_polynomial_ellipsoid_matches_closed_form(ellipsoid: cs.ImplicitPolynomial) -> None:
-    params = ellipsoid.kernel_array()
+    params = ellipsoid.kernel_record()
     for n, n_rate in random_pairs(500, 1):
         r, r_rate = geometry.contact(n, n_rate, params)
         r0, r0_rate = geometry.ellipsoid_contact(n, n_rate, A, B, C, H)
@@ -102,7 +108,7 @@ def test_flat_rest_contact_is_refused() -> None:
 
 
 def test_rate_is_the_derivative_along_a_path(egg: cs.ImplicitPolynomial) -> None:
-    params = egg.kernel_array()
+    params = egg.kernel_record()
     start, direction = np.array([0.3, -0.2, 0.9]), np.array([-0.4, 0.7, 0.1])
 
     def vertical(t: float) -> np.ndarray:
@@ -121,7 +127,7 @@ def test_rate_is_the_derivative_along_a_path(egg: cs.ImplicitPolynomial) -> None
 
 
 def test_egg_contact_is_on_the_surface_and_lowest(egg: cs.ImplicitPolynomial) -> None:
-    params = egg.kernel_array()
+    params = egg.kernel_record()
     rng = np.random.default_rng(4)
     surface = rng.normal(size=(4000, 3))
     for n, _ in random_pairs(50, 5):
@@ -136,9 +142,10 @@ def test_egg_contact_is_on_the_surface_and_lowest(egg: cs.ImplicitPolynomial) ->
 
 def test_gaussian_curvature_of_the_ellipsoid(ellipsoid: cs.ImplicitPolynomial) -> None:
     """Hertz R_eq = 1/sqrt(K) equals the ellipsoid's abc / (nᵀQn) (docs/equations.md)."""
-    params = ellipsoid.kernel_array()
-    reference = np.zeros(layout.N_PARAMS)
-    reference[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (A, B, C, H)
+    params = ellipsoid.kernel_record()
+    reference = layout.parameter_record(
+        shape_code=layout.ShapeCode.ELLIPSOID, semi_axes=(A, B, C), com_offset=H
+    )
     for n, _ in random_pairs(50, 6):
         radius = hertz.equivalent_radius(n, params)
         assert radius == pytest.approx(hertz.equivalent_radius(n, reference), rel=1e-11)
@@ -253,17 +260,17 @@ def test_superellipsoid_curvature_matches_the_polynomial_one() -> None:
     """Hertz R_eq of the closed-form superellipsoid: p = 2 is the ellipsoid's; p = 4 equals
     the Newton solve on the polynomial x⁴/a⁴ + y⁴/b⁴ + z⁴/c⁴ away from its flat curves;
     R_eq is infinite at the flat rest contact, and a run there is refused."""
-    closed = np.zeros(layout.N_PARAMS)
-    closed[layout.P_SHAPE] = layout.SHAPE_SUPERELLIPSOID
-    closed[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (A, B, C, H)
-    ellipsoid = np.zeros(layout.N_PARAMS)
-    ellipsoid[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = (A, B, C, H)
-    closed[layout.P_SHAPE_4] = 2.0
+    closed = layout.parameter_record(
+        shape_code=layout.ShapeCode.SUPERELLIPSOID, semi_axes=(A, B, C), com_offset=H, exponent=2.0
+    )
+    ellipsoid = layout.parameter_record(
+        shape_code=layout.ShapeCode.ELLIPSOID, semi_axes=(A, B, C), com_offset=H
+    )
     for n, _ in random_pairs(30, 8):
         assert hertz.equivalent_radius(n, closed) == pytest.approx(
             hertz.equivalent_radius(n, ellipsoid), rel=1e-12
         )
-    closed[layout.P_SHAPE_4] = 4.0
+    closed.exponent = 4.0
     quartic = raw_params([[1 / A**4, 4, 0, 0], [1 / B**4, 0, 4, 0], [1 / C**4, 0, 0, 4]], (A, B, C))
     for n, _ in random_pairs(30, 9):
         if min(abs(component) for component in n) < 0.05:

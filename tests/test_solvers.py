@@ -7,21 +7,23 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import celtstone as cs
-from celtstone import solvers
+from celtstone import hybrid, solvers
 from celtstone.kernels import layout, system
+from celtstone.kernels import stick as stick_kernels
 from celtstone.models import initial_vector, kernel_parameters
+from celtstone.solvers import _events, _methods, _structures, codes
 
 STATE = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
 
 
 @pytest.fixture(scope="module")
-def rolling_problem() -> tuple[np.ndarray, np.ndarray]:
+def rolling_problem() -> tuple[np.record, np.ndarray]:
     body = cs.load_body("kane_levinson_1982")
     return kernel_parameters(cs.RollingModel(), body), initial_vector(STATE)
 
 
 @pytest.fixture(scope="module")
-def sliding_problem() -> tuple[np.ndarray, np.ndarray]:
+def sliding_problem() -> tuple[np.record, np.ndarray]:
     body = cs.load_body("kane_levinson_1982")
     return kernel_parameters(cs.SlidingModel(0.35, 1e-3), body), initial_vector(STATE)
 
@@ -32,25 +34,45 @@ def _final_state(model: int, method: str, params, y0, t_end: float, **options) -
     return raw.samples[-1]
 
 
-@pytest.mark.parametrize(
-    ("method", "order", "steps", "newton_rtol"),
-    [
-        ("dop853", 8, [0.004, 0.003, 0.002, 0.0015], 1e-6),
-        ("radau5", 5, [0.0015, 0.001, 0.0007, 0.0005], 1e-4),
-    ],
-)
+METHOD_NAMES = list(solvers.METHODS)  # the registry: a new method runs every test below
+
+# fixed steps [s] in each method's asymptotic range on the rolling problem, and the
+# Newton tolerance of an implicit method; a method not listed gets the default
+CONVERGENCE_STEPS = {
+    "dop853": ([0.004, 0.003, 0.002, 0.0015], 1e-6),
+    "radau5": ([0.0015, 0.001, 0.0007, 0.0005], 1e-4),
+}
+DEFAULT_CONVERGENCE_STEPS = ([0.004, 0.003, 0.002, 0.0015], 1e-6)
+
+
+def _order(method: str) -> int:
+    """The order the method's module declares (the contract's ``ORDER``)."""
+    return int(_methods.MODULES[solvers.METHODS[method]].ORDER)
+
+
+def test_every_registered_method_has_a_module_and_known_orders() -> None:
+    """The registry, the compiled dispatch and the Python view of it agree."""
+    assert set(_methods.MODULES) == set(solvers.METHODS.values())
+    for code in solvers.METHODS.values():
+        assert _methods.is_known(code)
+        module = _methods.MODULES[code]
+        assert _methods.error_order(code) == module.ERROR_ORDER
+        for name in ("workspace", "start", "attempt", "dense", "interpolate"):
+            assert callable(getattr(module, name)), name
+    assert not _methods.is_known(max(solvers.METHODS.values()) + 1)
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
 def test_fixed_step_error_falls_with_the_method_order(
-    rolling_problem: tuple[np.ndarray, np.ndarray],
-    method: str,
-    order: int,
-    steps: list[float],
-    newton_rtol: float,
+    rolling_problem: tuple[np.ndarray, np.ndarray], method: str
 ) -> None:
     """Global error against a tight reference: fitted slope of log error vs log h = order.
 
     Steps resolve the fastest oscillation (pitch, about 110 rad/s) in the asymptotic range;
     rtol only sets Radau's Newton tolerance, error control is off.
     """
+    order = _order(method)
+    steps, newton_rtol = CONVERGENCE_STEPS.get(method, DEFAULT_CONVERGENCE_STEPS)
     params, y0 = rolling_problem
     t_end = 0.5
     reference = _final_state(0, "dop853", params, y0, t_end, rtol=1e-14, atol=1e-16)
@@ -87,18 +109,20 @@ def _scipy_solution(model: int, params, y0, t_end: float, method: str, rtol: flo
     return solve_ivp(right_hand_side, (0.0, t_end), y0, method=method, rtol=rtol, atol=1e-12)
 
 
-@pytest.mark.parametrize(
-    ("model", "method", "scipy_method", "t_end"),
-    [(0, "dop853", "DOP853", 2.0), (0, "radau5", "Radau", 1.0), (1, "radau5", "Radau", 0.5)],
-)
+# SciPy's reference for each model: the non-stiff rolling model with DOP853, the stiff
+# sliding model with Radau, over (s)
+SCIPY_REFERENCE = {layout.MODEL_ROLLING: ("DOP853", 2.0), layout.MODEL_SLIDING: ("Radau", 0.5)}
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
+@pytest.mark.parametrize("model", [layout.MODEL_ROLLING, layout.MODEL_SLIDING])
 def test_agrees_with_scipy_on_the_same_right_hand_side(
     rolling_problem: tuple[np.ndarray, np.ndarray],
     sliding_problem: tuple[np.ndarray, np.ndarray],
     model: int,
     method: str,
-    scipy_method: str,
-    t_end: float,
 ) -> None:
+    scipy_method, t_end = SCIPY_REFERENCE[model]
     params, y0 = rolling_problem if model == 0 else sliding_problem
     ours = _final_state(model, method, params, y0, t_end, rtol=1e-10, atol=1e-12)
     theirs = _scipy_solution(model, params, y0, t_end, scipy_method, 1e-10).y[:, -1]
@@ -116,17 +140,18 @@ def test_dop853_takes_scipys_steps(rolling_problem: tuple[np.ndarray, np.ndarray
     assert abs(raw.n_accepted - (len(reference.t) - 1)) <= 2
 
 
+@pytest.mark.parametrize("method", METHOD_NAMES)
 def test_spin_crossings_are_roots_of_the_spin(
-    rolling_problem: tuple[np.ndarray, np.ndarray],
+    rolling_problem: tuple[np.ndarray, np.ndarray], method: str
 ) -> None:
     """Re-integrating exactly to each located crossing gives a spin of round-off size."""
     params, y0 = rolling_problem
     raw = solvers.solve(
-        0, "dop853", params, y0, 4.0, rtol=1e-12, atol=1e-14, sample_times=np.array([4.0])
+        0, method, params, y0, 4.0, rtol=1e-12, atol=1e-14, sample_times=np.array([4.0])
     )
     assert raw.crossings.size >= 1
     for crossing in raw.crossings[:3]:
-        state = _final_state(0, "dop853", params, y0, crossing, rtol=1e-12, atol=1e-14)
+        state = _final_state(0, method, params, y0, crossing, rtol=1e-12, atol=1e-14)
         spin = np.dot(
             state[layout.Y_OMEGA : layout.Y_OMEGA + 3], state[layout.Y_N : layout.Y_N + 3]
         )
@@ -134,11 +159,14 @@ def test_spin_crossings_are_roots_of_the_spin(
         assert abs(spin) < 1e-7
 
 
-def test_max_steps_stops_cleanly(rolling_problem: tuple[np.ndarray, np.ndarray]) -> None:
+@pytest.mark.parametrize("method", METHOD_NAMES)
+def test_max_steps_stops_cleanly(
+    rolling_problem: tuple[np.ndarray, np.ndarray], method: str
+) -> None:
     params, y0 = rolling_problem
     raw = solvers.solve(
         0,
-        "dop853",
+        method,
         params,
         y0,
         5.0,
@@ -160,8 +188,8 @@ def test_painleve_case_stops_with_singular_status(
     angular acceleration loses its unique solution; the run stops, no NaN."""
     params, y0 = sliding_problem
     params = params.copy()
-    params[layout.P_NORMAL_FORCE] = layout.NORMAL_FORCE_DYNAMIC
-    params[layout.P_FRICTION] = 1e4
+    params.normal_force_option = layout.NormalForce.DYNAMIC
+    params.friction_coefficient = 1e4
     y0 = y0.copy()
     y0[layout.Y_SLIP : layout.Y_SLIP + 3] = [0.01, 0.0, 0.0]
     y0[layout.Y_SLIP + 2] = -np.dot(y0[layout.Y_SLIP : layout.Y_SLIP + 2], y0[0:2]) / y0[2]
@@ -181,3 +209,107 @@ def test_stiff_sliding_run_is_bounded(sliding_problem: tuple[np.ndarray, np.ndar
     )
     assert raw.status == solvers.STATUS_SUCCESS
     assert raw.nfev < 2_300_000
+
+
+# --------------------------------------------------------------------------- events
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
+def test_lift_off_stops_where_the_normal_force_vanishes(method: str) -> None:
+    """Fast rolling about the short horizontal axis throws the body off the plane: the
+    run stops at the root of N (the terminal lift-off row of the event table), and the
+    state there has N = 0 to round-off compared with m g."""
+    body = cs.load_body("kane_levinson_1982")
+    params = kernel_parameters(cs.RollingModel(), body)
+    y0 = initial_vector(cs.InitialState((0.0, 60.0, 0.0), (0.0, 0.0)))
+    raw = solvers.solve(
+        0, method, params, y0, 1.0, rtol=1e-10, atol=1e-12, sample_times=np.linspace(0, 1, 11)
+    )
+    assert raw.status == solvers.STATUS_LIFT_OFF
+    assert 0.0 < raw.t_stop < 1.0
+    assert raw.min_normal_force == 0.0  # the located root, not a negative sample
+    normal_force = system.spin_and_normal_force(0, raw.final_state, params, np.empty(16))[1]
+    assert abs(normal_force) < 1e-9 * body.mass * body.gravity
+    assert np.all(raw.sample_times <= raw.t_stop)
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
+def test_phase_events_stop_just_past_the_switch(method: str) -> None:
+    """The capture row stops a sliding run where the slip–spin speed falls below v_c,
+    on the far side (so a restart is in the new phase); the stick row stops a stick run
+    where the stick margin falls below zero. No spin crossing is recorded in stick."""
+    body = cs.load_body("kane_levinson_1982")
+    params = kernel_parameters(cs.HybridModel(0.35, 1e-3), body)
+    y0 = initial_vector(STATE)
+    capture = 1e-8  # m/s
+    margin = -1.0
+    while margin < 0.0:  # near a spin reversal stick is not admissible: slide on
+        slip = solvers.solve(
+            layout.MODEL_SLIDING,
+            method,
+            params,
+            y0,
+            8.0,
+            rtol=1e-10,
+            atol=1e-12,
+            sample_times=np.array([8.0]),
+            capture_speed=capture,
+        )
+        assert slip.status == solvers.STATUS_PHASE_CHANGE
+        speed = stick_kernels.slip_spin_speed(slip.final_state, params)
+        assert 0.0 < capture - speed < 1e-3 * capture
+        captured, _, margin = hybrid.capture(params, slip.final_state)
+        y0 = slip.final_state
+    stuck = solvers.solve(
+        layout.MODEL_STICK,
+        method,
+        params,
+        captured,
+        3.0,
+        rtol=1e-10,
+        atol=1e-12,
+        sample_times=np.array([3.0]),
+    )
+    assert stuck.status == solvers.STATUS_PHASE_CHANGE
+    assert -1e-9 < system.phase_value(layout.MODEL_STICK, stuck.final_state, params, 0.0) < 0.0
+    assert stuck.n_crossings_total == 0
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
+def test_a_phase_that_starts_below_its_threshold_is_not_stopped_at_once(method: str) -> None:
+    """Only a fall from >= 0 to < 0 counts: a sliding run from rest (slip–spin speed 0,
+    below v_c) goes on, as a slip phase restarted from stick must."""
+    body = cs.load_body("kane_levinson_1982")
+    params = kernel_parameters(cs.HybridModel(0.35, 1e-3), body)
+    y0 = initial_vector(cs.InitialState((0.0, 0.0, 0.0), (1.0, 0.3)))
+    assert stick_kernels.slip_spin_speed(y0, params) == 0.0
+    raw = solvers.solve(
+        layout.MODEL_SLIDING,
+        method,
+        params,
+        y0,
+        0.2,
+        rtol=1e-10,
+        atol=1e-12,
+        sample_times=np.array([0.2]),
+        capture_speed=1e-10,
+    )
+    assert raw.t_stop > 0.0
+    assert raw.n_accepted > 1
+
+
+def test_an_unknown_method_code_stops_with_its_status() -> None:
+    """The compiled dispatch has no default branch: an unregistered code never runs
+    another method's steps."""
+    body = cs.load_body("kane_levinson_1982")
+    params = kernel_parameters(cs.RollingModel(), body)
+    y0 = initial_vector(STATE)
+    output = _structures.new_output(np.array([0.0, 1.0]), y0.size, 10)
+    controls = _structures.Controls(1e-8, 1e-12, 0.0, 0.0, 1000, True)
+    table = _events.event_table(layout.MODEL_ROLLING, 0.0)
+    unknown = max(solvers.METHODS.values()) + 1
+    end = solvers.integrate(layout.MODEL_ROLLING, unknown, params, y0, 1.0, controls, table, output)
+    assert end.status == solvers.STATUS_UNKNOWN_CODE
+    assert end.t_stop == 0.0
+    assert output.stats[codes.STAT_ACCEPTED] == 0
+    assert solvers.STATUS_UNKNOWN_CODE in solvers.STATUS_MESSAGES

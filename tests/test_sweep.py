@@ -99,26 +99,67 @@ def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
                 rtol=1e-8,
                 atol=1e-12,
             )
-            summary, ds = run.summary(), run.dataset
-            # the default band: 4 % of the initial |spin| (0.2 and 0.12 rad/s here)
-            band = 0.04 * abs(spin)
-            reversals = cs.reversal_times(
-                ds["time"].values, ds["spin"].values, band, run.spin_crossings
-            )
-            np.testing.assert_array_equal(reversals, dataset_reversal_times(ds))
-            point = results.sel(friction_coefficient=f, spin=spin)
-            first = reversals[0] if reversals.size else np.nan
-            np.testing.assert_array_equal(point["first_reversal_time"], first)
-            assert point["n_reversals"] == reversals.size
-            assert point["final_spin"] == summary["spin_final"]
-            energy_lost = summary["energy_initial"] - summary["energy_final"]
-            assert point["energy_lost"] == energy_lost
-            assert math.degrees(point["max_tilt"]) == summary["max_tilt_deg"]
-            assert point["min_normal_force"] == summary["min_normal_force"]
-            assert point["status"] == summary["status"]
-            assert point["message"] == summary["message"]
+            _assert_point_is_the_run(results.sel(friction_coefficient=f, spin=spin), run, spin)
     # f = 0.35 from w3 = -5 reverses once near 1.66 s (the paper's Figure 2 case, README)
     assert results["n_reversals"].sel(friction_coefficient=0.35, spin=-5.0) == 1
+
+
+def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float) -> None:
+    """The sweep's fields of ``point`` equal what simulate() + reversal_times() +
+    summary() give for the same point, exactly."""
+    summary, ds = run.summary(), run.dataset
+    # the default band: 4 % of the initial |spin| (0.2 and 0.12 rad/s here)
+    band = 0.04 * abs(spin)
+    reversals = cs.reversal_times(ds["time"].values, ds["spin"].values, band, run.spin_crossings)
+    np.testing.assert_array_equal(reversals, dataset_reversal_times(ds))
+    first = reversals[0] if reversals.size else np.nan
+    np.testing.assert_array_equal(point["first_reversal_time"], first)
+    assert point["n_reversals"] == reversals.size
+    assert point["final_spin"] == summary["spin_final"]
+    energy_lost = summary["energy_initial"] - summary["energy_final"]
+    assert point["energy_lost"] == energy_lost
+    assert math.degrees(point["max_tilt"]) == summary["max_tilt_deg"]
+    assert point["min_normal_force"] == summary["min_normal_force"]
+    assert point["status"] == summary["status"]
+    assert point["message"] == summary["message"]
+
+
+def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
+    """``contact=hybrid`` runs the stick–slip contact: each point equals simulate() with
+    HybridModel on the same samples (some of them stick, a varied capture speed
+    reaches the model)."""
+    points = {
+        "friction_coefficient": [0.35, 0.5, 0.5, 0.5],
+        "spin": [-5.0, -5.0, 3.0, 3.0],
+        "capture_speed": [1e-10, 1e-10, 1e-10, 1e-8],
+    }
+    sweep = Sweep(points=points, fixed={"contact": "hybrid"}, t_end=3.0, rtol=1e-8)
+    assert sweep.spec().count('"stick_method": "dop853"') == 1
+    results = sweep.run(workers=2, task_points=1)
+    stick_phases = 0
+    for k, (f, spin, capture) in enumerate(zip(*points.values(), strict=True)):
+        model = cs.HybridModel(friction_coefficient=f, capture_speed=capture)
+        run = cs.simulate(model, kane_levinson, build_state({"spin": spin}), 3.0, rtol=1e-8)
+        _assert_point_is_the_run(results.isel(point=k), run, spin)
+        stick_phases += run.summary()["stick_phases"]
+    assert stick_phases >= 2  # the phase loop really switched
+
+
+def test_hybrid_contact_options_are_checked_per_point() -> None:
+    """A capture speed needs the hybrid contact; the hybrid contact needs the sliding
+    model and δ <= v_c / 10 at every point, named before anything runs."""
+    with pytest.raises(cs.ParameterError, match="capture_speed"):
+        Sweep({"capture_speed": [1e-8]}, t_end=0.1)
+    with pytest.raises(cs.ParameterError, match="rolling model"):
+        Sweep({"spin": [-5.0]}, model="rolling", fixed={"contact": "hybrid"}, t_end=0.1)
+    with pytest.raises(cs.ParameterError, match=r"regularisation_speed.*capture_speed=1e-10"):
+        Sweep(
+            {"capture_speed": [1e-8, 1e-10]},
+            fixed={"contact": "hybrid", "regularisation_speed": 1e-10},
+            t_end=0.1,
+        )
+    with pytest.raises(cs.ParameterError, match=r"contact.*sliding, hybrid"):
+        Sweep({"spin": [-5.0]}, fixed={"contact": "stick"}, t_end=0.1)
 
 
 def test_failed_points_are_recorded_and_the_others_carry_on() -> None:
@@ -186,6 +227,16 @@ def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ign
     # a resume with other settings is refused, naming them
     assert main([*grid, "--t-end", "0.6", *options, "--resume"]) == 2
     assert "t_end" in capsys.readouterr().err
+
+
+def test_cli_sweeps_the_stick_slip_contact(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "hybrid.zarr"
+    argv = ["sweep", "--vary", "spin=-5,5", "--set", "contact=hybrid", "--t-end", "0.5"]
+    assert main([*argv, "--out", str(out), "--no-progress", "--no-maps"]) == 0
+    results = open_sweep(out)
+    assert list(results["status"].values) == ["success", "success"]
+    assert results.attrs["model_contact"] == "hybrid"
+    assert results.attrs["stick_method"] == "dop853"
 
 
 def test_cli_points_file(tmp_path) -> None:  # type: ignore[no-untyped-def]

@@ -6,6 +6,9 @@ Every error a user can cause names what to change. The CLI turns a
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Iterable
+
 __all__ = [
     "BodyFileError",
     "CeltstoneError",
@@ -16,6 +19,8 @@ __all__ = [
     "OutputError",
     "ParameterError",
     "PlausibilityWarning",
+    "did_you_mean",
+    "require_choice",
 ]
 
 
@@ -119,3 +124,19 @@ class CeltstoneWarning(UserWarning):
 
 class PlausibilityWarning(CeltstoneWarning):
     """A parameter is allowed but implausible for a rattleback (``celtstone.plausibility``)."""
+
+
+def did_you_mean(value: object, options: Iterable[object], cutoff: float = 0.6) -> str:
+    """``"did you mean 'sliding'?"`` for the option closest to ``value``, or ``""``: the one
+    suggestion every "unknown name" message of celtstone uses."""
+    close = difflib.get_close_matches(str(value), [str(o) for o in options], n=1, cutoff=cutoff)
+    return f"did you mean {close[0]!r}?" if close else ""
+
+
+def require_choice(name: str, value: object, options: Iterable[object]) -> None:
+    """Raise :class:`ParameterError` naming ``name`` unless ``value`` is one of ``options``
+    (listed in the message, with the closest as a suggestion)."""
+    choices = list(options)
+    if value not in choices:
+        allowed = "one of: " + ", ".join(str(c) for c in choices)
+        raise ParameterError(name, value, allowed, did_you_mean(value, choices))

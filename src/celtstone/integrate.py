@@ -45,6 +45,8 @@ STATUS_NAMES = {  # solver status code -> the name in results and the CLI
     solvers.STATUS_STEP_TOO_SMALL: "step_too_small",
     solvers.STATUS_NOT_FINITE: "not_finite",
     solvers.STATUS_NON_CONVEX: "non_convex",
+    solvers.STATUS_UNKNOWN_CODE: "unknown_code",
+    solvers.STATUS_MAX_PHASES: "max_phases",
 }
 
 

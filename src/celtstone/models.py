@@ -1,7 +1,7 @@
 """The two models of the paper and the initial state, as frozen configurations.
 
 Validation happens here, once; ``kernel_parameters`` strips the meaning and
-returns the flat array the kernels read (layout in ``celtstone.kernels.layout``).
+returns the typed record the kernels read (declared in ``celtstone.kernels.layout``).
 """
 
 from __future__ import annotations
@@ -14,10 +14,11 @@ from typing import ClassVar
 import numpy as np
 
 from celtstone import plausibility, schema
-from celtstone.bodies import Body, ImplicitSurface
+from celtstone.bodies import Body
 from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, effective_modulus
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
+from celtstone.kernels.layout import ModelCode, NormalForce, parameter_record
 
 __all__ = [
     "CONTACTS",
@@ -35,10 +36,7 @@ __all__ = [
     "model_from_name",
 ]
 
-NORMAL_FORCE_OPTIONS = {
-    "static": layout.NORMAL_FORCE_STATIC,
-    "dynamic": layout.NORMAL_FORCE_DYNAMIC,
-}
+NORMAL_FORCE_OPTIONS = {option.name.lower(): option.value for option in NormalForce}
 
 
 def _choice(name: str, value: str, options: dict[str, int] | dict[str, type]) -> None:
@@ -61,7 +59,7 @@ class RollingModel:
 
     name: ClassVar[str] = "rolling"
     contact: ClassVar[str] = "rolling"
-    code: ClassVar[int] = layout.MODEL_ROLLING
+    code: ClassVar[int] = ModelCode.ROLLING.value
     default_method: ClassVar[str] = "dop853"
 
     def __post_init__(self) -> None:
@@ -120,7 +118,7 @@ class SlidingModel:
 
     name: ClassVar[str] = "sliding"
     contact: ClassVar[str] = "sliding"
-    code: ClassVar[int] = layout.MODEL_SLIDING
+    code: ClassVar[int] = ModelCode.SLIDING.value
     default_method: ClassVar[str] = "radau5"
 
     def __post_init__(self) -> None:
@@ -318,8 +316,11 @@ class InitialState:
         return InitialState(omega=(-w1, w2, -w3), tilt=(-alpha, beta))
 
 
-def kernel_parameters(model: Model, body: Body) -> np.ndarray:
-    """Flat float64 parameter array for the kernels (layout in ``kernels.layout``).
+def kernel_parameters(model: Model, body: Body) -> np.record:
+    """The kernel parameter record of a run (a record of ``kernels.layout.PARAMETERS``).
+
+    The records of several runs stack with ``np.array([...])`` into an array whose
+    ``[i]`` is one run's record (``solvers.batch``).
 
     Raises
     ------
@@ -328,29 +329,24 @@ def kernel_parameters(model: Model, body: Body) -> np.ndarray:
         (:func:`celtstone.plausibility.require_runnable`).
     """
     plausibility.require_runnable(body, contact_settings(model))
-    tail = body.shape.kernel_tail() if isinstance(body.shape, ImplicitSurface) else np.zeros(0)
-    params = np.zeros(layout.N_PARAMS + tail.size)  # the tail: docs/decisions.md section 17
-    params[layout.N_PARAMS :] = tail
-    params[layout.P_MASS] = body.mass
-    params[layout.P_GRAVITY] = body.gravity
-    params[layout.P_INERTIA : layout.P_INERTIA + 9] = np.ravel(body.inertia)
-    params[layout.P_SHAPE] = body.shape.code
-    params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = body.shape.kernel_parameters()
-    if isinstance(body.shape, ImplicitSurface):
-        params[layout.P_SHAPE_4] = body.shape.kernel_count  # terms, or -1: a compiled function
-    else:
-        params[layout.P_SHAPE_4] = getattr(body.shape, "exponent", 0.0)  # superellipsoid only
-    params[layout.P_DAMPING] = model.damping
+    fields = {
+        "mass": body.mass,
+        "gravity": body.gravity,
+        "inertia": body.inertia,
+        "damping": model.damping,
+        **body.shape.kernel_fields(),
+    }
     if isinstance(model, SlidingModel):
-        params[layout.P_FRICTION] = model.friction_coefficient
-        params[layout.P_CONTACT_RADIUS] = model.contact_radius
-        params[layout.P_NORMAL_FORCE] = NORMAL_FORCE_OPTIONS[model.normal_force]
-        params[layout.P_REGULARISATION] = model.regularisation_speed
-        params[layout.P_FRICTION_LAW] = FRICTION_LAWS[model.friction_law]
-        params[layout.P_CONTACT_PRESSURE] = CONTACT_PRESSURES[model.contact_pressure]
-        if model.is_hertz_radius:
-            params[layout.P_CONTACT_MODULUS] = model.effective_modulus
-    return params
+        fields |= {
+            "friction_coefficient": model.friction_coefficient,
+            "contact_radius": model.contact_radius,
+            "normal_force_option": NORMAL_FORCE_OPTIONS[model.normal_force],
+            "regularisation_speed": model.regularisation_speed,
+            "friction_law": FRICTION_LAWS[model.friction_law],
+            "contact_pressure": CONTACT_PRESSURES[model.contact_pressure],
+            "effective_modulus": model.effective_modulus,  # 0: the fixed contact_radius
+        }
+    return parameter_record(**fields)
 
 
 def contact_settings(model: Model) -> plausibility.ContactSettings:

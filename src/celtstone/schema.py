@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from celtstone.errors import ParameterError
 
-__all__ = ["PARAMETERS", "VARIABLES", "Quantity", "check"]
+__all__ = ["PARAMETERS", "VARIABLES", "Quantity", "Variable", "check"]
 
 
 @dataclass(frozen=True)
@@ -163,29 +163,86 @@ PARAMETERS: dict[str, Quantity] = {
     ]
 }
 
-VARIABLES: dict[str, tuple[str, str]] = {
-    # name: (unit, long name) of every variable a trajectory carries
-    "time": ("s", "time"),
-    "spin": ("rad/s", "spin omega . n about the vertical"),
-    "tilt": ("rad", "angle between the vertical and body axis 3"),
-    "energy": ("J", "kinetic plus potential energy, plane as zero"),
-    "dissipated_work": ("J", "work done by friction and damping since t = 0"),
-    "normal_force": ("N", "normal force N of the plane"),
-    "slip_speed": ("m/s", "sliding speed |V1| of the contact point"),
-    "friction_power": ("W", "friction power F . V1 + M Omega_n"),
-    "omega": ("rad/s", "angular velocity, body axes"),
-    "n": ("1", "upward vertical unit vector, body axes"),
-    "slip_velocity": ("m/s", "sliding velocity V1 of the contact point, body axes"),
-    "quaternion": ("1", "attitude quaternion (w, x, y, z), body to space"),
-    "com_position": ("m", "horizontal position of the centre of mass, space axes"),
-    "contact_position": ("m", "position of the contact point on the plane, space axes"),
-    "com_height": ("m", "height of the centre of mass above the plane"),
-    "spin_crossings": ("s", "times at which the spin changes sign"),
-    "phase": ("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
-    "phase_kind": ("1", "kind of each contact phase: 0 slip, 1 stick"),
-    "phase_start": ("s", "start time of each contact phase"),
-    "phase_end": ("s", "end time of each contact phase"),
-    "phase_energy_jump": ("J", "kinetic energy change of the capture impulse opening each phase"),
+
+@dataclass(frozen=True)
+class Variable:
+    """An output quantity, declared once: what the Dataset, the sweep store, the CSV
+    headers, the figures and the viewer say about it.
+
+    ``unit`` and ``long_name`` are the NetCDF attributes of the stored values (SI);
+    ``label`` names it on a matplotlib axis (mathtext) and ``text`` in plain text (the
+    HTML viewer); plots show ``plot_unit`` = stored value × ``plot_scale``.
+    """
+
+    unit: str
+    long_name: str
+    label: str = ""
+    text: str = ""
+    plot_unit: str = ""
+    plot_scale: float = 1.0
+
+    @property
+    def attributes(self) -> dict[str, str]:
+        """``units`` (omitted when empty) and ``long_name``, as NetCDF attributes."""
+        return ({"units": self.unit} if self.unit else {}) | {"long_name": self.long_name}
+
+    def axis_label(self) -> str:
+        """``"spin $\\omega\\cdot n$ [rad/s]"``: the label and the plotted unit."""
+        unit = self.plot_unit or self.unit
+        text = self.label or self.long_name
+        return f"{text} [{unit}]" if unit not in ("", "1") else text
+
+
+_DEG = 180.0 / math.pi
+
+VARIABLES: dict[str, Variable] = {
+    # every variable a trajectory carries, and the sweep's result fields
+    "time": Variable("s", "time", "time $t$", "time t"),
+    "spin": Variable(
+        "rad/s", "spin omega . n about the vertical", r"spin $\omega\cdot n$", "spin ω·n"
+    ),
+    "tilt": Variable(
+        "rad",
+        "angle between the vertical and body axis 3",
+        "tilt of body axis 3",
+        "tilt",
+        plot_unit="deg",
+        plot_scale=_DEG,
+    ),
+    "energy": Variable("J", "kinetic plus potential energy, plane as zero", "energy $E$", "energy"),
+    "dissipated_work": Variable(
+        "J", "work done by friction and damping since t = 0", "friction work", "friction work"
+    ),
+    "normal_force": Variable(
+        "N", "normal force N of the plane", "normal force $N$", "normal force N"
+    ),
+    "slip_speed": Variable(
+        "m/s", "sliding speed |V1| of the contact point", "slip speed $|V_1|$", "slip speed |V1|"
+    ),
+    "friction_power": Variable("W", "friction power F . V1 + M Omega_n"),
+    "omega": Variable("rad/s", "angular velocity, body axes"),
+    "n": Variable("1", "upward vertical unit vector, body axes"),
+    "slip_velocity": Variable("m/s", "sliding velocity V1 of the contact point, body axes"),
+    "quaternion": Variable("1", "attitude quaternion (w, x, y, z), body to space"),
+    "com_position": Variable("m", "horizontal position of the centre of mass, space axes"),
+    "contact_position": Variable(
+        "m", "position of the contact point on the plane, space axes", "contact point"
+    ),
+    "contact_x": Variable("m", "contact point x, space axes", "contact point $x$"),
+    "contact_y": Variable("m", "contact point y, space axes", "contact point $y$"),
+    "com_height": Variable("m", "height of the centre of mass above the plane"),
+    "spin_crossings": Variable("s", "times at which the spin changes sign"),
+    "phase": Variable("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
+    "phase_kind": Variable("1", "kind of each contact phase: 0 slip, 1 stick"),
+    "phase_start": Variable("s", "start time of each contact phase"),
+    "phase_end": Variable("s", "end time of each contact phase"),
+    "phase_energy_jump": Variable(
+        "J", "kinetic energy change of the capture impulse opening each phase"
+    ),
+    # parameters drawn on an axis
+    "friction_coefficient": Variable(
+        "1", "Coulomb friction coefficient", "friction coefficient $f$"
+    ),
 }
 
 

@@ -17,6 +17,7 @@ from celtstone.errors import (
 )
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
+from celtstone.reversals import reversal_bands, reversal_times
 from celtstone.schema import VARIABLES
 
 __all__ = ["SUMMARY_KEYS", "Trajectory", "build_dataset"]
@@ -26,6 +27,9 @@ SUMMARY_KEYS = (
     "body",
     "t_end",
     "first_reversal_time",
+    "reversal_times",
+    "reversal_band",
+    "first_sign_change_time",
     "spin_zero_crossings",
     "spin_initial",
     "spin_final",
@@ -61,13 +65,12 @@ _ERRORS: dict[str, type[CeltstoneError]] = {
 
 
 def _variable(name: str, dims: tuple[str, ...], values: np.ndarray) -> xr.Variable:
-    unit, long_name = VARIABLES[name]
-    return xr.Variable(dims, values, attrs={"units": unit, "long_name": long_name})
+    return xr.Variable(dims, values, attrs=VARIABLES[name].attributes)
 
 
 def build_dataset(
     model_code: int,
-    params: np.ndarray,
+    params: np.record,
     times: np.ndarray,
     states: np.ndarray,
     crossings: np.ndarray,
@@ -88,7 +91,7 @@ def build_dataset(
         stick = np.flatnonzero(phase == 1)
         stick_derived = np.empty((stick.size, kernel_system.N_DIAGNOSTICS))
         kernel_system.diagnostics_series(
-            layout.MODEL_STICK, np.ascontiguousarray(states[stick]), params, stick_derived
+            layout.ModelCode.STICK.value, np.ascontiguousarray(states[stick]), params, stick_derived
         )
         derived[stick] = stick_derived
     time = ("time",)
@@ -207,10 +210,32 @@ class Trajectory:
         return np.asarray(self.dataset["spin_crossings"].values)
 
     @property
-    def first_reversal_time(self) -> float | None:
-        """First sign change of the spin [s], None if it never changes sign."""
+    def first_sign_change_time(self) -> float | None:
+        """First sign change of the spin ω · n [s] (raw: around a reversal the spin can cross
+        zero several times, and a dying spin dithers about zero), None if it never changes."""
         crossings = self.spin_crossings
         return float(crossings[0]) if crossings.size else None
+
+    @property
+    def reversal_band(self) -> float:
+        """Default half-width of the reversal's hysteresis band [rad/s]: 4 % of the initial
+        |spin|, at least 0.01 rad/s (``celtstone.reversals.reversal_bands``), as in sweeps and
+        the reproduction."""
+        return float(reversal_bands(np.array([self.dataset["spin"].values[0]]))[0])
+
+    def reversal_times(self, band: float | None = None) -> np.ndarray:
+        """Times of the reversals of the sense of spin [s]: changes of sign held beyond the
+        hysteresis band ``band`` [rad/s] (default :attr:`reversal_band`)."""
+        ds = self.dataset
+        threshold = self.reversal_band if band is None else band
+        return reversal_times(ds["time"].values, ds["spin"].values, threshold, self.spin_crossings)
+
+    @property
+    def first_reversal_time(self) -> float | None:
+        """First reversal of the sense of spin [s] with the default hysteresis band (the
+        reversal of sweeps and the report), None if the spin never reverses."""
+        times = self.reversal_times()
+        return float(times[0]) if times.size else None
 
     def summary(self) -> dict[str, Any]:
         """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
@@ -229,6 +254,9 @@ class Trajectory:
             "t_end": float(attrs["t_end"]),
             "t_stop": float(self.t_stop),
             "first_reversal_time": self.first_reversal_time,
+            "reversal_times": [float(t) for t in self.reversal_times()],
+            "reversal_band": self.reversal_band,
+            "first_sign_change_time": self.first_sign_change_time,
             "spin_zero_crossings": [float(t) for t in self.spin_crossings],
             "spin_initial": float(ds["spin"].values[0]),
             "spin_final": float(ds["spin"].values[-1]),

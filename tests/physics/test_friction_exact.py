@@ -26,7 +26,7 @@ from celtstone.kernels.friction import (
     UNIFORM_PADE_B,
     contact_friction,
 )
-from celtstone.kernels.layout import FRICTION_EXACT, PRESSURE_HERTZ, PRESSURE_UNIFORM
+from celtstone.kernels.layout import ContactPressure, FrictionLaw
 from tests.conftest import LITERATURE_TILT
 
 PRESSURES = ["hertz", "uniform"]
@@ -192,7 +192,7 @@ def test_pade_is_the_one_one_approximant_with_the_exact_ends(
         assert pade[1][0] == pytest.approx(exact(u, pressure)[1], rel=1e-5)
 
 
-@pytest.mark.parametrize("pressure", [PRESSURE_HERTZ, PRESSURE_UNIFORM])
+@pytest.mark.parametrize("pressure", [pressure.value for pressure in ContactPressure])
 def test_exact_kernel_opposes_motion_and_depends_on_u_only(pressure: int) -> None:
     """F ∥ −V1, M opposite to Ω_n, magnitudes functions of u alone (references.md);
     the regularisation gives zero friction in the singular state (paper eq. 11)."""
@@ -201,14 +201,16 @@ def test_exact_kernel_opposes_motion_and_depends_on_u_only(pressure: int) -> Non
         slip = tuple(rng.normal(size=3) * 10 ** rng.uniform(-4, -1))
         spin = rng.normal() * 5
         radius = 10 ** rng.uniform(-4, -2)
-        force, moment = contact_friction(slip, spin, radius, 0.0, FRICTION_EXACT, pressure)
+        force, moment = contact_friction(slip, spin, radius, 0.0, FrictionLaw.EXACT.value, pressure)
         speed = math.sqrt(sum(v * v for v in slip))
         u = speed / (radius * abs(spin))
-        name = "hertz" if pressure == PRESSURE_HERTZ else "uniform"
+        name = ContactPressure(pressure).name.lower()
         magnitude, pivot = exact(u, name)
         assert np.allclose(force, -magnitude * np.array(slip) / speed, rtol=1e-13, atol=0)
         assert moment == pytest.approx(-math.copysign(pivot * radius, spin), rel=1e-13)
-    force, moment = contact_friction((0.0, 0.0, 0.0), 0.0, 1e-3, 1e-6, FRICTION_EXACT, pressure)
+    force, moment = contact_friction(
+        (0.0, 0.0, 0.0), 0.0, 1e-3, 1e-6, FrictionLaw.EXACT.value, pressure
+    )
     assert force == (0.0, 0.0, 0.0) and moment == 0.0
 
 
@@ -248,6 +250,6 @@ def test_exact_and_pade_runs_agree_qualitatively(
     """Same contact, f and start: both laws reverse the −5 rad/s spin, at times within
     a third of each other (the laws differ by up to 0.34 f N in force)."""
     exact_run, pade_run = exact_and_pade_runs["exact-hertz"], exact_and_pade_runs["pade-hertz"]
-    exact_time, pade_time = exact_run.first_reversal_time, pade_run.first_reversal_time
+    exact_time, pade_time = exact_run.first_sign_change_time, pade_run.first_sign_change_time
     assert exact_time is not None and pade_time is not None
     assert abs(exact_time - pade_time) < 0.33 * pade_time

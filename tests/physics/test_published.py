@@ -53,10 +53,10 @@ def test_kane_levinson_negative_spin_reverses_first(kane_levinson: cs.Body) -> N
         cs.RollingModel(), kane_levinson, cs.InitialState((0.0, 0.0, 5.0), LITERATURE_TILT), 20.0
     )
     assert negative.dataset["spin"].values[0] < 0 < positive.dataset["spin"].values[0]
-    assert negative.first_reversal_time is not None
-    assert negative.first_reversal_time < 5.0
-    assert positive.first_reversal_time is None or (
-        positive.first_reversal_time > 4.0 * negative.first_reversal_time
+    assert negative.first_sign_change_time is not None
+    assert negative.first_sign_change_time < 5.0
+    assert positive.first_sign_change_time is None or (
+        positive.first_sign_change_time > 4.0 * negative.first_sign_change_time
     )
 
 

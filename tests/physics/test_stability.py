@@ -68,7 +68,7 @@ def test_spin_and_normal_perturbations_decouple(kane_levinson: cs.Body) -> None:
         for sign in (1.0, -1.0):
             y, dy = base.copy(), np.zeros(layout.N_STATE)
             y[index] += sign * 1e-7
-            system.rhs(layout.MODEL_ROLLING, 0.0, y, params, dy)
+            system.rhs(layout.ModelCode.ROLLING.value, 0.0, y, params, dy)
             rates.append(dy[indices])
         full[:, column] = (rates[0] - rates[1]) / 2e-7
     tilt = [0, 1, 3, 4]  # n1, n2, ω1, ω2

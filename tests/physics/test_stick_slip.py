@@ -74,8 +74,8 @@ def test_sliding_friction_lies_on_the_stick_boundary() -> None:
         assert abs(margin) < 1e-12
 
 
-@pytest.mark.parametrize("pressure", [layout.PRESSURE_HERTZ, layout.PRESSURE_UNIFORM])
-@pytest.mark.parametrize("law", [layout.FRICTION_PADE, layout.FRICTION_EXACT])
+@pytest.mark.parametrize("pressure", [pressure.value for pressure in layout.ContactPressure])
+@pytest.mark.parametrize("law", [law.value for law in layout.FrictionLaw])
 def test_every_law_slides_on_its_own_stick_boundary(law: int, pressure: int) -> None:
     """For each law and pressure, the (|F|, |M|) that sliding at slip ratio u produces
     has stick margin 0; 10 % less of both is inside (margin > 0), 10 % more outside."""
@@ -103,8 +103,9 @@ def test_exact_and_pade_limit_sets_differ_as_their_laws() -> None:
     """The exact Hertz limit set is larger than Padé's where the laws differ most: at
     φ = F̂(1) = 9π/32 the exact law gives M̂(1)/M̂(0) = 3/8; Padé's boundary there is lower."""
     phi = 9.0 * math.pi / 32.0
-    exact = stick_kernels.limit_moment(phi, layout.FRICTION_EXACT, layout.PRESSURE_HERTZ)
-    pade = stick_kernels.limit_moment(phi, layout.FRICTION_PADE, layout.PRESSURE_HERTZ)
+    hertz = layout.ContactPressure.HERTZ.value
+    exact = stick_kernels.limit_moment(phi, layout.FrictionLaw.EXACT.value, hertz)
+    pade = stick_kernels.limit_moment(phi, layout.FrictionLaw.PADE.value, hertz)
     assert exact == pytest.approx((3.0 * math.pi / 128.0 * 3.0) / (3.0 * math.pi / 16.0), rel=1e-12)
     assert pade == pytest.approx((1.0 - phi) / (1.0 + 1.5 * phi), rel=1e-15)
     assert exact > pade

@@ -1,11 +1,12 @@
-"""Analysis: spin reversals of finished runs; linear stability of steady spin."""
+"""Analysis: spin reversals of finished runs (defined in ``celtstone.reversals``); linear
+stability of steady spin."""
 
-from celtstone.analysis.reversals import REVERSAL_BAND_FRACTION as REVERSAL_BAND_FRACTION
-from celtstone.analysis.reversals import dataset_reversal_times as dataset_reversal_times
-from celtstone.analysis.reversals import reversal_band as reversal_band
-from celtstone.analysis.reversals import reversal_times as reversal_times
 from celtstone.analysis.stability import SpinStability as SpinStability
 from celtstone.analysis.stability import spin_stability as spin_stability
+from celtstone.reversals import REVERSAL_BAND_FRACTION as REVERSAL_BAND_FRACTION
+from celtstone.reversals import dataset_reversal_times as dataset_reversal_times
+from celtstone.reversals import reversal_band as reversal_band
+from celtstone.reversals import reversal_times as reversal_times
 
 __all__ = [
     "REVERSAL_BAND_FRACTION",

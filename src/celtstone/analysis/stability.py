@@ -85,7 +85,7 @@ def _check_body(body: Body) -> None:
 
 
 def _rates(
-    params: np.ndarray, base: np.ndarray, x: np.ndarray, work: np.ndarray, state: np.ndarray
+    params: np.record, base: np.ndarray, x: np.ndarray, work: np.ndarray, state: np.ndarray
 ) -> np.ndarray:
     """(ṅ1, ṅ2, ω̇1, ω̇2) at n = (x0, x1, √(1 − x0² − x1²)), ω = (x2, x3, s)."""
     state[:] = base
@@ -94,7 +94,7 @@ def _rates(
     state[layout.Y_N + 2] = math.sqrt(1.0 - x[0] * x[0] - x[1] * x[1])
     state[layout.Y_OMEGA] = x[2]
     state[layout.Y_OMEGA + 1] = x[3]
-    kernel_system.rhs(layout.MODEL_ROLLING, 0.0, state, params, work)
+    kernel_system.rhs(layout.ModelCode.ROLLING.value, 0.0, state, params, work)
     return np.array(
         [work[layout.Y_N], work[layout.Y_N + 1], work[layout.Y_OMEGA], work[layout.Y_OMEGA + 1]]
     )

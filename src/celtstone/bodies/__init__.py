@@ -6,7 +6,6 @@ a file may hold (tables, keys, forms, units) is declared in ``bodies.file_schema
 
 from __future__ import annotations
 
-import difflib
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
@@ -41,7 +40,7 @@ from celtstone.bodies.shapes import (
     Shape,
     Superellipsoid,
 )
-from celtstone.errors import ParameterError
+from celtstone.errors import ParameterError, require_choice
 
 __all__ = [
     "Body",
@@ -279,9 +278,7 @@ def load_body(name_or_path: str | Path) -> Body:
             names = [
                 e.name.removesuffix(".toml") for e in _DATA.iterdir() if e.name.endswith(".toml")
             ]
-            close = difflib.get_close_matches(text, names, n=1)
-            hint = f"did you mean {close[0]!r}?" if close else ""
-            raise ParameterError("body", text, "one of: " + ", ".join(sorted(names)), hint)
+            require_choice("body", text, sorted(names))
         raw = entry.read_bytes()
         name, file = text, f"{text}.toml (shipped)"
     return body_from_dict(name, _decode(file, raw), file=file)

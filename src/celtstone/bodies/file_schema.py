@@ -19,7 +19,6 @@ file and the key (:class:`BodyFileError`, a ``ParameterError``).
 
 from __future__ import annotations
 
-import difflib
 import re
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -33,7 +32,7 @@ from celtstone.bodies.shapes import (
     Paraboloid,
     Superellipsoid,
 )
-from celtstone.errors import BodyFileError
+from celtstone.errors import BodyFileError, did_you_mean
 
 __all__ = [
     "BODY_ENTRIES",
@@ -207,8 +206,7 @@ def key_text(key: str) -> str:
 
 def closest(key: str, known: list[str]) -> str:
     """``"did you mean 'x'?"`` for the closest of ``known``, or ``""``."""
-    close = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
-    return f"did you mean {close[0]!r}?" if close else ""
+    return did_you_mean(key, known)
 
 
 def check_keys(

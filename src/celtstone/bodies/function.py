@@ -1,7 +1,7 @@
 """A convex body bounded by a user's implicit function F(x) = 1, given in Python.
 
 F, its gradient and (optionally) its Hessian are compiled by numba into one C
-callback whose address travels in the params array, so the compiled, cached
+callback whose address travels in the kernel parameter record, so the compiled, cached
 kernels call it in the Newton contact solve with no Python per call
 (docs/decisions.md section 18). The body is validated as every implicit surface
 (``bodies.implicit_surface``).
@@ -114,8 +114,8 @@ class ImplicitFunction(ImplicitSurface):
         values: np.ndarray = self._values(np.ascontiguousarray(points, dtype=float))
         return values
 
-    def _tail(self) -> tuple[float, np.ndarray]:
-        return -1.0, np.array([float(self._callback.address)])
+    def _level_fields(self) -> dict[str, Any]:
+        return {"level_function": int(self._callback.address)}
 
     def _check_gradient(self, points: np.ndarray) -> None:
         """∇F against a central difference of F, and a given Hessian against one of ∇F,

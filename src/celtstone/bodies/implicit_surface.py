@@ -1,8 +1,8 @@
 """What every body bounded by an implicit surface F(x) = 1 shares, whatever gives F.
 
 Validated once here (bounded, G inside, strictly convex, resting upright) with the
-Newton contact solve of ``kernels.implicit``, and packed for the kernels (layout in
-``kernels.layout``, docs/decisions.md sections 17 and 18). Subclasses say how F is
+Newton contact solve of ``kernels.implicit``, and packed into the kernel parameter
+record (``kernels.layout``, docs/decisions.md sections 17 and 18). Subclasses say how F is
 evaluated: ``bodies.polynomial.ImplicitPolynomial`` (terms, stored with the run) and
 ``bodies.function.ImplicitFunction`` (a user's compiled Python function).
 """
@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from celtstone.errors import ParameterError
-from celtstone.kernels import implicit, layout
+from celtstone.kernels import implicit
+from celtstone.kernels.layout import ShapeCode, parameter_record
 
 N_DIRECTIONS = 2000  # Fibonacci-sphere normals on which convexity is checked
 RAY_LIMIT = 1e3  # m: a ray from G that has not left the body by then: unbounded
@@ -66,7 +68,7 @@ class ImplicitSurface:
 
     Subclasses are frozen dataclasses with the fields ``com_offset``, ``start_centre``
     and ``start_semi_axes`` (the last two derived by :meth:`_validate`), and define
-    ``parameter`` (the input named in errors), ``_evaluate`` and ``_tail``.
+    ``parameter`` (the input named in errors), ``_evaluate`` and ``_level_fields``.
     """
 
     com_offset: float
@@ -78,8 +80,9 @@ class ImplicitSurface:
         """F at ``points`` (k, 3) about O [m]."""
         raise NotImplementedError
 
-    def _tail(self) -> tuple[float, np.ndarray]:
-        """(params[P_SHAPE_4], the params tail after the start centre)."""
+    def _level_fields(self) -> dict[str, Any]:
+        """The record fields that say how the kernels evaluate F (``kernels.layout``):
+        the polynomial's terms, or the C address of a compiled function."""
         raise NotImplementedError
 
     def _prepare(self, surface_points: np.ndarray) -> None:
@@ -108,37 +111,30 @@ class ImplicitSurface:
 
     # --- kernel packing -------------------------------------------------------
 
-    @property
-    def code(self) -> int:
-        """Kernel shape code."""
-        return layout.SHAPE_IMPLICIT
+    code = ShapeCode.IMPLICIT
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a0, b0, c0, h): start-ellipsoid semi-axes and h, as the kernels read them [m].
+        """(a0, b0, c0, h): start-ellipsoid semi-axes and h [m], the shape numbers a run
+        records (``body_shape_parameters``).
 
         The start ellipsoid is the box of the body's extents (derived, not an input).
         """
         a, b, c = self.start_semi_axes
         return (a, b, c, self.com_offset)
 
-    @property
-    def kernel_count(self) -> float:
-        """params[P_SHAPE_4]: the number of terms, or -1 for a compiled function."""
-        return self._tail()[0]
+    def kernel_fields(self) -> dict[str, Any]:
+        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        return {
+            "shape_code": self.code,
+            "com_offset": self.com_offset,
+            "start_centre": self.start_centre,
+            "start_semi_axes": self.start_semi_axes,
+            **self._level_fields(),
+        }
 
-    def kernel_tail(self) -> np.ndarray:
-        """The params tail: start-ellipsoid centre [m], then the shape's own numbers."""
-        return np.concatenate([self.start_centre, self._tail()[1]]).astype(float)
-
-    def kernel_array(self) -> np.ndarray:
-        """A full params array with only the shape filled (for the geometry kernels)."""
-        tail = self.kernel_tail()
-        params = np.zeros(layout.N_PARAMS + tail.size)
-        params[layout.P_SHAPE] = self.code
-        params[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = self.kernel_parameters()
-        params[layout.P_SHAPE_4] = self.kernel_count
-        params[layout.N_PARAMS :] = tail
-        return params
+    def kernel_record(self) -> np.record:
+        """A parameter record with only the shape filled (for the geometry kernels)."""
+        return parameter_record(**self.kernel_fields())
 
     # --- geometry --------------------------------------------------------------
 
@@ -149,11 +145,11 @@ class ImplicitSurface:
 
     def contact_point(self, n: tuple[float, float, float]) -> tuple[float, ...] | None:
         """Lowest point x* about O for the upward vertical n [m], or None if not found."""
-        x, _, _, _, ok = implicit.implicit_point(n, self.kernel_array())
+        x, _, _, _, ok = implicit.implicit_point(n, self.kernel_record())
         return tuple(x) if ok else None
 
     def _check_convex(self, points: np.ndarray) -> None:
-        params = self.kernel_array()
+        params = self.kernel_record()
         size = self.size
         normals = fibonacci_directions()
         for n in normals:
@@ -193,6 +189,6 @@ class ImplicitSurface:
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
         """Normal radii of curvature along body axes 1, 2 at the rest contact, |∇F|/H_ii [m]."""
-        _, _, gradient, hessian, _ = implicit.implicit_point((0.0, 0.0, 1.0), self.kernel_array())
+        _, _, gradient, hessian, _ = implicit.implicit_point((0.0, 0.0, 1.0), self.kernel_record())
         norm = math.sqrt(gradient[0] ** 2 + gradient[1] ** 2 + gradient[2] ** 2)
         return (norm / hessian[0], norm / hessian[4])

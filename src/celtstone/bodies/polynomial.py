@@ -2,7 +2,7 @@
 
 The contact point is found by the Newton solve of ``kernels.implicit``; the checks
 and the packing are those of every implicit surface (``bodies.implicit_surface``);
-the terms travel in the params tail and in the run's attributes, so a run of a
+the terms travel in the kernel parameter record and in the run's attributes, so a run of a
 polynomial body can be redrawn and repeated from its file (docs/decisions.md section 17).
 """
 
@@ -11,16 +11,17 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
+from celtstone.kernels.layout import MAX_TERMS
 
 __all__ = ["ImplicitPolynomial"]
 
 MAX_EXPONENT = 16  # per variable; enough for superellipsoids up to p = 16
-MAX_TERMS = 64
 
 Term = tuple[float, int, int, int]
 
@@ -98,8 +99,17 @@ class ImplicitPolynomial(ImplicitSurface):
     def _evaluate(self, points: np.ndarray) -> np.ndarray:
         return evaluate(self.terms, points)
 
-    def _tail(self) -> tuple[float, np.ndarray]:
-        return float(len(self.terms)), np.ravel(self.terms).astype(float)
+    def _level_fields(self) -> dict[str, Any]:
+        coefficients = np.zeros(MAX_TERMS)
+        exponents = np.zeros((MAX_TERMS, 3), dtype=np.int64)
+        count = len(self.terms)
+        coefficients[:count] = [c for c, _, _, _ in self.terms]
+        exponents[:count] = [(i, j, k) for _, i, j, k in self.terms]
+        return {
+            "term_count": count,
+            "term_coefficients": coefficients,
+            "term_exponents": exponents,
+        }
 
     def terms_json(self) -> str:
         """The terms as a JSON list of [c, i, j, l], for run attributes."""

@@ -1,21 +1,22 @@
 """Convex surfaces a body can have, as plain numbers.
 
-Each shape knows its kernel code and its four shape parameters (see
-``celtstone.kernels.layout``), and the geometry of its rest contact point. The
-implicit polynomial (``bodies.polynomial``) also packs its terms into a params tail.
+Each shape knows its kernel code, the fields of the kernel parameter record it
+fills (``kernel_fields``, see ``celtstone.kernels.layout``), the four numbers a run
+records of it (``kernel_parameters``) and the geometry of its rest contact point.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from celtstone import schema
 from celtstone.bodies.function import ImplicitFunction
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.bodies.polynomial import ImplicitPolynomial
 from celtstone.errors import ParameterError
-from celtstone.kernels import layout
+from celtstone.kernels.layout import ShapeCode
 
 __all__ = [
     "Ellipsoid",
@@ -35,11 +36,16 @@ class _AboutCentre:
     semi_axes: tuple[float, float, float]
     com_offset: float
 
+    code: ShapeCode
+
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a, b, c, h) as the kernels read them [m]; a superellipsoid's exponent goes to
-        ``P_SHAPE_4``."""
+        """(a, b, c, h) [m], the shape numbers a run records (``body_shape_parameters``)."""
         a, b, c = self.semi_axes
         return (a, b, c, self.com_offset)
+
+    def kernel_fields(self) -> dict[str, Any]:
+        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        return {"shape_code": self.code, "semi_axes": self.semi_axes, "com_offset": self.com_offset}
 
     @property
     def rest_height(self) -> float:
@@ -78,10 +84,7 @@ class Ellipsoid(_AboutCentre):
             raise ParameterError("com_offset", self.com_offset, allowed, "G inside the body")
         object.__setattr__(self, "com_offset", offset)
 
-    @property
-    def code(self) -> int:
-        """Kernel shape code."""
-        return layout.SHAPE_ELLIPSOID
+    code = ShapeCode.ELLIPSOID
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
@@ -120,15 +123,20 @@ class Paraboloid:
         object.__setattr__(self, "radii_of_curvature", radii)
         object.__setattr__(self, "com_height", schema.check("com_height", self.com_height))
 
-    @property
-    def code(self) -> int:
-        """Kernel shape code."""
-        return layout.SHAPE_PARABOLOID
+    code = ShapeCode.PARABOLOID
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(ρ1, ρ2, l, 0) as the kernels read them [m]."""
+        """(ρ1, ρ2, l, 0) [m], the shape numbers a run records (``body_shape_parameters``)."""
         rho1, rho2 = self.radii_of_curvature
         return (rho1, rho2, self.com_height, 0.0)
+
+    def kernel_fields(self) -> dict[str, Any]:
+        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        return {
+            "shape_code": self.code,
+            "radii_of_curvature": self.radii_of_curvature,
+            "com_height": self.com_height,
+        }
 
     @property
     def rest_height(self) -> float:
@@ -182,10 +190,11 @@ class Superellipsoid(_AboutCentre):
             raise ParameterError("exponent", self.exponent, allowed, hint)
         object.__setattr__(self, "exponent", exponent)
 
-    @property
-    def code(self) -> int:
-        """Kernel shape code."""
-        return layout.SHAPE_SUPERELLIPSOID
+    code = ShapeCode.SUPERELLIPSOID
+
+    def kernel_fields(self) -> dict[str, Any]:
+        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        return {**super().kernel_fields(), "exponent": self.exponent}
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:

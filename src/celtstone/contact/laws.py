@@ -11,19 +11,14 @@ import difflib
 import numpy as np
 
 from celtstone.errors import ParameterError
-from celtstone.kernels import layout
 from celtstone.kernels.friction import contact_friction
+from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
 __all__ = ["CONTACT_PRESSURES", "FRICTION_LAWS", "check_choice", "friction_functions"]
 
-FRICTION_LAWS = {
-    "pade": layout.FRICTION_PADE,  # Zhuravlev's Padé law, paper eq. (10), (12)
-    "exact": layout.FRICTION_EXACT,  # the integrals of paper section 2, in closed form
-}
-CONTACT_PRESSURES = {
-    "hertz": layout.PRESSURE_HERTZ,  # paper eq. (2)
-    "uniform": layout.PRESSURE_UNIFORM,
-}
+# names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
+FRICTION_LAWS = {law.name.lower(): law.value for law in FrictionLaw}
+CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
 
 
 def check_choice(name: str, value: str, options: dict[str, int]) -> None:

@@ -5,7 +5,7 @@
 same kernels run (slowly) as plain Python for coverage and debugging.
 
 A user's shape function reaches the compiled, cached kernels as a C function
-pointer stored (as a float64, exact below 2**53) in the params array:
+pointer stored in the int64 field ``level_function`` of the parameter record:
 ``compile_level_function`` compiles F, ∇F and the Hessian into one C callback,
 ``call_level_function`` calls it from inside a kernel (docs/decisions.md section 18);
 such shapes need the JIT (not ``NUMBA_DISABLE_JIT``).

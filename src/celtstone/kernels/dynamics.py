@@ -6,24 +6,14 @@ vector from G to the contact point (the paper's r_CA).
 
 from __future__ import annotations
 
+import math
+
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction import contact_friction
 from celtstone.kernels.hertz import equivalent_radius, hertz_contact_radius
-from celtstone.kernels.layout import (
-    NORMAL_FORCE_DYNAMIC,
-    P_CONTACT_MODULUS,
-    P_CONTACT_PRESSURE,
-    P_CONTACT_RADIUS,
-    P_DAMPING,
-    P_FRICTION,
-    P_FRICTION_LAW,
-    P_GRAVITY,
-    P_INERTIA,
-    P_MASS,
-    P_NORMAL_FORCE,
-    P_REGULARISATION,
-)
+from celtstone.kernels.layout import NormalForce
 from celtstone.kernels.vector import (
+    NAN3,
     Mat,
     Vec,
     add,
@@ -47,18 +37,8 @@ MAX_NORMAL_FORCE_ITERATIONS = 50
 @kernel
 def inertia_tensor(params) -> Mat:
     """Central inertia tensor A as a row-major 9-tuple [kg m²]."""
-    i = P_INERTIA
-    return (
-        params[i],
-        params[i + 1],
-        params[i + 2],
-        params[i + 3],
-        params[i + 4],
-        params[i + 5],
-        params[i + 6],
-        params[i + 7],
-        params[i + 8],
-    )
+    a = params.inertia
+    return (a[0, 0], a[0, 1], a[0, 2], a[1, 0], a[1, 1], a[1, 2], a[2, 0], a[2, 1], a[2, 2])
 
 
 @kernel
@@ -102,13 +82,13 @@ def rolling_acceleration(
     Paper eq. (5): (A + m(r²E - r⊗r)) ω̇ = -ω × Aω + m r × (g n - ω × ṙ - ω × (ω × r)) - σω,
     written with r = r_CA; the reaction follows from eq. (3): R = m(W_C + g n).
     """
-    mass = params[P_MASS]
-    gravity = params[P_GRAVITY]
+    mass = params.mass
+    gravity = params.gravity
     inertia = inertia_tensor(params)
     centripetal = centripetal_terms(omega, r, r_rate)
     torque = sub(
         cross(matvec(inertia, omega), omega),
-        scale(params[P_DAMPING], omega),
+        scale(params.damping, omega),
     )
     torque = add(torque, scale(mass, cross(r, sub(scale(gravity, n), centripetal))))
     omega_rate, determinant = solve3(contact_inertia(inertia, mass, r), torque)
@@ -126,11 +106,11 @@ def contact_radius(n: Vec, normal_force: float, params) -> float:
     R_eq from the Gaussian curvature at the current contact point, N clamped
     below at ``MIN_LOAD_FRACTION`` m g.
     """
-    modulus = params[P_CONTACT_MODULUS]
+    modulus = params.effective_modulus
     if modulus > 0.0:
-        load = max(normal_force, MIN_LOAD_FRACTION * params[P_MASS] * params[P_GRAVITY])
+        load = max(normal_force, MIN_LOAD_FRACTION * params.mass * params.gravity)
         return hertz_contact_radius(load, equivalent_radius(n, params), modulus)
-    return params[P_CONTACT_RADIUS]
+    return params.contact_radius
 
 
 @kernel
@@ -142,9 +122,9 @@ def friction_per_unit_load(
         slip_velocity,
         spin_rate,
         radius,
-        params[P_REGULARISATION],
-        params[P_FRICTION_LAW],
-        params[P_CONTACT_PRESSURE],
+        params.regularisation_speed,
+        params.friction_law,
+        params.contact_pressure,
     )
 
 
@@ -173,17 +153,18 @@ def sliding_acceleration(
     solved exactly. With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ
     depend on N in the dynamic case: N is then found by fixed-point iteration.
     Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
+    An unknown normal-force option gives NaN.
     """
-    mass = params[P_MASS]
-    gravity = params[P_GRAVITY]
-    friction_coefficient = params[P_FRICTION]
+    mass = params.mass
+    gravity = params.gravity
+    friction_coefficient = params.friction_coefficient
     inertia = inertia_tensor(params)
     centripetal = centripetal_terms(omega, r, r_rate)
     lever = cross(r, n)
     spin_rate = dot(omega, n)
     normal_free = mass * gravity - mass * dot(n, centripetal)
-    torque = sub(cross(matvec(inertia, omega), omega), scale(params[P_DAMPING], omega))
-    if params[P_NORMAL_FORCE] == NORMAL_FORCE_DYNAMIC:
+    torque = sub(cross(matvec(inertia, omega), omega), scale(params.damping, omega))
+    if params.normal_force_option == NormalForce.DYNAMIC:
         normal_force = normal_free
         for _ in range(MAX_NORMAL_FORCE_ITERATIONS):
             radius = contact_radius(n, normal_force, params)
@@ -196,12 +177,12 @@ def sliding_acceleration(
             omega_rate, determinant = solve3(matrix, add(torque, scale(normal_free, coupling)))
             previous = normal_force
             normal_force = normal_free - mass * dot(lever, omega_rate)
-            if params[P_CONTACT_MODULUS] <= 0.0 or abs(
+            if params.effective_modulus <= 0.0 or abs(
                 normal_force - previous
             ) <= NORMAL_FORCE_RTOL * (abs(normal_force) + mass * gravity):
                 break
         friction_normal = normal_force
-    else:
+    elif params.normal_force_option == NormalForce.STATIC:
         friction_normal = mass * gravity
         radius = contact_radius(n, friction_normal, params)
         force_unit, moment_unit = friction_per_unit_load(slip_velocity, spin_rate, radius, params)
@@ -211,6 +192,8 @@ def sliding_acceleration(
         matrix = add_outer(inertia, mass, lever, lever)
         omega_rate, determinant = solve3(matrix, torque)
         normal_force = normal_free - mass * dot(lever, omega_rate)
+    else:
+        return NAN3, NAN3, math.nan, NAN3, math.nan, math.nan
     friction_force = scale(friction_coefficient * friction_normal, force_unit)
     friction_moment = friction_coefficient * friction_normal * moment_unit
     tangential = add(cross(omega_rate, r), centripetal)

@@ -3,7 +3,7 @@
 Force and pivoting moment per unit normal force and friction coefficient, so
 that F = f N ``force_direction`` and M = f N ``moment_factor`` n (paper eq. 10, 12).
 The exact law lives in ``friction_exact``; ``contact_friction`` picks the law
-and pressure distribution by their codes (``layout.FRICTION_*``, ``PRESSURE_*``).
+and pressure distribution by their codes (``layout.FrictionLaw``, ``ContactPressure``).
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction_exact import exact_friction
-from celtstone.kernels.layout import FRICTION_PADE, PRESSURE_HERTZ
-from celtstone.kernels.vector import Vec, regularised_norm, scale
+from celtstone.kernels.layout import ContactPressure, FrictionLaw
+from celtstone.kernels.vector import NAN3, Vec, regularised_norm, scale
 
 PADE_B = 8.0 / (3.0 * math.pi)  # b in paper eq. (12), fixes F ≈ fN(3π/8)u at small u
 PADE_A = 15.0 * math.pi / 16.0  # a in paper eq. (12), fixes M ≈ fNε/(5u) at large u
@@ -101,20 +101,25 @@ def contact_friction(
 ) -> tuple[Vec, float]:
     """Friction force and moment per unit f N for a law and pressure code.
 
-    ``law``: ``layout.FRICTION_PADE`` or ``FRICTION_EXACT``; ``pressure``:
-    ``layout.PRESSURE_HERTZ`` or ``PRESSURE_UNIFORM``. Other arguments and the
-    returns as in :func:`zhuravlev_pade`.
+    ``law``: a ``layout.FrictionLaw``; ``pressure``: a ``layout.ContactPressure``.
+    Other arguments and the returns as in :func:`zhuravlev_pade`. An unknown code
+    gives NaN.
     """
-    if law == FRICTION_PADE:
-        if pressure == PRESSURE_HERTZ:
+    if law == FrictionLaw.PADE:
+        if pressure == ContactPressure.HERTZ:
             return pade_friction(slip_velocity, spin_rate, contact_radius, regularisation_speed)
-        return zhuravlev_pade(
-            slip_velocity,
-            spin_rate,
-            contact_radius,
-            regularisation_speed,
-            UNIFORM_PADE_B,
-            UNIFORM_PADE_A,
-            UNIFORM_MOMENT,
+        if pressure == ContactPressure.UNIFORM:
+            return zhuravlev_pade(
+                slip_velocity,
+                spin_rate,
+                contact_radius,
+                regularisation_speed,
+                UNIFORM_PADE_B,
+                UNIFORM_PADE_A,
+                UNIFORM_MOMENT,
+            )
+    if law == FrictionLaw.EXACT:
+        return exact_friction(
+            slip_velocity, spin_rate, contact_radius, regularisation_speed, pressure
         )
-    return exact_friction(slip_velocity, spin_rate, contact_radius, regularisation_speed, pressure)
+    return NAN3, math.nan

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import PRESSURE_HERTZ
+from celtstone.kernels.layout import ContactPressure
 from celtstone.kernels.vector import Vec, regularised_norm, scale
 
 # below this value of u (uniform force) or k = 1/u the power series replace the
@@ -197,22 +197,27 @@ def exact_friction_functions(
     ----------
     slip_speed : |V1| (or its regularised value) [m/s], >= 0
     pivot_speed : ε|Ω_n| [m/s], >= 0
-    pressure : ``layout.PRESSURE_HERTZ`` or ``layout.PRESSURE_UNIFORM``
+    pressure : a ``layout.ContactPressure``
 
     Both speeds zero gives (0, 0). u is never formed when it would overflow:
-    u <= 1 uses u, u > 1 uses k = 1/u.
+    u <= 1 uses u, u > 1 uses k = 1/u. An unknown pressure code gives NaN (but
+    (0, 0) without motion, as every law).
     """
     if slip_speed <= pivot_speed:
         if pivot_speed == 0.0:
             return 0.0, 0.0
         u = slip_speed / pivot_speed
-        if pressure == PRESSURE_HERTZ:
+        if pressure == ContactPressure.HERTZ:
             return hertz_inside(u)
-        return uniform_inside(u)
+        if pressure == ContactPressure.UNIFORM:
+            return uniform_inside(u)
+        return math.nan, math.nan
     k = pivot_speed / slip_speed
-    if pressure == PRESSURE_HERTZ:
+    if pressure == ContactPressure.HERTZ:
         return hertz_outside(k)
-    return uniform_outside(k)
+    if pressure == ContactPressure.UNIFORM:
+        return uniform_outside(k)
+    return math.nan, math.nan
 
 
 @kernel
@@ -231,7 +236,7 @@ def exact_friction(
     spin_rate : Ω_n = ω · n, angular velocity about the vertical [rad/s]
     contact_radius : ε, radius of the contact disk [m]
     regularisation_speed : δ, |V1| -> sqrt(|V1|² + δ²) as in the Padé law [m/s]
-    pressure : pressure-distribution code (``layout.PRESSURE_*``)
+    pressure : pressure-distribution code (``layout.ContactPressure``)
 
     Returns
     -------

@@ -11,22 +11,8 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.implicit import implicit_contact
-from celtstone.kernels.layout import (
-    P_SHAPE,
-    P_SHAPE_0,
-    P_SHAPE_1,
-    P_SHAPE_2,
-    P_SHAPE_3,
-    P_SHAPE_4,
-    RHS_NON_CONVEX,
-    RHS_OFF_SHAPE,
-    RHS_OK,
-    SHAPE_ELLIPSOID,
-    SHAPE_IMPLICIT,
-    SHAPE_PARABOLOID,
-    SHAPE_SUPERELLIPSOID,
-)
-from celtstone.kernels.vector import Vec
+from celtstone.kernels.layout import RHS_NON_CONVEX, RHS_OFF_SHAPE, RHS_OK, ShapeCode
+from celtstone.kernels.vector import NAN3, Vec
 
 
 @kernel
@@ -176,24 +162,25 @@ def superellipsoid_gaussian_curvature(
 
 @kernel
 def contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
-    """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``."""
-    if params[P_SHAPE] == SHAPE_ELLIPSOID:
-        return ellipsoid_contact(
-            n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2], params[P_SHAPE_3]
-        )
-    if params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
+    """Contact point r [m] and its rate dr/dt [m/s] for the shape coded in ``params``.
+
+    ``params`` is a record of ``layout.PARAMETERS``; an unknown shape code gives NaN
+    (``system.code_status`` reports it).
+    """
+    shape = params.shape_code
+    axes = params.semi_axes
+    if shape == ShapeCode.ELLIPSOID:
+        return ellipsoid_contact(n, n_rate, axes[0], axes[1], axes[2], params.com_offset)
+    if shape == ShapeCode.PARABOLOID:
+        radii = params.radii_of_curvature
+        return paraboloid_contact(n, n_rate, radii[0], radii[1], params.com_height)
+    if shape == ShapeCode.SUPERELLIPSOID:
         return superellipsoid_contact(
-            n,
-            n_rate,
-            params[P_SHAPE_0],
-            params[P_SHAPE_1],
-            params[P_SHAPE_2],
-            params[P_SHAPE_3],
-            params[P_SHAPE_4],
+            n, n_rate, axes[0], axes[1], axes[2], params.com_offset, params.exponent
         )
-    if params[P_SHAPE] == SHAPE_IMPLICIT:
+    if shape == ShapeCode.IMPLICIT:
         return implicit_contact(n, n_rate, params)
-    return paraboloid_contact(n, n_rate, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2])
+    return NAN3, NAN3
 
 
 @kernel
@@ -204,8 +191,8 @@ def contact_status(n: Vec, r: Vec, params) -> int:
     ``RHS_NON_CONVEX`` when the implicit shape's Newton solve found no strictly
     convex contact point (r is NaN); else ``RHS_OK``.
     """
-    if params[P_SHAPE] == SHAPE_PARABOLOID and not n[2] > 1e-3:
+    if params.shape_code == ShapeCode.PARABOLOID and not n[2] > 1e-3:
         return RHS_OFF_SHAPE
-    if params[P_SHAPE] == SHAPE_IMPLICIT and not math.isfinite(r[0]):
+    if params.shape_code == ShapeCode.IMPLICIT and not math.isfinite(r[0]):
         return RHS_NON_CONVEX
     return RHS_OK

@@ -12,16 +12,7 @@ import math
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.geometry import superellipsoid_gaussian_curvature
 from celtstone.kernels.implicit import implicit_gaussian_curvature
-from celtstone.kernels.layout import (
-    P_SHAPE,
-    P_SHAPE_0,
-    P_SHAPE_1,
-    P_SHAPE_2,
-    P_SHAPE_4,
-    SHAPE_ELLIPSOID,
-    SHAPE_IMPLICIT,
-    SHAPE_SUPERELLIPSOID,
-)
+from celtstone.kernels.layout import ShapeCode
 from celtstone.kernels.vector import Vec
 
 
@@ -38,20 +29,24 @@ def equivalent_radius(n: Vec, params) -> float:
     Superellipsoid: K from ``geometry.superellipsoid_gaussian_curvature`` (0, so R_eq
     infinite, on its flat curves: models refuse a Hertz radius for p > 2). Implicit
     polynomial: K from ``implicit.implicit_gaussian_curvature`` (Newton solve).
+    An unknown shape code gives NaN.
     """
     norm2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
-    if params[P_SHAPE] == SHAPE_ELLIPSOID:
-        a, b, c = params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2]
+    shape = params.shape_code
+    axes = params.semi_axes
+    if shape == ShapeCode.ELLIPSOID:
+        a, b, c = axes[0], axes[1], axes[2]
         quadratic = (a * a * n[0] * n[0] + b * b * n[1] * n[1] + c * c * n[2] * n[2]) / norm2
         return a * b * c / quadratic
-    if params[P_SHAPE] == SHAPE_IMPLICIT:
-        return 1.0 / math.sqrt(implicit_gaussian_curvature(n, params))
-    if params[P_SHAPE] == SHAPE_SUPERELLIPSOID:
-        curvature = superellipsoid_gaussian_curvature(
-            n, params[P_SHAPE_0], params[P_SHAPE_1], params[P_SHAPE_2], params[P_SHAPE_4]
-        )
+    if shape == ShapeCode.PARABOLOID:
+        radii = params.radii_of_curvature
+        return math.sqrt(radii[0] * radii[1]) * norm2 / (n[2] * n[2])
+    if shape == ShapeCode.SUPERELLIPSOID:
+        curvature = superellipsoid_gaussian_curvature(n, axes[0], axes[1], axes[2], params.exponent)
         return 1.0 / math.sqrt(curvature) if curvature > 0.0 else math.inf
-    return math.sqrt(params[P_SHAPE_0] * params[P_SHAPE_1]) * norm2 / (n[2] * n[2])
+    if shape == ShapeCode.IMPLICIT:
+        return 1.0 / math.sqrt(implicit_gaussian_curvature(n, params))
+    return math.nan
 
 
 @kernel

@@ -1,8 +1,9 @@
 """Contact point of a body bounded by an implicit polynomial, by a damped Newton solve.
 
 The body is {F(x) <= 1} about an origin O with
-F(x) = Σ_k c_k x^i_k y^j_k z^l_k (terms stored in the tail of ``params``, see
-``kernels.layout``) and G = (0, 0, -h). The contact point x* for the upward
+F(x) = Σ_k c_k x^i_k y^j_k z^l_k (the record fields ``term_*`` of ``params``, see
+``kernels.layout``), or a user's compiled function (``level_function``), and
+G = (0, 0, -h). The contact point x* for the upward
 vertical n (body axes) is the lowest point of the body: the surface point whose
 outward normal ∇F is parallel to -n,
 
@@ -19,19 +20,8 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from celtstone.kernels._jit import call_level_function, kernel
-from celtstone.kernels.layout import (
-    P_IMPLICIT_CENTRE,
-    P_IMPLICIT_TERMS,
-    P_SHAPE_0,
-    P_SHAPE_1,
-    P_SHAPE_2,
-    P_SHAPE_3,
-    P_SHAPE_4,
-)
-from celtstone.kernels.vector import Mat, Vec, cross, dot, matvec, solve3
+from celtstone.kernels.vector import NAN3, Mat, Vec, cross, dot, matvec, solve3
 
 MAX_ITERATIONS = 50  # Newton iterations before the solve counts as failed
 MAX_HALVINGS = 12  # backtracking halvings of one Newton step
@@ -39,8 +29,6 @@ STEP_TOLERANCE = 1e-12  # converged when |Δx| <= this × L (quadratic: error ~1
 RESIDUAL_FLOOR = 1e-13  # scaled residual at which round-off stops further decrease
 SINGULAR_RATIO = 1e-13  # |det| / (product of row norms) of the reduced 3x3 system
 MIN_CURVATURE = 1e-8  # smallest principal curvature × L accepted as strictly convex
-
-NAN3 = (math.nan, math.nan, math.nan)
 
 
 @kernel
@@ -62,16 +50,17 @@ def polynomial(x: Vec, params) -> tuple[float, Vec, Mat]:
 
     x is measured from the origin O of the polynomial [m].
     """
-    count = int(params[P_SHAPE_4])
+    coefficients = params.term_coefficients
+    exponents = params.term_exponents
+    count = min(params.term_count, coefficients.shape[0])
     value = 0.0
     g0 = g1 = g2 = 0.0
     hxx = hyy = hzz = hxy = hxz = hyz = 0.0
     for k in range(count):
-        base = P_IMPLICIT_TERMS + 4 * k
-        c = params[base]
-        px, dx, ddx = _powers(x[0], int(params[base + 1]))
-        py, dy, ddy = _powers(x[1], int(params[base + 2]))
-        pz, dz, ddz = _powers(x[2], int(params[base + 3]))
+        c = coefficients[k]
+        px, dx, ddx = _powers(x[0], exponents[k, 0])
+        py, dy, ddy = _powers(x[1], exponents[k, 1])
+        pz, dz, ddz = _powers(x[2], exponents[k, 2])
         value += c * px * py * pz
         g0 += c * dx * py * pz
         g1 += c * px * dy * pz
@@ -87,12 +76,12 @@ def polynomial(x: Vec, params) -> tuple[float, Vec, Mat]:
 
 @kernel
 def level_function(x: Vec, params) -> tuple[float, Vec, Mat]:
-    """F(x) [1], ∇F(x) [1/m], H(x) [1/m²]: the polynomial of the params tail, or, when
-    ``params[P_SHAPE_4]`` < 0, the user's compiled function whose C address is the
-    first number after the start centre (``bodies.function.ImplicitFunction``)."""
-    if params[P_SHAPE_4] >= 0.0:
+    """F(x) [1], ∇F(x) [1/m], H(x) [1/m²]: the polynomial of the record's terms, or,
+    when ``params.level_function`` is not 0, the user's compiled function at that C
+    address (``bodies.function.ImplicitFunction``)."""
+    address = params.level_function
+    if address == 0:
         return polynomial(x, params)
-    address = np.int64(params[P_IMPLICIT_TERMS])
     out: tuple[float, ...] = call_level_function(address, x[0], x[1], x[2])  # type: ignore[call-arg]
     return (
         out[0],
@@ -198,15 +187,17 @@ def implicit_point(n: Vec, params) -> tuple[Vec, float, Vec, Mat, bool]:
     the solve fails, λ <= 0 (a highest, not lowest, point), or a principal
     curvature is below ``MIN_CURVATURE`` / L (not strictly convex at x*).
     """
-    qa = params[P_SHAPE_0] * params[P_SHAPE_0]
-    qb = params[P_SHAPE_1] * params[P_SHAPE_1]
-    qc = params[P_SHAPE_2] * params[P_SHAPE_2]
-    length = max(params[P_SHAPE_0], max(params[P_SHAPE_1], params[P_SHAPE_2]))
+    axes = params.start_semi_axes
+    centre = params.start_centre
+    qa = axes[0] * axes[0]
+    qb = axes[1] * axes[1]
+    qc = axes[2] * axes[2]
+    length = max(axes[0], max(axes[1], axes[2]))
     s = math.sqrt(qa * n[0] * n[0] + qb * n[1] * n[1] + qc * n[2] * n[2])
     x = (
-        params[P_IMPLICIT_CENTRE] - qa * n[0] / s,
-        params[P_IMPLICIT_CENTRE + 1] - qb * n[1] / s,
-        params[P_IMPLICIT_CENTRE + 2] - qc * n[2] / s,
+        centre[0] - qa * n[0] / s,
+        centre[1] - qb * n[1] / s,
+        centre[2] - qc * n[2] / s,
     )
     value, gradient, hessian = level_function(x, params)
     lam = -dot(gradient, n) / dot(n, n)
@@ -261,7 +252,7 @@ def implicit_contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
     Parameters
     ----------
     n, n_rate : upward vertical in body axes [1] and its time derivative [1/s]
-    params : flat parameters with the implicit polynomial's tail; h = P_SHAPE_3 [m]
+    params : parameter record (``layout.PARAMETERS``) of an implicit shape; h = com_offset [m]
 
     Notes
     -----
@@ -275,7 +266,7 @@ def implicit_contact(n: Vec, n_rate: Vec, params) -> tuple[Vec, Vec]:
     rate, _, ratio = bordered_solve(hessian, n, gradient, a, 0.0)
     if not ratio > SINGULAR_RATIO:
         return NAN3, NAN3
-    return (x[0], x[1], x[2] + params[P_SHAPE_3]), rate
+    return (x[0], x[1], x[2] + params.com_offset), rate
 
 
 @kernel

@@ -1,9 +1,24 @@
-"""Index layout of the flat parameter and state arrays the kernels read.
+"""What the kernels read: the typed parameter record, the codes, and the state array.
 
-The parameter array ``params`` (float64, length ``N_PARAMS``, plus a tail for an
-implicit polynomial shape, see below) is built once by
-``celtstone.models`` from validated objects; the state array ``y`` (float64,
-length ``N_STATE``) is shared by both models so one integrator serves both.
+Parameters
+----------
+One NumPy structured dtype, :data:`PARAMETERS`, declared once from the table
+:data:`PARAMETER_FIELDS` (name, type, shape, unit, the ``schema.PARAMETERS`` entry it
+carries where one exists, and meaning). ``celtstone.models.kernel_parameters`` fills
+one record per run from validated objects; numba compiles ``params.mass`` or
+``params.inertia[i, j]`` to a load at a fixed offset and caches the kernels on the
+dtype (docs/decisions.md, "Typed kernel parameters"). A sweep stacks the records of
+its points into a 1-d array of this dtype, whose ``[i]`` is one point's record.
+
+Codes
+-----
+Model, shape, normal-force option, friction law and contact pressure are
+``enum.IntEnum``s, used by name in the kernels (numba folds a member to its integer)
+and from Python. Each is numbered 0, 1, ...; every dispatch on one has a branch per
+member and no default: an unknown code gives NaN there, and the right-hand side
+reports ``RHS_UNKNOWN_CODE`` (``system.code_status``). A code passed from Python as
+a kernel *argument* is a plain int (``.value``): numba would compile another
+specialisation for an IntEnum argument.
 
 State (all in body axes unless said otherwise)
 ----------------------------------------------
@@ -17,54 +32,209 @@ State (all in body axes unless said otherwise)
 
 from __future__ import annotations
 
-# model codes
-MODEL_ROLLING = 0
-MODEL_SLIDING = 1
-MODEL_STICK = 2  # hybrid contact, stick phase: no slip, no pivoting (kernels/stick.py)
+import enum
+from dataclasses import dataclass
+from typing import Any
 
-# shape codes
-SHAPE_ELLIPSOID = 0
-SHAPE_PARABOLOID = 1
-SHAPE_SUPERELLIPSOID = 2  # |x/a|^p + |y/b|^p + |z/c|^p = 1
-SHAPE_IMPLICIT = 3  # F(x) = sum_k c_k x^i_k y^j_k z^l_k = 1, terms in the tail below
+import numpy as np
 
-# normal-force options of the sliding model
-NORMAL_FORCE_STATIC = 0
-NORMAL_FORCE_DYNAMIC = 1
+__all__ = [
+    "MAX_TERMS",
+    "PARAMETERS",
+    "PARAMETER_FIELDS",
+    "ContactPressure",
+    "FrictionLaw",
+    "ModelCode",
+    "NormalForce",
+    "ParameterField",
+    "ShapeCode",
+    "parameter_record",
+    "unknown_codes",
+]
 
-# friction laws and contact-pressure distributions of the sliding model
-FRICTION_PADE = 0  # Zhuravlev's Padé approximation, paper eq. (10)
-FRICTION_EXACT = 1  # the Coulomb–Contensou integrals of paper section 2
-PRESSURE_HERTZ = 0  # sigma ∝ sqrt(eps² − r²), paper eq. (2)
-PRESSURE_UNIFORM = 1  # sigma = N / (pi eps²)
 
-# parameter indices
-P_MASS = 0  # m [kg]
-P_GRAVITY = 1  # g [m/s^2]
-P_INERTIA = 2  # central inertia tensor, row-major 3x3, P_INERTIA .. P_INERTIA + 8 [kg m^2]
-P_SHAPE = 11  # shape code
-P_SHAPE_0 = 12  # ellipsoid: semi-axis a [m];  paraboloid: rho1 [m]
-P_SHAPE_1 = 13  # ellipsoid: semi-axis b [m];  paraboloid: rho2 [m]
-P_SHAPE_2 = 14  # ellipsoid: semi-axis c [m];  paraboloid: l, height of G above the contact [m]
-P_SHAPE_3 = 15  # ellipsoid: h, G below the centre [m]; paraboloid: unused
-# (a superellipsoid reads P_SHAPE_0 .. P_SHAPE_3 as the ellipsoid, plus P_SHAPE_4;
-#  an implicit polynomial reads P_SHAPE_0 .. P_SHAPE_2 as the semi-axes of its start
-#  ellipsoid, P_SHAPE_3 as h and P_SHAPE_4 as the number of terms, see the tail below)
-P_DAMPING = 16  # sigma, viscous torque coefficient [N m s]
-P_FRICTION = 17  # f, friction coefficient [1]
-P_CONTACT_RADIUS = 18  # epsilon, Hertz contact radius [m]
-P_NORMAL_FORCE = 19  # normal-force option code
-P_REGULARISATION = 20  # delta, slip-speed regularisation scale [m/s]
-P_FRICTION_LAW = 21  # friction-law code FRICTION_*
-P_CONTACT_PRESSURE = 22  # contact-pressure code PRESSURE_*
-P_CONTACT_MODULUS = 23  # E*, effective modulus of the Hertz contact [Pa]; 0: fixed epsilon
-P_SHAPE_4 = 24  # superellipsoid: exponent p [1], >= 2; implicit: number of terms; else unused
-N_PARAMS = 25
+class ModelCode(enum.IntEnum):
+    """Which equations ``system.rhs`` integrates."""
 
-# Variable tail, present only for SHAPE_IMPLICIT (params then has length
-# N_PARAMS + 3 + 4 * number of terms; docs/decisions.md section 17):
-P_IMPLICIT_CENTRE = N_PARAMS  # centre of the start ellipsoid, 3 numbers, about O [m]
-P_IMPLICIT_TERMS = N_PARAMS + 3  # 4 numbers per term: c [m^-(i+j+l)], i, j, l
+    ROLLING = 0  # rolling without sliding, paper eq. (3)-(5)
+    SLIDING = 1  # rolling with sliding and pivoting friction, paper eq. (6)-(12)
+    STICK = 2  # hybrid contact, stick phase: no slip, no pivoting (kernels/stick.py)
+
+
+class ShapeCode(enum.IntEnum):
+    """The body's surface; the shape fields it reads are listed in PARAMETER_FIELDS."""
+
+    ELLIPSOID = 0  # semi_axes, com_offset
+    PARABOLOID = 1  # radii_of_curvature, com_height
+    SUPERELLIPSOID = 2  # |x/a|^p + |y/b|^p + |z/c|^p = 1: semi_axes, com_offset, exponent
+    IMPLICIT = 3  # F(x) = 1: start_*, com_offset, the terms or level_function (§17, §18)
+
+
+class NormalForce(enum.IntEnum):
+    """Normal force in the friction law of the sliding model (docs/decisions.md §5)."""
+
+    STATIC = 0  # N = m g, the paper's first approximation
+    DYNAMIC = 1  # the consistent normal force
+
+
+class FrictionLaw(enum.IntEnum):
+    """Coulomb–Contensou friction law of the sliding model."""
+
+    PADE = 0  # Zhuravlev's Padé approximation, paper eq. (10)
+    EXACT = 1  # the integrals of paper section 2, in closed form
+
+
+class ContactPressure(enum.IntEnum):
+    """Pressure distribution on the contact disk."""
+
+    HERTZ = 0  # sigma ∝ sqrt(eps² − r²), paper eq. (2)
+    UNIFORM = 1  # sigma = N / (pi eps²)
+
+
+# plain-int model codes for Python callers that pass one as a kernel argument
+MODEL_ROLLING = ModelCode.ROLLING.value
+MODEL_SLIDING = ModelCode.SLIDING.value
+MODEL_STICK = ModelCode.STICK.value
+
+MAX_TERMS = 64  # capacity of an implicit polynomial's terms (bodies.polynomial)
+
+
+@dataclass(frozen=True)
+class ParameterField:
+    """One field of the kernel parameter record.
+
+    Parameters
+    ----------
+    name : the field's name, read in the kernels as ``params.<name>``
+    kind : NumPy scalar type code, "f8" (float64) or "i8" (int64)
+    shape : () for a scalar, else the subarray's shape
+    unit : SI unit ("" for a dimensionless number or a code)
+    quantity : the ``schema.PARAMETERS`` entry validating the value, or None when
+        the value is derived or a code (tests/test_kernel_dispatch.py checks the units)
+    codes : the IntEnum of a code field, else None
+    meaning : what it holds, with the paper's symbol
+    """
+
+    name: str
+    kind: str
+    shape: tuple[int, ...]
+    unit: str
+    quantity: str | None
+    codes: type[enum.IntEnum] | None
+    meaning: str
+
+
+def _field(
+    name: str,
+    unit: str,
+    meaning: str,
+    *,
+    shape: tuple[int, ...] = (),
+    kind: str = "f8",
+    quantity: str | None = None,
+    codes: type[enum.IntEnum] | None = None,
+) -> ParameterField:
+    return ParameterField(name, kind, shape, unit, quantity, codes, meaning)
+
+
+PARAMETER_FIELDS: tuple[ParameterField, ...] = (
+    _field("mass", "kg", "m, mass of the body", quantity="mass"),
+    _field("gravity", "m/s^2", "g, gravitational acceleration", quantity="gravity"),
+    _field("inertia", "kg m^2", "A, central inertia tensor", shape=(3, 3), quantity="inertia"),
+    _field("shape_code", "", "the body's surface", kind="i8", codes=ShapeCode),
+    _field(
+        "semi_axes",
+        "m",
+        "(a, b, c) along body axes 1, 2, 3: ellipsoid, superellipsoid",
+        shape=(3,),
+        quantity="semi_axes",
+    ),
+    _field(
+        "com_offset",
+        "m",
+        "h, G below the centre O along axis 3: ellipsoid, superellipsoid, implicit",
+        quantity="com_offset",
+    ),
+    _field(
+        "radii_of_curvature",
+        "m",
+        "(rho1, rho2) at the rest contact: paraboloid",
+        shape=(2,),
+        quantity="radii_of_curvature",
+    ),
+    _field("com_height", "m", "l, G above the rest contact: paraboloid", quantity="com_height"),
+    _field("exponent", "", "p >= 2: superellipsoid"),
+    _field("start_centre", "m", "centre of the start ellipsoid about O: implicit", shape=(3,)),
+    _field("start_semi_axes", "m", "semi-axes of the start ellipsoid: implicit", shape=(3,)),
+    _field("term_count", "", "number of polynomial terms in use: implicit", kind="i8"),
+    _field(
+        "term_coefficients",
+        "m^-(i+j+k)",
+        "c of each term c x^i y^j z^k; rows past term_count are 0: implicit",
+        shape=(MAX_TERMS,),
+    ),
+    _field(
+        "term_exponents", "", "(i, j, k) of each term: implicit", shape=(MAX_TERMS, 3), kind="i8"
+    ),
+    _field(
+        "level_function",
+        "",
+        "C address of a compiled F, ∇F, H callback (§18), 0 for a polynomial: implicit",
+        kind="i8",
+    ),
+    _field("damping", "N m s", "sigma, viscous torque coefficient", quantity="damping"),
+    _field("friction_coefficient", "", "f", quantity="friction_coefficient"),
+    _field("contact_radius", "m", "epsilon, fixed contact radius", quantity="contact_radius"),
+    _field(
+        "normal_force_option", "", "normal force in the friction law", kind="i8", codes=NormalForce
+    ),
+    _field(
+        "regularisation_speed",
+        "m/s",
+        "delta, |V1| -> sqrt(|V1|² + delta²)",
+        quantity="regularisation_speed",
+    ),
+    _field("friction_law", "", "friction-law code", kind="i8", codes=FrictionLaw),
+    _field("contact_pressure", "", "contact-pressure code", kind="i8", codes=ContactPressure),
+    _field(
+        "effective_modulus",
+        "Pa",
+        "E* of the Hertz contact radius; 0: the fixed contact_radius",
+    ),
+)
+
+# aligned struct (np.dtype((np.record, ...), align=True) would drop the flag, and numba
+# would then treat every record as unaligned)
+PARAMETERS = np.dtype(
+    (np.record, np.dtype([(f.name, f.kind, f.shape) for f in PARAMETER_FIELDS], align=True))
+)
+
+
+def parameter_record(**values: Any) -> np.record:
+    """A parameter record with the given fields set, all others zero.
+
+    Subarray fields take anything that broadcasts to their shape. The record is a
+    view of a fresh one-element array, so it can be modified and passed to kernels.
+    """
+    records = np.zeros(1, dtype=PARAMETERS)
+    for name, value in values.items():
+        records[name][0] = value
+    record: np.record = records[0]
+    return record
+
+
+def unknown_codes(model: int, params: np.record) -> list[str]:
+    """Each code of a run that no kernel branch handles, in words (empty if none)."""
+    coded: list[tuple[str, int, type[enum.IntEnum]]] = [("model", int(model), ModelCode)]
+    coded += [(f.name, int(params[f.name]), f.codes) for f in PARAMETER_FIELDS if f.codes]
+    return [
+        f"{name} code {value} (known: "
+        + ", ".join(f"{member.name.lower()} {member.value}" for member in codes)
+        + ")"
+        for name, value, codes in coded
+        if value not in {member.value for member in codes}
+    ]
+
 
 # state indices
 Y_N = 0
@@ -80,3 +250,4 @@ RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
 RHS_NON_CONVEX = 3  # implicit shape: no contact point found, or the surface is not convex there
+RHS_UNKNOWN_CODE = 4  # a model, shape, normal-force, friction-law or pressure code no branch has

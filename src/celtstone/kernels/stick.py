@@ -30,19 +30,12 @@ from celtstone.kernels.friction import (
 from celtstone.kernels.friction_exact import exact_friction_functions
 from celtstone.kernels.geometry import contact
 from celtstone.kernels.layout import (
-    FRICTION_PADE,
-    NORMAL_FORCE_DYNAMIC,
-    P_CONTACT_PRESSURE,
-    P_CONTACT_RADIUS,
-    P_FRICTION,
-    P_FRICTION_LAW,
-    P_GRAVITY,
-    P_MASS,
-    P_NORMAL_FORCE,
-    PRESSURE_HERTZ,
     Y_N,
     Y_OMEGA,
     Y_SLIP,
+    ContactPressure,
+    FrictionLaw,
+    NormalForce,
 )
 from celtstone.kernels.vector import Vec, add, cross, dot, scale, solve3, sub
 
@@ -75,7 +68,7 @@ def stick_acceleration(
     M = -(n · J_A⁻¹τ)/(n · J_A⁻¹n). The reaction is R = m W_C + m g n with
     W_C = -ω̇ × r - ω × ṙ - ω × (ω × r).
     """
-    mass = params[P_MASS]
+    mass = params.mass
     free_rate, _, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
     pivot_response, _ = solve3(contact_inertia(inertia_tensor(params), mass, r), n)
     compliance = dot(n, pivot_response)  # n · J_A⁻¹ n > 0 [1/(kg m²)]
@@ -84,10 +77,30 @@ def stick_acceleration(
         pivot_moment = -dot(n, free_rate) / compliance
     omega_rate = add(free_rate, scale(pivot_moment, pivot_response))
     acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal_terms(omega, r, r_rate))
-    reaction = add(scale(mass, acceleration), scale(mass * params[P_GRAVITY], n))
+    reaction = add(scale(mass, acceleration), scale(mass * params.gravity, n))
     normal_force = dot(reaction, n)
     friction_force = sub(reaction, scale(normal_force, n))
     return omega_rate, normal_force, friction_force, pivot_moment, determinant
+
+
+@kernel
+def zero_slip_moment(pressure: int) -> float:
+    """M0 / (f N ε), the pivoting moment without slip for a pressure code [1]; NaN if unknown."""
+    if pressure == ContactPressure.HERTZ:
+        return HERTZ_MOMENT
+    if pressure == ContactPressure.UNIFORM:
+        return UNIFORM_MOMENT
+    return math.nan
+
+
+@kernel
+def pade_boundary(pressure: int) -> float:
+    """ab - 1 of the Padé limit-set boundary for a pressure code [1]; NaN if unknown."""
+    if pressure == ContactPressure.HERTZ:
+        return PADE_BOUNDARY
+    if pressure == ContactPressure.UNIFORM:
+        return UNIFORM_PADE_BOUNDARY
+    return math.nan
 
 
 @kernel
@@ -99,11 +112,14 @@ def limit_moment(force_ratio: float, law: int, pressure: int) -> float:
     (paper eq. 10, 12) eliminating u gives μ = (1 - φ)/(1 + (ab - 1)φ) (ab = 5/2 for the
     Hertz pressure, 8/3 for the uniform one). For the exact law F̂(u) = φ is solved by
     bisection in t = u/(1 + u). For φ >= 1 it returns the Padé expression, negative:
-    no moment is admissible with more than f N of force.
+    no moment is admissible with more than f N of force. An unknown law or pressure
+    code gives NaN.
     """
-    boundary = PADE_BOUNDARY if pressure == PRESSURE_HERTZ else UNIFORM_PADE_BOUNDARY
-    if law == FRICTION_PADE or force_ratio >= 1.0 or force_ratio <= 0.0:
-        if law != FRICTION_PADE and force_ratio <= 0.0:
+    boundary = pade_boundary(pressure)
+    if (law != FrictionLaw.PADE and law != FrictionLaw.EXACT) or math.isnan(boundary):
+        return math.nan
+    if law == FrictionLaw.PADE or force_ratio >= 1.0 or force_ratio <= 0.0:
+        if law == FrictionLaw.EXACT and force_ratio <= 0.0:
             return 1.0  # u = 0: the full pivoting moment
         return (1.0 - force_ratio) / (1.0 + boundary * force_ratio)
     low, high = 0.0, 1.0
@@ -116,7 +132,7 @@ def limit_moment(force_ratio: float, law: int, pressure: int) -> float:
             high = middle
     middle = 0.5 * (low + high)
     _, moment = exact_friction_functions(middle, 1.0 - middle, pressure)
-    return moment / (HERTZ_MOMENT if pressure == PRESSURE_HERTZ else UNIFORM_MOMENT)
+    return moment / zero_slip_moment(pressure)
 
 
 @kernel
@@ -138,7 +154,8 @@ def stick_margin_of(
     friction_normal : N used by the friction law (m g or the true N) [N]
     friction_coefficient : f [1]
     radius : ε, contact radius [m]
-    law, pressure : friction-law and pressure codes (``layout.FRICTION_*``, ``PRESSURE_*``)
+    law, pressure : friction-law and pressure codes (``layout.FrictionLaw``,
+        ``layout.ContactPressure``)
 
     Returns
     -------
@@ -150,8 +167,7 @@ def stick_margin_of(
     if not capacity > 0.0:
         return -1.0
     force_ratio = force / capacity
-    zero_slip_moment = HERTZ_MOMENT if pressure == PRESSURE_HERTZ else UNIFORM_MOMENT
-    moment_ratio = moment / (zero_slip_moment * capacity * radius)
+    moment_ratio = moment / (zero_slip_moment(pressure) * capacity * radius)
     return limit_moment(force_ratio, law, pressure) - moment_ratio
 
 
@@ -165,28 +181,39 @@ def pade_stick_margin(
 ) -> float:
     """``stick_margin_of`` for the Padé law on the Hertz disk (the paper's) [1]."""
     return stick_margin_of(
-        force, moment, friction_normal, friction_coefficient, radius, FRICTION_PADE, PRESSURE_HERTZ
+        force,
+        moment,
+        friction_normal,
+        friction_coefficient,
+        radius,
+        FrictionLaw.PADE.value,
+        ContactPressure.HERTZ.value,
     )
 
 
 @kernel
 def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
     """``stick_margin_of`` the friction that stick needs in this state, for the run's law,
-    pressure, normal-force option and contact radius (fixed or Hertz) [1]."""
+    pressure, normal-force option and contact radius (fixed or Hertz) [1]; NaN for an
+    unknown normal-force option."""
     _, normal_force, friction_force, pivot_moment, _ = stick_acceleration(
         n, omega, r, r_rate, params
     )
-    friction_normal = params[P_MASS] * params[P_GRAVITY]
-    if params[P_NORMAL_FORCE] == NORMAL_FORCE_DYNAMIC:
+    option = params.normal_force_option
+    if option == NormalForce.STATIC:
+        friction_normal = params.mass * params.gravity
+    elif option == NormalForce.DYNAMIC:
         friction_normal = normal_force
+    else:
+        return math.nan
     return stick_margin_of(
         math.sqrt(dot(friction_force, friction_force)),
         abs(pivot_moment),
         friction_normal,
-        params[P_FRICTION],
+        params.friction_coefficient,
         contact_radius(n, friction_normal, params),
-        int(params[P_FRICTION_LAW]),
-        int(params[P_CONTACT_PRESSURE]),
+        params.friction_law,
+        params.contact_pressure,
     )
 
 
@@ -202,7 +229,7 @@ def stick_projection(n: Vec, omega: Vec, slip: Vec, r: Vec, params) -> Vec:
     (inelastic) impact on the constraint, so the kinetic energy can only drop, by a
     term of second order in (V1, ε ω · n); v_G = -ω' × r after it.
     """
-    mass = params[P_MASS]
+    mass = params.mass
     inertia = contact_inertia(inertia_tensor(params), mass, r)
     slip_response, _ = solve3(inertia, scale(-mass, cross(r, slip)))
     pivot_response, _ = solve3(inertia, n)
@@ -221,7 +248,7 @@ def slip_spin_speed(y, params) -> float:
     friction uses the Hertz radius.
     """
     spin = y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
-    pivot_speed = params[P_CONTACT_RADIUS] * spin
+    pivot_speed = params.contact_radius * spin
     return math.sqrt(
         y[Y_SLIP] * y[Y_SLIP]
         + y[Y_SLIP + 1] * y[Y_SLIP + 1]

@@ -1,7 +1,8 @@
-"""The full first-order system y' = f(t, y) of both models, on flat arrays.
+"""The full first-order system y' = f(t, y) of both models.
 
-These are the functions the integrators call. ``model`` is a model code from
-``layout``; ``params`` and ``y`` follow the layouts documented there.
+These are the functions the integrators call. ``model`` is a ``layout.ModelCode``
+(a plain int), ``params`` a record of ``layout.PARAMETERS`` and ``y`` a flat state
+array (layouts documented in ``layout``).
 """
 
 from __future__ import annotations
@@ -16,26 +17,47 @@ from celtstone.kernels.dynamics import (
 )
 from celtstone.kernels.geometry import contact, contact_status
 from celtstone.kernels.layout import (
-    MODEL_ROLLING,
-    MODEL_SLIDING,
-    MODEL_STICK,
-    P_DAMPING,
-    P_GRAVITY,
-    P_MASS,
     RHS_OK,
     RHS_SINGULAR,
+    RHS_UNKNOWN_CODE,
     Y_N,
     Y_OMEGA,
     Y_POSITION,
     Y_QUAT,
     Y_SLIP,
     Y_WORK,
+    ContactPressure,
+    FrictionLaw,
+    ModelCode,
+    NormalForce,
+    ShapeCode,
 )
 from celtstone.kernels.stick import slip_spin_speed, stick_acceleration, stick_margin
-from celtstone.kernels.vector import Vec, cross, dot, matvec, rotate, sub
+from celtstone.kernels.vector import NAN3, Vec, cross, dot, matvec, rotate, sub
 
 # determinant of the system matrix relative to det(A) below which it counts as singular
 SINGULAR_RATIO = 1e-10
+
+# each code enum is numbered 0 .. len - 1 (tests/test_kernel_dispatch.py checks it)
+N_MODELS = len(ModelCode)
+N_SHAPES = len(ShapeCode)
+N_NORMAL_FORCES = len(NormalForce)
+N_FRICTION_LAWS = len(FrictionLaw)
+N_PRESSURES = len(ContactPressure)
+
+
+@kernel
+def code_status(model, params) -> int:
+    """``RHS_UNKNOWN_CODE`` if the model code or a code in ``params`` is none of its enum's
+    members (no kernel has a branch for it), else ``RHS_OK``."""
+    known = (
+        0 <= model < N_MODELS
+        and 0 <= params.shape_code < N_SHAPES
+        and 0 <= params.normal_force_option < N_NORMAL_FORCES
+        and 0 <= params.friction_law < N_FRICTION_LAWS
+        and 0 <= params.contact_pressure < N_PRESSURES
+    )
+    return RHS_OK if known else RHS_UNKNOWN_CODE
 
 
 @kernel
@@ -52,20 +74,23 @@ def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:
 def evaluate(model, y, params, dy):
     """Fill ``dy`` with dy/dt and return (status, normal force [N], friction power [W]).
 
-    The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it.
+    The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it. An unknown
+    code (``code_status``) gives the status ``RHS_UNKNOWN_CODE`` and NaN rates.
     """
     n, omega, slip, quat = unpack(y)
     n_rate = cross(n, omega)  # Poisson equation, paper eq. (3): ṅ = n × ω
     r, r_rate = contact(n, n_rate, params)
-    status = contact_status(n, r, params)
+    status = code_status(model, params)
+    if status == RHS_OK:
+        status = contact_status(n, r, params)
     inertia = inertia_tensor(params)
     reference = inertia[0] * inertia[4] * inertia[8]
     friction_power = 0.0
-    if model == MODEL_ROLLING:
+    if model == ModelCode.ROLLING:
         omega_rate, normal_force, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
         slip_rate = (0.0, 0.0, 0.0)
         velocity = cross(r, omega)  # v_G = -ω × r
-    elif model == MODEL_STICK:
+    elif model == ModelCode.STICK:
         # V1 = 0 and ω · n = 0 are held; the friction power is zero up to round-off
         omega_rate, normal_force, force, moment, determinant = stick_acceleration(
             n, omega, r, r_rate, params
@@ -73,12 +98,15 @@ def evaluate(model, y, params, dy):
         slip_rate = (0.0, 0.0, 0.0)
         friction_power = dot(force, slip) + moment * dot(omega, n)
         velocity = sub(slip, cross(omega, r))
-    else:
+    elif model == ModelCode.SLIDING:
         omega_rate, slip_rate, normal_force, force, moment, determinant = sliding_acceleration(
             n, omega, slip, r, r_rate, params
         )
         friction_power = dot(force, slip) + moment * dot(omega, n)
         velocity = sub(slip, cross(omega, r))  # v_G = V1 - ω × r
+    else:
+        omega_rate, slip_rate, velocity = NAN3, NAN3, NAN3
+        normal_force, friction_power, determinant = math.nan, math.nan, math.nan
     if status == RHS_OK and not determinant > SINGULAR_RATIO * reference:
         status = RHS_SINGULAR
     for k in range(3):
@@ -94,7 +122,7 @@ def evaluate(model, y, params, dy):
     velocity_space = rotate(quat, velocity)
     dy[Y_POSITION] = velocity_space[0]
     dy[Y_POSITION + 1] = velocity_space[1]
-    damping_power = params[P_DAMPING] * dot(omega, omega)
+    damping_power = params.damping * dot(omega, omega)
     dy[Y_WORK] = damping_power - friction_power
     return status, normal_force, friction_power
 
@@ -110,18 +138,21 @@ def rhs(model, t, y, params, dy):
 def energy(model, y, params) -> float:
     """Total mechanical energy, kinetic plus potential with the plane as zero [J].
 
-    E = ½ m |v_G|² + ½ ω · Aω + m g z_G, z_G = -r · n the height of G.
+    E = ½ m |v_G|² + ½ ω · Aω + m g z_G, z_G = -r · n the height of G. NaN for an
+    unknown model code.
     """
     n, omega, slip, _ = unpack(y)
     r, _ = contact(n, (0.0, 0.0, 0.0), params)
-    if model == MODEL_ROLLING:
+    if model == ModelCode.ROLLING:
         velocity = cross(r, omega)
-    else:
+    elif model == ModelCode.SLIDING or model == ModelCode.STICK:
         velocity = sub(slip, cross(omega, r))
-    mass = params[P_MASS]
+    else:
+        return math.nan
+    mass = params.mass
     kinetic = 0.5 * mass * dot(velocity, velocity)
     kinetic += 0.5 * dot(omega, matvec(inertia_tensor(params), omega))
-    return kinetic - mass * params[P_GRAVITY] * dot(r, n)
+    return kinetic - mass * params.gravity * dot(r, n)
 
 
 N_DIAGNOSTICS = 12
@@ -152,7 +183,7 @@ def diagnostics(model, y, params, out, work):
     out[D_SPIN] = dot(omega, n)
     out[D_ENERGY] = energy(model, y, params)
     out[D_NORMAL_FORCE] = normal_force
-    out[D_SLIP_SPEED] = math.sqrt(dot(slip, slip)) if model != MODEL_ROLLING else 0.0
+    out[D_SLIP_SPEED] = math.sqrt(dot(slip, slip)) if model != ModelCode.ROLLING else 0.0
     out[D_TILT] = math.acos(min(1.0, max(-1.0, n[2] / norm)))
     out[D_FRICTION_POWER] = friction_power
     out[D_SLIP_NORMAL] = dot(slip, n)
@@ -189,12 +220,15 @@ def phase_value(model, y, params, capture_speed) -> float:
 
     Stick: the stick margin g (``stick.stick_margin``). Sliding with
     ``capture_speed`` v_c > 0: sqrt(|V1|² + ε²(ω · n)²) - v_c, which falls through
-    zero when slip and spin die together. Otherwise +1 (no phase event).
+    zero when slip and spin die together. Otherwise +1 (no phase event); NaN for an
+    unknown model code.
     """
-    if model == MODEL_STICK:
+    if model == ModelCode.STICK:
         n, omega, _, _ = unpack(y)
         r, r_rate = contact(n, cross(n, omega), params)
         return stick_margin(n, omega, r, r_rate, params)
-    if model == MODEL_SLIDING and capture_speed > 0.0:
-        return slip_spin_speed(y, params) - capture_speed
-    return 1.0
+    if model == ModelCode.SLIDING:
+        return slip_spin_speed(y, params) - capture_speed if capture_speed > 0.0 else 1.0
+    if model == ModelCode.ROLLING:
+        return 1.0
+    return math.nan

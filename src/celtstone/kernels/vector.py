@@ -9,6 +9,8 @@ from celtstone.kernels._jit import kernel
 Vec = tuple[float, float, float]
 Mat = tuple[float, float, float, float, float, float, float, float, float]
 
+NAN3: Vec = (math.nan, math.nan, math.nan)  # what a kernel returns for a vector it cannot give
+
 
 @kernel
 def cross(a: Vec, b: Vec) -> Vec:

@@ -4,26 +4,14 @@ from __future__ import annotations
 
 import xarray as xr
 
-__all__ = ["axis_label", "run_label", "run_title"]
+from celtstone.schema import VARIABLES
 
-_SYMBOLS = {
-    "time": ("time $t$", "s"),
-    "spin": (r"spin $\omega\cdot n$", "rad/s"),
-    "tilt": ("tilt of body axis 3", "deg"),
-    "energy": ("energy $E$", "J"),
-    "slip_speed": ("slip speed $|V_1|$", "m/s"),
-    "normal_force": ("normal force $N$", "N"),
-    "dissipated_work": ("friction work", "J"),
-    "friction_coefficient": ("friction coefficient $f$", "1"),
-    "contact_x": ("contact point $x$", "m"),
-    "contact_y": ("contact point $y$", "m"),
-}
+__all__ = ["axis_label", "run_label", "run_title"]
 
 
 def axis_label(name: str) -> str:
-    """``"spin ω·n [rad/s]"`` for a variable name."""
-    text, unit = _SYMBOLS[name]
-    return f"{text} [{unit}]" if unit != "1" else text
+    """``"spin ω·n [rad/s]"`` for a variable name (``schema.VARIABLES``)."""
+    return VARIABLES[name].axis_label()
 
 
 def run_label(dataset: xr.Dataset) -> str:

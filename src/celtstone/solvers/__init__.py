@@ -1,6 +1,10 @@
 """Compiled ODE integrators: DOP853 (non-stiff) and Radau IIA order 5 (stiff).
 
-``solve`` allocates the outputs and calls the compiled loop ``driver.integrate``.
+``solve`` allocates the outputs and calls the compiled loop ``driver.integrate``;
+``solve_phases`` does the same for the compiled stick–slip loop ``phases.run_phases``.
+The methods are the registry ``METHODS`` (name -> code); what a method module must
+provide, and what the driver does for all of them, is the contract written in
+``solvers._methods``. Events are rows of a table (``solvers._events``).
 """
 
 from __future__ import annotations
@@ -13,6 +17,15 @@ from typing import Any
 import numpy as np
 
 from celtstone.errors import ParameterError
+from celtstone.solvers._events import event_table
+from celtstone.solvers._structures import (
+    Controls,
+    HybridSettings,
+    Output,
+    RunEnd,
+    new_output,
+    new_phase_log,
+)
 from celtstone.solvers.codes import (
     METHOD_DOP853 as METHOD_DOP853,
 )
@@ -22,9 +35,19 @@ from celtstone.solvers.codes import (
 from celtstone.solvers.codes import (
     METHODS as METHODS,
 )
-from celtstone.solvers.codes import N_STATS, STAT_SAMPLES_WRITTEN
+from celtstone.solvers.codes import (
+    STAT_ACCEPTED,
+    STAT_NFEV,
+    STAT_NJEV,
+    STAT_NLU,
+    STAT_REJECTED,
+    STAT_SAMPLES_WRITTEN,
+)
 from celtstone.solvers.codes import (
     STATUS_LIFT_OFF as STATUS_LIFT_OFF,
+)
+from celtstone.solvers.codes import (
+    STATUS_MAX_PHASES as STATUS_MAX_PHASES,
 )
 from celtstone.solvers.codes import (
     STATUS_MAX_STEPS as STATUS_MAX_STEPS,
@@ -53,13 +76,20 @@ from celtstone.solvers.codes import (
 from celtstone.solvers.codes import (
     STATUS_SUCCESS as STATUS_SUCCESS,
 )
+from celtstone.solvers.codes import (
+    STATUS_UNKNOWN_CODE as STATUS_UNKNOWN_CODE,
+)
 from celtstone.solvers.driver import integrate as integrate
+from celtstone.solvers.phases import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
+from celtstone.solvers.phases import run_phases
 
 __all__ = [
+    "DEFAULT_MAX_PHASES",
     "METHODS",
     "METHOD_DOP853",
     "METHOD_RADAU5",
     "STATUS_LIFT_OFF",
+    "STATUS_MAX_PHASES",
     "STATUS_MAX_STEPS",
     "STATUS_MESSAGES",
     "STATUS_NON_CONVEX",
@@ -69,9 +99,12 @@ __all__ = [
     "STATUS_SINGULAR",
     "STATUS_STEP_TOO_SMALL",
     "STATUS_SUCCESS",
+    "STATUS_UNKNOWN_CODE",
+    "RawPhases",
     "RawSolution",
     "integrate",
     "solve",
+    "solve_phases",
 ]
 
 
@@ -95,10 +128,55 @@ class RawSolution:
     final_state: np.ndarray
 
 
+@dataclass(frozen=True)
+class RawPhases(RawSolution):
+    """What the compiled stick–slip loop returns: a :class:`RawSolution` of the whole
+    run (its sample times as the phases report them) plus the phases.
+
+    ``sample_phase`` holds each sample's phase (0 slip, 1 stick); ``phase_kind``,
+    ``phase_start``, ``phase_end`` [s] and ``phase_energy_jump`` [J] one entry per phase.
+    """
+
+    sample_phase: np.ndarray
+    phase_kind: np.ndarray
+    phase_start: np.ndarray
+    phase_end: np.ndarray
+    phase_energy_jump: np.ndarray
+    rejected_captures: int
+
+
+def _method_code(name: str) -> int:
+    if name not in METHODS:
+        raise ParameterError("method", name, "one of: " + ", ".join(METHODS))
+    return METHODS[name]
+
+
+def _trimmed(end: RunEnd, output: Output) -> dict[str, Any]:
+    """The fields of :class:`RawSolution` from a run's end and its output arrays."""
+    stored = min(int(end.n_crossings), output.crossings.shape[0])
+    stats = output.stats
+    return {
+        "status": int(end.status),
+        "t_stop": float(end.t_stop),
+        "sample_times": output.sample_times[: end.n_samples].copy(),
+        "samples": output.samples[: end.n_samples].copy(),
+        "crossings": output.crossings[:stored].copy(),
+        "n_crossings_total": int(end.n_crossings),
+        "min_normal_force": float(end.min_normal_force),
+        "t_min_normal_force": float(end.t_min_normal_force),
+        "nfev": int(stats[STAT_NFEV]),
+        "njev": int(stats[STAT_NJEV]),
+        "nlu": int(stats[STAT_NLU]),
+        "n_accepted": int(stats[STAT_ACCEPTED]),
+        "n_rejected": int(stats[STAT_REJECTED]),
+        "final_state": output.final_state,
+    }
+
+
 def solve(
     model: int,
     method_name: str,
-    params: np.ndarray,
+    params: Any,
     y0: np.ndarray,
     t_end: float,
     *,
@@ -115,83 +193,94 @@ def solve(
 ) -> RawSolution:
     """Integrate the kernel system ``model`` from t = 0 to ``t_end`` with ``method_name``.
 
+    ``params`` is the kernel parameter record, passed to the kernels unread.
     ``capture_speed`` [m/s] > 0 stops a sliding run (status ``STATUS_PHASE_CHANGE``)
     when sqrt(|V1|² + ε²(ω·n)²) falls below it; a stick run (``MODEL_STICK``) always
     stops when its stick margin falls below zero. ``final_state`` is the state at
     ``t_stop``. ``progress``, if given, is called about ten times a second from this
     thread with the time [s] reached, while the compiled loop runs in another.
     """
-    if method_name not in METHODS:
-        raise ParameterError("method", method_name, "one of: " + ", ".join(METHODS))
-    times = np.ascontiguousarray(sample_times, dtype=np.float64)
-    samples = np.zeros((times.shape[0], y0.shape[0]))
-    crossings = np.zeros(max(int(max_crossings), 1))
-    stats = np.zeros(N_STATS, dtype=np.int64)
-    final_state = np.empty(y0.shape[0])
-    arguments = (
-        int(model),
-        METHODS[method_name],
-        np.ascontiguousarray(params, dtype=np.float64),
-        np.ascontiguousarray(y0, dtype=np.float64),
-        float(t_end),
-        float(rtol),
-        float(atol),
-        float(first_step),
-        float(max_step),
-        int(max_steps),
-        bool(adaptive),
-        times,
-        samples,
-        crossings,
-        stats,
-        float(capture_speed),
-        final_state,
+    method = _method_code(method_name)
+    y0 = np.ascontiguousarray(y0, dtype=np.float64)
+    output = new_output(sample_times, y0.shape[0], max_crossings)
+    controls = Controls(
+        float(rtol), float(atol), float(first_step), float(max_step), int(max_steps), bool(adaptive)
     )
-    if progress is None:
-        returned = integrate(*arguments)
-    else:
-        returned = _watched(arguments, times, stats, progress)
-    status, n_samples, n_crossings, t_stop, min_normal, t_min_normal = returned
-    stored = min(int(n_crossings), crossings.shape[0])
-    return RawSolution(
-        status=int(status),
-        t_stop=float(t_stop),
-        sample_times=times[:n_samples].copy(),
-        samples=samples[:n_samples].copy(),
-        crossings=crossings[:stored].copy(),
-        n_crossings_total=int(n_crossings),
-        min_normal_force=float(min_normal),
-        t_min_normal_force=float(t_min_normal),
-        nfev=int(stats[0]),
-        njev=int(stats[1]),
-        nlu=int(stats[2]),
-        n_accepted=int(stats[3]),
-        n_rejected=int(stats[4]),
-        final_state=final_state,
+    table = event_table(int(model), float(capture_speed))
+    arguments = (int(model), method, params, y0, float(t_end), controls, table, output)
+    end = _run(integrate, arguments, output, progress)
+    return RawSolution(**_trimmed(end, output))
+
+
+def solve_phases(
+    params: Any,
+    y0: np.ndarray,
+    t_end: float,
+    *,
+    slip_method: str,
+    stick_method: str,
+    rtol: float,
+    atol: float,
+    capture_speed: float,
+    sample_times: np.ndarray,
+    max_crossings: int,
+    max_steps: int,
+    max_phases: int = DEFAULT_MAX_PHASES,
+    progress: Callable[[float], None] | None = None,
+) -> RawPhases:
+    """Integrate the hybrid (stick–slip) contact over [0, t_end] with the compiled phase
+    loop ``phases.run_phases``; ``max_phases`` is the capacity of its phase log.
+
+    ``progress`` is called as in :func:`solve`, with the time reached over all phases.
+    """
+    hybrid = HybridSettings(
+        _method_code(slip_method), _method_code(stick_method), float(capture_speed)
+    )
+    y0 = np.ascontiguousarray(y0, dtype=np.float64)
+    output = new_output(sample_times, y0.shape[0], max_crossings)
+    log = new_phase_log(output.sample_times.shape[0], max_phases)
+    controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
+    arguments = (params, y0, float(t_end), hybrid, controls, output, log)
+    end, n_phases, rejected = _run(run_phases, arguments, output, progress)
+    fields = _trimmed(end, output)
+    fields["sample_times"] = log.sample_times[: end.n_samples].copy()
+    fields["crossings"] = fields["crossings"][:max_crossings]
+    return RawPhases(
+        **fields,
+        sample_phase=log.sample_phase[: end.n_samples].copy(),
+        phase_kind=log.kind[:n_phases].copy(),
+        phase_start=log.start[:n_phases].copy(),
+        phase_end=log.end[:n_phases].copy(),
+        phase_energy_jump=log.energy_jump[:n_phases].copy(),
+        rejected_captures=int(rejected),
     )
 
 
 _POLL_INTERVAL = 0.1  # s between progress reports
 
 
-def _watched(
+def _run(
+    function: Callable[..., Any],
     arguments: tuple[Any, ...],
-    times: np.ndarray,
-    stats: np.ndarray,
-    progress: Callable[[float], None],
-) -> tuple[Any, ...]:
-    """``integrate(*arguments)`` in a daemon thread (the compiled loop releases the GIL),
-    reporting the last sample time written; Ctrl-C here abandons the thread."""
+    output: Output,
+    progress: Callable[[float], None] | None,
+) -> Any:
+    """``function(*arguments)``; with ``progress``, in a daemon thread (the compiled loops
+    release the GIL) while this thread reports the last sample time written, read from
+    ``output.stats``. Ctrl-C here abandons the thread."""
+    if progress is None:
+        return function(*arguments)
     outcome: dict[str, Any] = {}
 
     def work() -> None:
         try:
-            outcome["returned"] = integrate(*arguments)
+            outcome["returned"] = function(*arguments)
         except BaseException as error:  # re-raised in the caller's thread
             outcome["error"] = error
 
     thread = threading.Thread(target=work, name="celtstone-run", daemon=True)
     thread.start()
+    times, stats = output.sample_times, output.stats
     while thread.is_alive():
         thread.join(_POLL_INTERVAL)
         written = int(stats[STAT_SAMPLES_WRITTEN])

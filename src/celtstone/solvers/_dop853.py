@@ -1,19 +1,32 @@
-"""Dormand–Prince 8(5,3) explicit Runge–Kutta step with 7th-order dense output.
+"""Dormand–Prince 8(5,3): the explicit method of the methods registry (``METHOD_DOP853``).
 
 Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, 2nd ed.,
 sec. II.10 (code DOP853). The coefficient tables are SciPy's
-(``scipy.integrate._ivp.dop853_coefficients``), read once at import.
+(``scipy.integrate._ivp.dop853_coefficients``), read once at import, and the
+step-size controller is SciPy's ``DOP853``, so both take the same steps.
+
+The module follows the method contract of ``solvers._methods``: ``workspace``,
+``start``, ``attempt``, ``dense``, ``interpolate``, ``ORDER`` and ``ERROR_ORDER``.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _coefficients
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
+from celtstone.solvers._compile import inlined
+from celtstone.solvers._step_control import smallest_step
+from celtstone.solvers.codes import (
+    STAT_NFEV,
+    STAT_REJECTED,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+)
 
 N_STAGES = int(_coefficients.N_STAGES)  # 12
 N_STAGES_EXTENDED = int(_coefficients.N_STAGES_EXTENDED)  # 16
@@ -23,8 +36,33 @@ C = np.ascontiguousarray(_coefficients.C, dtype=np.float64)
 E3 = np.ascontiguousarray(_coefficients.E3, dtype=np.float64)
 E5 = np.ascontiguousarray(_coefficients.E5, dtype=np.float64)
 D = np.ascontiguousarray(_coefficients.D, dtype=np.float64)
-ERROR_ORDER = 7
+ORDER = 8  # of the method: global error O(h^8)
+ERROR_ORDER = 7  # of its local error estimate (the 5th- and 3rd-order embedded pair, combined)
 DENSE_ROWS = 7
+SAFETY = 0.9  # step-size factors, as SciPy's DOP853
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
+ERROR_EXPONENT = -1.0 / (ERROR_ORDER + 1)  # -1/8, exact in binary
+
+
+class Workspace(NamedTuple):
+    """Arrays of one DOP853 run (n = state length)."""
+
+    stages: np.ndarray  # (N_STAGES_EXTENDED, n): k_s = f(t + c_s h, ...), row 12 = f(t + h, y_new)
+    dense: np.ndarray  # (DENSE_ROWS, n): interpolant coefficients of the last accepted step
+    scratch: np.ndarray  # (n,)
+
+
+@kernel
+def workspace(n):
+    """A zeroed workspace for states of length n."""
+    return Workspace(np.zeros((N_STAGES_EXTENDED, n)), np.zeros((DENSE_ROWS, n)), np.empty(n))
+
+
+@kernel
+def start(model, params, t, y, f, controls, work, stats):
+    """Nothing to prepare: an explicit method keeps no state between runs."""
+    return
 
 
 @kernel
@@ -39,7 +77,7 @@ def evaluate_stage(model, params, s, t, y, h, stages, scratch):
 
 
 @kernel
-def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
+def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     """One trial step of size h from (t, y), ``stages[0]`` = f(t, y) on entry.
 
     Fills ``y_new`` and ``stages[12]`` = f(t + h, y_new); returns the scaled error norm.
@@ -69,10 +107,62 @@ def dop853_attempt(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     return abs(h) * error5 / math.sqrt((error5 + 0.01 * error3) * n)
 
 
-@kernel
-def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):
-    """Coefficients of the 7th-order interpolant over the accepted step (3 extra stages)."""
+@inlined
+def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
+    """Step from (t, y) with f = f(t, y), trying h [s] first and shrinking it until the
+    error norm is below 1 (SciPy's controller: factor 0.9 err^(-1/8) in [0.2, 10], no
+    growth right after a rejection); the step never passes ``t_end``.
+
+    Returns (status, h_taken, h_next); ``y_new`` and ``f_new`` = f(t + h_taken, y_new).
+    """
+    stages = work.stages
+    min_step = smallest_step(t)
+    status = STATUS_SUCCESS
+    rejected = False
+    h_next = h
+    h_try = h
+    while True:
+        if h < min_step:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        h_try = min(h, t_end - t)
+        stages[0, :] = f
+        error = trial_step(
+            model, params, t, y, h_try, controls.rtol, controls.atol, stages, y_new, work.scratch
+        )
+        stats[STAT_NFEV] += N_STAGES
+        if not controls.adaptive:
+            h_next = h
+            break
+        if not math.isfinite(error):
+            h = h_try * MIN_FACTOR
+            stats[STAT_REJECTED] += 1
+            rejected = True
+            continue
+        if error < 1.0:
+            factor = MAX_FACTOR
+            if error != 0.0:
+                factor = min(MAX_FACTOR, SAFETY * error**ERROR_EXPONENT)
+            if rejected:
+                factor = min(1.0, factor)
+            h_next = h_try * factor
+            break
+        h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
+        stats[STAT_REJECTED] += 1
+        rejected = True
+    f_new[:] = stages[N_STAGES]
+    return status, h_try, h_next
+
+
+@inlined
+def dense(model, params, t, y, y_new, h, work, stats):
+    """Coefficients of the 7th-order interpolant over the accepted step [t, t + h]
+    (3 extra stages) into ``work.dense``."""
+    stages = work.stages
+    dense = work.dense
+    scratch = work.scratch
     n = y.shape[0]
+    stats[STAT_NFEV] += N_STAGES_EXTENDED - N_STAGES - 1
     for s in range(N_STAGES + 1, N_STAGES_EXTENDED):
         evaluate_stage(model, params, s, t, y, h, stages, scratch)
     for j in range(n):
@@ -87,9 +177,10 @@ def dop853_dense(model, params, t, y, y_new, h, stages, dense, scratch):
             dense[3 + i, j] = h * total
 
 
-@kernel
-def dop853_interpolate(dense, y_old, x, out):
-    """State at the fraction x in [0, 1] of the step from the interpolant."""
+@inlined
+def interpolate(dense, y_old, x, out):
+    """State at the fraction x in [0, 1] of the last accepted step, which began at y_old,
+    from its interpolant's coefficients ``dense`` (``work.dense``)."""
     n = y_old.shape[0]
     for j in range(n):
         value = 0.0

@@ -1,22 +1,40 @@
-"""Radau IIA (order 5, three stages) implicit step with simplified Newton iterations.
+"""Radau IIA, order 5, three stages: the stiff method of the methods registry
+(``METHOD_RADAU5``).
 
 Hairer & Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., sec. IV.8
 (code RADAU5): the collocation system is transformed to one real and one complex
-linear system, the Jacobian is reused while Newton converges well, and the
-collocation polynomial gives the dense output. Step-size control and Newton
-tolerances follow SciPy's ``Radau`` (whose constants are read once at import).
+linear system, solved by simplified Newton iterations that reuse the Jacobian and
+its LU factors while Newton converges well; the collocation polynomial gives the
+dense output and Newton's starting guess. Step-size control and Newton tolerances
+follow SciPy's ``Radau`` (whose constants are read once at import).
+
+The module follows the method contract of ``solvers._methods``. What one step leaves
+for the next (Jacobian, LU factors, the last collocation polynomial, the controller's
+memory) lives in its :class:`Workspace`; the scalars in the record ``memory[0]``
+(:data:`MEMORY`).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate._ivp import radau as _radau
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
+from celtstone.solvers._compile import inlined
 from celtstone.solvers._linalg import lu_factor, lu_solve
+from celtstone.solvers._step_control import rms_scaled, smallest_step
+from celtstone.solvers.codes import (
+    STAT_NFEV,
+    STAT_NJEV,
+    STAT_NLU,
+    STAT_REJECTED,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+)
 
 C = np.ascontiguousarray(_radau.C, dtype=np.float64)
 E = np.ascontiguousarray(_radau.E, dtype=np.float64)
@@ -28,9 +46,93 @@ P = np.ascontiguousarray(_radau.P, dtype=np.float64)
 NEWTON_MAXITER = 6
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
-ERROR_ORDER = 3
+SAFETY = 0.9
+ORDER = 5  # of the method: global error O(h^5)
+ERROR_ORDER = 3  # of its local error estimate
 DENSE_ROWS = 3
-SQRT_EPS = math.sqrt(np.finfo(np.float64).eps)
+EPS = float(np.finfo(np.float64).eps)
+SQRT_EPS = math.sqrt(EPS)
+
+# the scalars a run carries from step to step
+MEMORY = np.dtype(  # records, so that fields read as attributes in Python too
+    (
+        np.record,
+        np.dtype(
+            [
+                ("newton_tolerance", "f8"),  # of the scaled Newton increment [1]
+                ("lu_valid", "b1"),  # the LU factors belong to the current Jacobian and h_lu
+                ("h_lu", "f8"),  # step size of the LU factors [s]
+                ("current_jacobian", "b1"),  # the Jacobian was evaluated at this step's start
+                ("h_abs_old", "f8"),  # last accepted step [s]; -1 before the first
+                ("error_norm_old", "f8"),  # its error norm [1]; -1 before the first
+                ("has_dense", "b1"),  # a collocation polynomial of an accepted step exists
+                ("t_previous", "f8"),  # start of the last accepted step [s]
+                ("h_previous", "f8"),  # its size [s]
+            ],
+            align=True,
+        ),
+    )
+)
+
+
+class Workspace(NamedTuple):
+    """Arrays of one Radau run (n = state length)."""
+
+    jacobian: np.ndarray  # (n, n) df/dy
+    lu_real: np.ndarray  # (n, n) LU of MU_REAL/h I - J
+    lu_complex: np.ndarray  # (n, n) complex, LU of MU_COMPLEX/h I - J
+    pivots_real: np.ndarray  # (n,) int64
+    pivots_complex: np.ndarray  # (n,) int64
+    collocation: np.ndarray  # (3, n) Z, stage increments over y
+    transformed: np.ndarray  # (3, n) W = TI Z
+    stage_rates: np.ndarray  # (3, n) f at the stages
+    real_rhs: np.ndarray  # (n,)
+    complex_rhs: np.ndarray  # (n,) complex
+    scale: np.ndarray  # (n,) atol + |y| rtol
+    scratch: np.ndarray  # (n,)
+    column: np.ndarray  # (n,)
+    point: np.ndarray  # (n,)
+    dense: np.ndarray  # (DENSE_ROWS, n): Q, collocation polynomial of the last accepted step
+    y_previous: np.ndarray  # (n,) state at its start
+    memory: np.ndarray  # (1,) of MEMORY
+
+
+@kernel
+def workspace(n):
+    """A workspace for states of length n, before the first step."""
+    memory = np.zeros(1, dtype=MEMORY)
+    memory[0].h_abs_old = -1.0
+    memory[0].error_norm_old = -1.0
+    return Workspace(
+        np.zeros((n, n)),
+        np.zeros((n, n)),
+        np.zeros((n, n), dtype=np.complex128),
+        np.zeros(n, dtype=np.int64),
+        np.zeros(n, dtype=np.int64),
+        np.zeros((3, n)),
+        np.zeros((3, n)),
+        np.zeros((3, n)),
+        np.zeros(n),
+        np.zeros(n, dtype=np.complex128),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.zeros((DENSE_ROWS, n)),
+        np.empty(n),
+        memory,
+    )
+
+
+@kernel
+def start(model, params, t, y, f, controls, work, stats):
+    """Newton's tolerance from rtol (as SciPy's) and the Jacobian at the first state."""
+    memory = work.memory[0]
+    memory.newton_tolerance = max(10.0 * EPS / controls.rtol, min(0.03, math.sqrt(controls.rtol)))
+    jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
+    stats[STAT_NJEV] += 1
+    stats[STAT_NFEV] += y.shape[0]
+    memory.current_jacobian = True
 
 
 @kernel
@@ -49,7 +151,7 @@ def jacobian(model, params, t, y, f, out, scratch, column):
         scratch[j] = y[j]
 
 
-@kernel
+@inlined
 def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):
     """LU of MU_REAL/h I - J and MU_COMPLEX/h I - J; False if either is singular."""
     n = jac.shape[0]
@@ -66,7 +168,7 @@ def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):
     return ok_real and ok_complex
 
 
-@kernel
+@inlined
 def solve_collocation(
     model,
     params,
@@ -75,7 +177,7 @@ def solve_collocation(
     h,
     stages,
     scale,
-    tol,
+    tolerance,
     lu_real,
     pivots_real,
     lu_complex,
@@ -134,7 +236,7 @@ def solve_collocation(
         if norm_old >= 0.0:
             rate = norm / norm_old
         if rate >= 0.0 and (
-            rate >= 1.0 or rate ** (NEWTON_MAXITER - k) / (1.0 - rate) * norm > tol
+            rate >= 1.0 or rate ** (NEWTON_MAXITER - k) / (1.0 - rate) * norm > tolerance
         ):
             break
         for j in range(n):
@@ -146,14 +248,14 @@ def solve_collocation(
                 stages[i, j] = (
                     T[i, 0] * work_w[0, j] + T[i, 1] * work_w[1, j] + T[i, 2] * work_w[2, j]
                 )
-        if norm == 0.0 or (rate >= 0.0 and rate / (1.0 - rate) * norm < tol):
+        if norm == 0.0 or (rate >= 0.0 and rate / (1.0 - rate) * norm < tolerance):
             converged = True
             break
         norm_old = norm
     return converged, iterations, rate
 
 
-@kernel
+@inlined
 def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
     """Gustafsson's predictive step-size factor (as SciPy's Radau)."""
     if error_norm_old < 0.0 or h_abs_old < 0.0 or error_norm == 0.0:
@@ -165,31 +267,243 @@ def predict_factor(h_abs, h_abs_old, error_norm, error_norm_old):
     return min(1.0, multiplier) * error_norm**-0.25
 
 
-@kernel
-def radau_dense(stages, dense):
-    """Collocation-polynomial coefficients Q = Z^T P, stored as ``dense[0:3]``."""
-    n = stages.shape[1]
+@inlined
+def newton(model, params, t, y, f, h, controls, work, stats):
+    """Solve the collocation system of the step [t, t + h]: predict, factor if the LU
+    is stale, iterate; on divergence with an old Jacobian, evaluate it and retry once.
+
+    Returns (converged, iterations, rate) of the last Newton iteration.
+    """
+    memory = work.memory[0]
+    predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
+    for j in range(y.shape[0]):
+        work.scale[j] = controls.atol + abs(y[j]) * controls.rtol
+    converged = False
+    iterations = 0
+    rate = -1.0
+    while not converged:
+        if not memory.lu_valid or memory.h_lu != h:
+            factored = factor_systems(
+                h,
+                work.jacobian,
+                work.lu_real,
+                work.pivots_real,
+                work.lu_complex,
+                work.pivots_complex,
+            )
+            stats[STAT_NLU] += 2
+            memory.lu_valid = factored
+            memory.h_lu = h
+            if not factored:
+                break
+        converged, iterations, rate = solve_collocation(
+            model,
+            params,
+            t,
+            y,
+            h,
+            work.collocation,
+            work.scale,
+            memory.newton_tolerance,
+            work.lu_real,
+            work.pivots_real,
+            work.lu_complex,
+            work.pivots_complex,
+            work.transformed,
+            work.stage_rates,
+            work.scratch,
+            work.real_rhs,
+            work.complex_rhs,
+        )
+        stats[STAT_NFEV] += 3 * iterations
+        if not converged:
+            if memory.current_jacobian:
+                break
+            jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
+            stats[STAT_NJEV] += 1
+            stats[STAT_NFEV] += y.shape[0]
+            memory.current_jacobian = True
+            memory.lu_valid = False
+            predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
+    return converged, iterations, rate
+
+
+@inlined
+def error_norm(model, params, t, y, f, y_new, h, rejected, controls, work, stats):
+    """``y_new`` = y + Z_3 and the scaled norm of the embedded error estimate
+    (Hairer & Wanner IV.8 (8.20), filtered by (MU_REAL/h I - J)^-1); after a rejection
+    a norm above 1 is re-estimated with one more evaluation (8.21)."""
+    rtol = controls.rtol
+    atol = controls.atol
+    collocation = work.collocation
+    correction = work.column
+    estimate = work.real_rhs
+    n = y.shape[0]
     for j in range(n):
+        y_new[j] = y[j] + collocation[2, j]
+        correction[j] = (
+            E[0] * collocation[0, j] + E[1] * collocation[1, j] + E[2] * collocation[2, j]
+        ) / h
+        estimate[j] = f[j] + correction[j]
+    lu_solve(work.lu_real, work.pivots_real, estimate)
+    norm = rms_scaled(estimate, y, y_new, rtol, atol)
+    if rejected and norm > 1.0:
+        for j in range(n):
+            work.scratch[j] = y[j] + estimate[j]
+        rhs(model, t, work.scratch, params, work.point)
+        stats[STAT_NFEV] += 1
+        for j in range(n):
+            estimate[j] = work.point[j] + correction[j]
+        lu_solve(work.lu_real, work.pivots_real, estimate)
+        norm = rms_scaled(estimate, y, y_new, rtol, atol)
+    return norm
+
+
+@inlined
+def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
+    """Step from (t, y) with f = f(t, y), trying h [s] first: halve h when Newton fails,
+    shrink it by the predictive controller when the error norm exceeds 1; the step
+    never passes ``t_end``.
+
+    Returns (status, h_taken, h_next); ``y_new`` and ``f_new`` = f(t + h_taken, y_new).
+    """
+    memory = work.memory[0]
+    min_step = smallest_step(t)
+    status = STATUS_SUCCESS
+    rejected = False
+    iterations = 0
+    rate = -1.0
+    norm = 0.0
+    safety = SAFETY
+    h_try = h
+    while True:
+        if h < min_step:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        h_try = min(h, t_end - t)
+        converged, iterations, rate = newton(model, params, t, y, f, h_try, controls, work, stats)
+        if not converged:
+            h = 0.5 * h_try
+            memory.lu_valid = False
+            stats[STAT_REJECTED] += 1
+            rejected = True
+            continue
+        norm = error_norm(model, params, t, y, f, y_new, h_try, rejected, controls, work, stats)
+        safety = SAFETY * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + iterations)
+        if not controls.adaptive:
+            break
+        if not math.isfinite(norm) or norm > 1.0:
+            factor = MIN_FACTOR
+            if math.isfinite(norm):
+                factor = predict_factor(h_try, memory.h_abs_old, norm, memory.error_norm_old)
+            h = h_try * max(MIN_FACTOR, safety * factor)
+            memory.lu_valid = False
+            stats[STAT_REJECTED] += 1
+            rejected = True
+            continue
+        break
+    if status != STATUS_SUCCESS:
+        return status, h_try, h
+    h_next = accept(
+        model,
+        params,
+        t,
+        y_new,
+        f_new,
+        h,
+        h_try,
+        iterations,
+        rate,
+        norm,
+        safety,
+        controls,
+        work,
+        stats,
+    )
+    return status, h_try, h_next
+
+
+@inlined
+def accept(
+    model,
+    params,
+    t,
+    y_new,
+    f_new,
+    h,
+    h_taken,
+    iterations,
+    rate,
+    norm,
+    safety,
+    controls,
+    work,
+    stats,
+):
+    """After an accepted step: f_new, the next step size, and whether the Jacobian is
+    evaluated anew (slow Newton convergence) or the LU factors kept (a small change of h).
+    """
+    memory = work.memory[0]
+    recompute_jacobian = iterations > 2 and rate > 1e-3
+    factor = predict_factor(h_taken, memory.h_abs_old, norm, memory.error_norm_old)
+    factor = min(MAX_FACTOR, safety * factor)
+    if not controls.adaptive:
+        factor = 1.0
+    elif not recompute_jacobian and factor < 1.2:
+        factor = 1.0
+    else:
+        memory.lu_valid = False
+    rhs(model, t + h_taken, y_new, params, f_new)
+    stats[STAT_NFEV] += 1
+    if recompute_jacobian:
+        jacobian(model, params, t + h_taken, y_new, f_new, work.jacobian, work.scratch, work.column)
+        stats[STAT_NJEV] += 1
+        stats[STAT_NFEV] += y_new.shape[0]
+        memory.current_jacobian = True
+    else:
+        memory.current_jacobian = False
+    memory.h_abs_old = h_taken
+    memory.error_norm_old = norm
+    return h_taken * factor if controls.adaptive else h
+
+
+@inlined
+def dense(model, params, t, y, y_new, h, work, stats):
+    """Collocation-polynomial coefficients Q = Z^T P of the accepted step [t, t + h] into
+    ``work.dense``, kept with the step for the next step's Newton guess."""
+    collocation = work.collocation
+    dense = work.dense
+    for j in range(y.shape[0]):
         for k in range(3):
-            dense[k, j] = stages[0, j] * P[0, k] + stages[1, j] * P[1, k] + stages[2, j] * P[2, k]
+            dense[k, j] = (
+                collocation[0, j] * P[0, k]
+                + collocation[1, j] * P[1, k]
+                + collocation[2, j] * P[2, k]
+            )
+    memory = work.memory[0]
+    memory.has_dense = True
+    memory.t_previous = t
+    memory.h_previous = h
+    work.y_previous[:] = y
 
 
-@kernel
-def radau_predict(has_dense, dense, y_previous, t_previous, h_previous, t, h, y, stages, scratch):
-    """Newton's starting guess: the last step's collocation polynomial extrapolated to the
-    new stage times, minus y (zeros before the first step)."""
-    if not has_dense:
+@inlined
+def predict(memory, dense, y_previous, t, h, y, stages, scratch):
+    """Newton's starting guess ``stages`` (3, n): the last step's collocation polynomial
+    extrapolated to the new stage times, minus y (zeros before the first step)."""
+    if not memory.has_dense:
         stages[:, :] = 0.0
         return
     for i in range(3):
-        x = (t + C[i] * h - t_previous) / h_previous
-        radau_interpolate(dense, y_previous, x, scratch)
+        x = (t + C[i] * h - memory.t_previous) / memory.h_previous
+        interpolate(dense, y_previous, x, scratch)
         for j in range(y.shape[0]):
             stages[i, j] = scratch[j] - y[j]
 
 
-@kernel
-def radau_interpolate(dense, y_old, x, out):
-    """State at the fraction x of the step: y_old + Σ_k Q_k x^(k+1)."""
+@inlined
+def interpolate(dense, y_old, x, out):
+    """State at the fraction x of the last accepted step, which began at y_old:
+    y_old + Σ_k Q_k x^(k+1), Q = ``dense`` (``work.dense``)."""
     for j in range(y_old.shape[0]):
         out[j] = y_old[j] + x * (dense[0, j] + x * (dense[1, j] + x * dense[2, j]))

@@ -14,14 +14,18 @@ times, with each point's own band; the sweep tests check the two agree point for
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA
 from celtstone.kernels.system import energy, spin_and_normal_force
+from celtstone.solvers._events import event_table
+from celtstone.solvers._structures import Controls, HybridSettings, new_output, new_phase_log
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
 from celtstone.solvers.driver import integrate
+from celtstone.solvers.phases import DEFAULT_MAX_PHASES, run_phases
 
 __all__ = ["FIELDS", "run_batch"]
 
@@ -79,88 +83,97 @@ def _last_zero_before(times, spins, index, crossings, n_stored):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _batch(
-    model,
-    method,
-    params,
-    y0,
-    t_end,
-    rtol,
-    atol,
-    max_steps,
-    sample_times,
-    bands,
-    crossing_capacity,
-    results,
-):
-    n_points = params.shape[0]
-    n_times = sample_times.shape[0]
-    samples = np.zeros((n_times, N_STATE))
-    spins = np.zeros(n_times)
-    crossings = np.zeros(crossing_capacity)
-    stats = np.zeros(8, dtype=np.int64)
+def _reversals(sample_times, spins, n_samples, band, crossings, n_stored):
+    """(number of reversals, time of the first [s] or NaN) with the hysteresis band [rad/s]
+    (``analysis.reversals.reversal_times``)."""
+    sense = 0
+    n_reversals = 0
+    first = np.nan
+    for j in range(n_samples):
+        if abs(spins[j]) > band:
+            current = 1 if spins[j] > 0.0 else -1
+            if sense != 0 and current != sense:
+                if n_reversals == 0:
+                    first = _last_zero_before(sample_times, spins, j, crossings, n_stored)
+                n_reversals += 1
+            sense = current
+    return n_reversals, first
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _reduce(model, params, y0, end, sample_times, samples, crossings, band, spins, work, out):
+    """The result fields of one run (``end``, a ``RunEnd``, and its samples) into ``out``."""
+    n_samples = end.n_samples
+    n_stored = min(end.n_crossings, crossings.shape[0])
+    min_normal = end.min_normal_force
+    max_tilt = 0.0
+    for j in range(n_samples):
+        y = samples[j]
+        spins[j] = y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
+        norm = math.sqrt(y[Y_N] ** 2 + y[Y_N + 1] ** 2 + y[Y_N + 2] ** 2)
+        tilt = math.acos(min(1.0, max(-1.0, y[Y_N + 2] / norm)))
+        max_tilt = max(max_tilt, tilt)
+        _, normal_force, _ = spin_and_normal_force(model, y, params, work)
+        if normal_force < min_normal:  # fmin: a NaN sample does not win
+            min_normal = normal_force
+    n_reversals, first = _reversals(sample_times, spins, n_samples, band, crossings, n_stored)
+    final_spin = np.nan
+    energy_lost = np.nan
+    if end.status == STATUS_SUCCESS and n_samples > 0:
+        final_spin = spins[n_samples - 1]
+        energy_lost = energy(model, y0, params) - energy(model, samples[n_samples - 1], params)
+    out[F_FIRST_REVERSAL] = first
+    out[F_REVERSALS] = n_reversals
+    out[F_FINAL_SPIN] = final_spin
+    out[F_ENERGY_LOST] = energy_lost
+    out[F_MAX_TILT] = max_tilt if n_samples > 0 else np.nan
+    out[F_MIN_NORMAL_FORCE] = min_normal
+    out[F_T_STOP] = end.t_stop
+    out[F_STATUS] = end.status
+
+
+class Points(NamedTuple):
+    """What differs from point to point of a batch (k points)."""
+
+    params: np.ndarray  # kernel parameter records, shape (k,)
+    initial_states: np.ndarray  # shape (k, N_STATE)
+    reversal_bands: np.ndarray  # hysteresis half-widths [rad/s], shape (k,)
+    capture_speeds: np.ndarray  # v_c [m/s] > 0: the hybrid contact; 0: one model run
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _batch(model, methods, points, t_end, controls, output, log, results):
+    """Run and reduce every point into its row of ``results``. ``methods`` is (the method,
+    the method of stick phases); a point with a capture speed runs the hybrid contact
+    (``phases.run_phases``), as ``simulate`` with ``HybridModel``."""
+    spins = np.zeros(output.sample_times.shape[0])
     work = np.zeros(N_STATE)
-    final_state = np.zeros(N_STATE)
-    for i in range(n_points):
-        p = params[i]
-        status, n_samples, n_crossings, t_stop, min_normal, _ = integrate(
+    table = event_table(model, 0.0)
+    for i in range(points.params.shape[0]):
+        p = points.params[i]
+        y0 = points.initial_states[i]
+        output.stats[:] = 0
+        if points.capture_speeds[i] > 0.0:
+            contact = HybridSettings(methods[0], methods[1], points.capture_speeds[i])
+            end, _, _ = run_phases(p, y0, t_end, contact, controls, output, log)
+            times = log.sample_times
+        else:
+            end = integrate(model, methods[0], p, y0, t_end, controls, table, output)
+            times = output.sample_times
+        band = points.reversal_bands[i]
+        _reduce(
             model,
-            method,
             p,
-            y0[i],
-            t_end,
-            rtol,
-            atol,
-            0.0,
-            0.0,
-            max_steps,
-            True,
-            sample_times,
-            samples,
-            crossings,
-            stats,
-            0.0,  # no capture event: the sweep runs the sliding or rolling model
-            final_state,
+            y0,
+            end,
+            times,
+            output.samples,
+            output.crossings,
+            band,
+            spins,
+            work,
+            results[i],
         )
-        n_stored = min(n_crossings, crossing_capacity)
-        max_tilt = 0.0
-        for j in range(n_samples):
-            y = samples[j]
-            spins[j] = (
-                y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
-            )
-            norm = math.sqrt(y[Y_N] ** 2 + y[Y_N + 1] ** 2 + y[Y_N + 2] ** 2)
-            tilt = math.acos(min(1.0, max(-1.0, y[Y_N + 2] / norm)))
-            max_tilt = max(max_tilt, tilt)
-            _, normal_force, _ = spin_and_normal_force(model, y, p, work)
-            if normal_force < min_normal:  # fmin: a NaN sample does not win
-                min_normal = normal_force
-        # reversals with hysteresis (analysis.reversals.reversal_times)
-        threshold = bands[i]
-        sense = 0
-        n_reversals = 0
-        first = np.nan
-        for j in range(n_samples):
-            if abs(spins[j]) > threshold:
-                current = 1 if spins[j] > 0.0 else -1
-                if sense != 0 and current != sense:
-                    if n_reversals == 0:
-                        first = _last_zero_before(sample_times, spins, j, crossings, n_stored)
-                    n_reversals += 1
-                sense = current
-        final_spin = np.nan
-        energy_lost = np.nan
-        if status == STATUS_SUCCESS and n_samples > 0:
-            final_spin = spins[n_samples - 1]
-            energy_lost = energy(model, y0[i], p) - energy(model, samples[n_samples - 1], p)
-        results[i, F_FIRST_REVERSAL] = first
-        results[i, F_REVERSALS] = n_reversals
-        results[i, F_FINAL_SPIN] = final_spin
-        results[i, F_ENERGY_LOST] = energy_lost
-        results[i, F_MAX_TILT] = max_tilt if n_samples > 0 else np.nan
-        results[i, F_MIN_NORMAL_FORCE] = min_normal
-        results[i, F_T_STOP] = t_stop
-        results[i, F_STATUS] = status
 
 
 def run_batch(
@@ -176,14 +189,19 @@ def run_batch(
     reversal_bands: np.ndarray,
     max_steps: int = 20_000_000,
     max_crossings: int = 100_000,
+    capture_speeds: np.ndarray | None = None,
+    stick_method_name: str = "dop853",
+    max_phases: int = DEFAULT_MAX_PHASES,
 ) -> np.ndarray:
     """Integrate every row of ``params``/``y0`` and return their result fields.
 
     Parameters
     ----------
-    model : kernel model code (``kernels.layout``)
-    method_name : a key of ``solvers.METHODS``
-    params : flat kernel parameters, shape (k, N_PARAMS)
+    model : kernel model code (``kernels.layout``); the sliding model for the hybrid
+        contact
+    method_name : a key of ``solvers.METHODS`` (of the slip phases in the hybrid contact)
+    params : kernel parameter records, one per point, shape (k,) (``params[i]`` is one
+        point's record)
     y0 : initial states, shape (k, N_STATE)
     t_end : duration [s]
     rtol, atol : local error tolerances
@@ -193,27 +211,30 @@ def run_batch(
         shape (k,)
     max_steps : step limit of each run
     max_crossings : spin zero crossings stored per run for timing reversals
+    capture_speeds : None for one run of ``model`` per point; for the hybrid
+        (stick–slip) contact each point's capture speed v_c [m/s], shape (k,)
+    stick_method_name : method of the stick phases (hybrid contact)
+    max_phases : phase-log capacity of each hybrid run
 
     Returns
     -------
     numpy.ndarray
-        shape (k, len(FIELDS)), float64, columns in the order of ``FIELDS``
+        shape (k, len(FIELDS)), float64, columns in the order of ``FIELDS``; the hybrid
+        contact reduces exactly as ``simulate`` with ``HybridModel`` does
     """
-    params = np.ascontiguousarray(params, dtype=np.float64)
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
-    results = np.empty((params.shape[0], N_FIELDS))
-    _batch(
-        int(model),
-        METHODS[method_name],
+    n_points = len(params)
+    output = new_output(sample_times, N_STATE, max_crossings)
+    log = new_phase_log(output.sample_times.shape[0], max_phases)
+    speeds = np.zeros(n_points) if capture_speeds is None else capture_speeds
+    points = Points(
         params,
         y0,
-        float(t_end),
-        float(rtol),
-        float(atol),
-        int(max_steps),
-        np.ascontiguousarray(sample_times, dtype=np.float64),
-        np.ascontiguousarray(np.broadcast_to(reversal_bands, params.shape[:1]), dtype=np.float64),
-        int(max_crossings),
-        results,
+        np.ascontiguousarray(np.broadcast_to(reversal_bands, (n_points,)), dtype=np.float64),
+        np.ascontiguousarray(np.broadcast_to(speeds, (n_points,)), dtype=np.float64),
     )
+    controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
+    methods = (METHODS[method_name], METHODS[stick_method_name])
+    results = np.empty((n_points, N_FIELDS))
+    _batch(int(model), methods, points, float(t_end), controls, output, log, results)
     return results

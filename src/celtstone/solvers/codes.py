@@ -5,16 +5,20 @@ from __future__ import annotations
 METHOD_DOP853 = 0
 METHOD_RADAU5 = 1
 
+# the methods registry: name -> code; each code has its module (``solvers._methods``)
 METHODS = {"dop853": METHOD_DOP853, "radau5": METHOD_RADAU5}
 
-# slots of the integrator's int64 statistics array (8 long)
-STAT_NFEV = 0
-STAT_NJEV = 1
-STAT_NLU = 2
-STAT_ACCEPTED = 3
-STAT_REJECTED = 4
+# slots of the integrator's int64 statistics array (8 long); the compiled loop adds to
+# them, so one array sums the phases of a hybrid run
+STAT_NFEV = 0  # right-hand-side evaluations
+STAT_NJEV = 1  # Jacobian evaluations
+STAT_NLU = 2  # LU factorisations
+STAT_ACCEPTED = 3  # accepted steps
+STAT_REJECTED = 4  # rejected step attempts
 STAT_SAMPLES_WRITTEN = 5  # output samples filled so far, updated after every step
 N_STATS = 8
+
+DEFAULT_MAX_PHASES = 100_000  # capacity of a hybrid run's phase log (solvers.phases)
 
 STATUS_SUCCESS = 0
 STATUS_LIFT_OFF = 1
@@ -25,6 +29,8 @@ STATUS_STEP_TOO_SMALL = 5
 STATUS_NOT_FINITE = 6
 STATUS_PHASE_CHANGE = 7
 STATUS_NON_CONVEX = 8
+STATUS_UNKNOWN_CODE = 9
+STATUS_MAX_PHASES = 10
 
 STATUS_MESSAGES = {
     STATUS_SUCCESS: "reached t_end",
@@ -42,4 +48,10 @@ STATUS_MESSAGES = {
     "restarts the integration in the other phase",
     STATUS_NON_CONVEX: "no contact point found for the implicit shape at this vertical: "
     "the surface is not strictly convex there or the Newton solve failed",
+    STATUS_UNKNOWN_CODE: "a model, shape, normal-force, friction-law, pressure, method or "
+    "right-hand-side status code that no compiled branch handles (a bug in the caller: "
+    "please report it)",
+    STATUS_MAX_PHASES: "more stick-slip phases than the phase log holds (max_phases, "
+    f"{DEFAULT_MAX_PHASES} unless given): shorten t_end, or raise max_phases "
+    "(hybrid.solve_phases, solvers.batch.run_batch)",
 }

@@ -23,12 +23,12 @@ import numpy as np
 import xarray as xr
 
 from celtstone import schema, solvers
-from celtstone.analysis.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
 from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial, load_body
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.integrate import STATUS_NAMES, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
-from celtstone.models import MODELS
+from celtstone.models import MODELS, HybridModel
+from celtstone.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
 from celtstone.solvers import batch
 from celtstone.sweep import budget
 from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder
@@ -129,9 +129,12 @@ class Sweep:
     model : "sliding" or "rolling"
     fixed : name -> value held for every point; names as in ``spec.PARAMETERS``, and
         the options of ``spec.CHOICES`` (``normal_force``: "static" or "dynamic",
-        ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or "uniform")
+        ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or "uniform",
+        ``contact``: "sliding" or "hybrid", the stick–slip contact of the sliding model,
+        whose ``capture_speed`` [m/s] can be fixed or varied)
     t_end : duration of each run [s]
-    method : integrator (default: the model's, radau5 for sliding)
+    method : integrator (default: the model's, radau5 for sliding); with the hybrid
+        contact also of the stick phases, which otherwise use dop853 (as ``simulate``)
     rtol, atol : local error tolerances (default rtol 1e-8 for sweeps)
     samples_per_second : density of the samples behind max tilt, the normal force
         and the hysteresis band [1/s]
@@ -207,11 +210,14 @@ class Sweep:
                 "give the shape as an implicit polynomial to sweep it",
             )
         self.builder = PointBuilder(
-            self.base_body, model, self.fixed, self._columns(), progress=progress
+            self.base_body, model, self.fixed, self._columns(), progress=progress, atol=self.atol
         )
         self.method = method if method is not None else self.builder.model.default_method
         if self.method not in solvers.METHODS:
             raise ParameterError("method", self.method, "one of: " + ", ".join(solvers.METHODS))
+        # the stick–slip contact: stick phases use the method given, else dop853 (as simulate)
+        self.is_hybrid = isinstance(self.builder.model, HybridModel)
+        self.stick_method = method if method is not None else "dop853"
         count = max(2, round(self.t_end * self.samples_per_second) + 1)
         self.sample_times = np.linspace(0.0, self.t_end, count)
 
@@ -305,6 +311,8 @@ class Sweep:
             "max_steps": self.max_steps,
             "chunk_points": int(chunk_points),
         }
+        if self.is_hybrid:  # a key of its own, so that other sweeps' specs are unchanged
+            document["stick_method"] = self.stick_method
         return json.dumps(document, sort_keys=True)
 
     def attrs(self, chunk_points: int = DEFAULT_CHUNK_POINTS) -> dict[str, Any]:
@@ -329,6 +337,7 @@ class Sweep:
             "varied_parameters": json.dumps([a.name for a in self.axes + self.point_axes]),
             "t_end": self.t_end,
             "method": self.method,
+            **({"stick_method": self.stick_method} if self.is_hybrid else {}),
             "rtol": self.rtol,
             "atol": self.atol,
             "samples_per_second": self.samples_per_second,
@@ -456,6 +465,7 @@ class Sweep:
             "atol": self.atol,
             "sample_times": self.sample_times,
             "max_steps": self.max_steps,
+            "stick_method_name": self.stick_method,
         }
         model_code = self.builder.model.code
         next_task = 0
@@ -466,6 +476,7 @@ class Sweep:
                 block, start, stop = tasks[next_task]
                 params, y0 = self.builder.arrays(range(start, stop))
                 bands = self._bands(y0)
+                captures = self.builder.capture_speeds(range(start, stop))
                 pool.submit(
                     next_task,
                     model_code,
@@ -474,6 +485,7 @@ class Sweep:
                     y0,
                     self.t_end,
                     reversal_bands=bands,
+                    capture_speeds=captures if self.is_hybrid else None,
                     **settings,
                 )
                 next_task += 1

@@ -22,8 +22,10 @@ from celtstone.bodies import Body, Ellipsoid, ImplicitPolynomial, Paraboloid, Su
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.models import (
     CONTACT_PRESSURES,
+    CONTACTS,
     FRICTION_LAWS,
     NORMAL_FORCE_OPTIONS,
+    HybridModel,
     InitialState,
     Model,
     initial_vector,
@@ -100,6 +102,12 @@ PARAMETERS: dict[str, SweepParameter] = {
         _p("elastic_modulus", MODEL, "elastic_modulus", "Young's modulus E (Hertz radius)"),
         _p("poisson_ratio", MODEL, "poisson_ratio", "Poisson's ratio nu (with E)"),
         _p(
+            "capture_speed",
+            MODEL,
+            "capture_speed",
+            "contact=hybrid: slip-spin speed counted as zero v_c (default 100 atol)",
+        ),
+        _p(
             "spin",
             STATE,
             None,
@@ -119,6 +127,7 @@ CHOICES: dict[str, tuple[str, ...]] = {
     "normal_force": tuple(NORMAL_FORCE_OPTIONS),
     "friction_law": tuple(FRICTION_LAWS),
     "contact_pressure": tuple(CONTACT_PRESSURES),
+    "contact": tuple(CONTACTS),  # of the sliding model: "hybrid" is the stick–slip contact
 }
 _CONFLICTS = (("spin", "omega3"), ("misalignment_angle", "inertia_12"))
 VALIDATION_PROGRESS_EVERY = 1000  # objects built between two progress reports
@@ -244,7 +253,7 @@ def parse_axis(text: str) -> Axis:
 def parse_setting(text: str) -> tuple[str, float | str]:
     """Parse a fixed setting ``name=value``: a number, or an option of ``CHOICES``
     (``normal_force=static|dynamic``, ``friction_law=pade|exact``,
-    ``contact_pressure=hertz|uniform``)."""
+    ``contact_pressure=hertz|uniform``, ``contact=sliding|hybrid``)."""
     name, sep, value = text.partition("=")
     name = name.strip().replace("-", "_")
     if not sep or not value.strip():
@@ -359,6 +368,8 @@ class PointBuilder:
     fixed : parameter name -> value for the whole sweep (the ``CHOICES`` take strings)
     columns : name -> values of every point, shape (n_points,) each
     progress : called with (objects built, objects to build) while validating
+    atol : the runs' absolute tolerance: the hybrid contact's default capture speed is
+        100 atol, and its regularisation speed must stay below a tenth of it
     """
 
     def __init__(
@@ -368,7 +379,9 @@ class PointBuilder:
         fixed: Mapping[str, float | str],
         columns: Mapping[str, np.ndarray],
         progress: Callable[[int, int], None] | None = None,
+        atol: float = 1e-12,
     ) -> None:
+        self.atol = atol
         settings = dict(fixed)
         choices = {name: str(settings.pop(name)) for name in CHOICES if name in settings}
         for name, value in choices.items():
@@ -401,7 +414,8 @@ class PointBuilder:
         }
         self._bodies: dict[tuple[float, ...], Body] = {}
         self._models: dict[tuple[float, ...], Model] = {}
-        self._params: dict[tuple[tuple[float, ...], tuple[float, ...]], np.ndarray] = {}
+        self._capture_speeds: dict[tuple[float, ...], float] = {}
+        self._params: dict[tuple[tuple[float, ...], tuple[float, ...]], np.record] = {}
         self._states: dict[tuple[float, ...], np.ndarray] = {}
         # every point checked here; the first point's body and model describe the sweep
         self.validate(progress)
@@ -422,7 +436,13 @@ class PointBuilder:
 
     def _model(self, key: tuple[float, ...]) -> Model:
         if key not in self._models:
-            self._models[key] = build_model(self.model_name, self.choices, self._values(MODEL, key))
+            model = build_model(self.model_name, self.choices, self._values(MODEL, key))
+            # the hybrid contact's v_c at this atol (0: no capture), checked against δ
+            capture = 0.0
+            if isinstance(model, HybridModel):
+                capture = model.resolved_capture_speed(self.atol)
+            self._capture_speeds[key] = capture
+            self._models[key] = model
         return self._models[key]
 
     def _state(self, key: tuple[float, ...]) -> np.ndarray:
@@ -507,16 +527,24 @@ class PointBuilder:
             hint = f"{error.hint}; {hint}"
         return ParameterError(error.name, error.value, error.allowed, hint)
 
-    def _parameters(self, body_key: tuple[float, ...], model_key: tuple[float, ...]) -> np.ndarray:
-        """Kernel parameters of a body and a model, which are checked together here
+    def _parameters(self, body_key: tuple[float, ...], model_key: tuple[float, ...]) -> np.record:
+        """Kernel parameter record of a body and a model, which are checked together here
         (``models.kernel_parameters``: a run of them must be able to mean something)."""
         pair = (body_key, model_key)
         if pair not in self._params:
             self._params[pair] = kernel_parameters(self._model(model_key), self._body(body_key))
         return self._params[pair]
 
+    def capture_speeds(self, indices: Sequence[int] | np.ndarray) -> np.ndarray:
+        """Capture speed v_c [m/s] of the hybrid contact at each of ``indices``, shape
+        (k,); 0 where the model has no stick–slip contact."""
+        return np.array(
+            [self._capture_speeds[self._keys(int(index))[1]] for index in indices], dtype=float
+        )
+
     def arrays(self, indices: Sequence[int] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Kernel parameters (k, N_PARAMS) and initial states (k, N_STATE) of ``indices``."""
+        """Kernel parameter records, shape (k,), and initial states (k, N_STATE) of
+        ``indices``."""
         params = []
         states = []
         for index in indices:

@@ -19,15 +19,15 @@ from __future__ import annotations
 import ast
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
 
 from celtstone.bodies import ImplicitPolynomial, Superellipsoid
 from celtstone.errors import ParameterError
-from celtstone.kernels import layout
 from celtstone.kernels.geometry import contact as contact_kernel
+from celtstone.kernels.layout import parameter_record
 
 __all__ = [
     "BodyGeometry",
@@ -63,22 +63,22 @@ class BodyGeometry:
     inertia : central inertia tensor in body axes [kg m²], shape (3, 3)
     cap_height : height of the drawn paraboloid cap above its rest contact [m]
         (the cap is unbounded; unused for the ellipsoid)
-    kernel_params : the kernels' full parameter array of the shape, for the shapes
-        drawn through the contact kernel (superellipsoid, implicit polynomial)
+    kernel_params : the kernels' parameter record of the shape, for the shapes drawn
+        through the contact kernel (superellipsoid, implicit polynomial), else None
     """
 
     kind: str
     parameters: tuple[float, float, float, float]
     inertia: tuple[tuple[float, ...], ...]
     cap_height: float = 0.0
-    kernel_params: tuple[float, ...] = ()
+    kernel_params: np.record | None = field(default=None, compare=False)
 
     @property
     def half_length(self) -> float:
         """Half the extent of the drawn body along axis 1 [m]."""
         if self.kind == "ellipsoid":
             return self.parameters[0]
-        if self.kernel_params:
+        if self.kernel_params is not None:
             return float(support_points(self, np.array([[1.0, 0.0, 0.0]]))[0, 0])
         return math.sqrt(2.0 * self.parameters[0] * self.cap_height)
 
@@ -143,17 +143,13 @@ SHAPE_KINDS = ("ellipsoid", "paraboloid", "superellipsoid", "implicit_polynomial
 SUPPORT_DRAWN = ("superellipsoid", "implicit_polynomial")
 
 
-def _kernel_params(kind: str, parameters: tuple[float, ...], attrs: dict) -> tuple[float, ...]:
-    """The kernels' shape parameters of a superellipsoid or implicit-polynomial run."""
+def _kernel_params(kind: str, parameters: tuple[float, ...], attrs: dict) -> np.record:
+    """The kernels' parameter record of a superellipsoid or implicit-polynomial run's shape."""
     if kind == "superellipsoid":
         exponent = float(attrs.get("body_shape_exponent", 2.0))
         a, b, c, h = parameters
         shape: Superellipsoid | ImplicitPolynomial = Superellipsoid((a, b, c), h, exponent)
-        array = np.zeros(layout.N_PARAMS)
-        array[layout.P_SHAPE] = shape.code
-        array[layout.P_SHAPE_0 : layout.P_SHAPE_0 + 4] = shape.kernel_parameters()
-        array[layout.P_SHAPE_4] = exponent
-        return tuple(array.tolist())
+        return parameter_record(**shape.kernel_fields())
     try:
         terms = json.loads(str(attrs["body_shape_terms"]))
     except (KeyError, ValueError):
@@ -161,7 +157,7 @@ def _kernel_params(kind: str, parameters: tuple[float, ...], attrs: dict) -> tup
             "run", attrs.get("title", "?"), "a run file with attribute 'body_shape_terms'"
         ) from None
     shape = ImplicitPolynomial(terms=terms, com_offset=parameters[3])
-    return tuple(shape.kernel_array().tolist())
+    return shape.kernel_record()
 
 
 def support_points(geometry: BodyGeometry, normals: np.ndarray) -> np.ndarray:
@@ -169,7 +165,7 @@ def support_points(geometry: BodyGeometry, normals: np.ndarray) -> np.ndarray:
 
     The contact kernel's point for the upward vertical n = -ν (paper eq. 3).
     """
-    params = np.asarray(geometry.kernel_params)
+    params = geometry.kernel_params
     still = (0.0, 0.0, 0.0)
     points = []
     for normal in np.atleast_2d(normals):
@@ -251,7 +247,7 @@ def surface_mesh(geometry: BodyGeometry, along: int = 48, around: int = 32) -> M
     to the rim (paraboloid); ``around`` vertices per ring.
     """
     phi = np.linspace(0.0, 2.0 * np.pi, around, endpoint=False)
-    if geometry.kernel_params:
+    if geometry.kernel_params is not None:
         # normals on a sphere with poles on ±axis 1, mapped to their surface points
         theta = np.linspace(0.0, np.pi, along + 1)[1:-1]
         ring_normals = np.stack(
@@ -332,7 +328,7 @@ def axis_marks(geometry: BodyGeometry, points: int = 25) -> dict[str, np.ndarray
     through G, reaching 1.25 half lengths so that it shows beyond the body's ends.
     """
     half = geometry.half_length
-    if geometry.kernel_params:
+    if geometry.kernel_params is not None:
         # the top curve in the plane of axes 1 and 3: outward normals (cos θ, 0, sin θ)
         theta = np.linspace(0.15 * np.pi, 0.85 * np.pi, points)
         normals = np.stack([np.cos(theta), np.zeros_like(theta), np.sin(theta)], axis=1)

@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from celtstone.export import atomic_path, check_target
+from celtstone.schema import VARIABLES
 from celtstone.visual import scene
 from celtstone.visual.frames import FPS_MAX, PAGE_FRAME_LIMIT, PLOT_BUCKETS, envelope, plan_frames
 from celtstone.visual.runs import check_run, default_label
@@ -33,13 +34,8 @@ _DATA_MARK = "/*__CELTSTONE_DATA__*/"
 _TITLE_MARK = "__CELTSTONE_TITLE__"
 _DIGITS = 6  # significant digits of the inlined numbers
 
-# (variable, label, unit, scale): the linked plots against time
-PLOTS = (
-    ("spin", "spin ω·n", "rad/s", 1.0),
-    ("tilt", "tilt", "deg", 180.0 / math.pi),
-    ("energy", "energy", "J", 1.0),
-    ("slip_speed", "slip speed |V1|", "m/s", 1.0),
-)
+# the linked plots against time; their labels and units are those of schema.VARIABLES
+PLOTS = ("spin", "tilt", "energy", "slip_speed")
 
 
 @dataclass(frozen=True)
@@ -108,8 +104,10 @@ def page_data(dataset: xr.Dataset, label: str | None = None) -> dict[str, Any]:
         "contact": _Numbers(contacts[i]),
     }
     plots = []
-    for name, text, unit, scale in PLOTS:
-        values = np.asarray(dataset[name].values, dtype=float) * scale
+    for name in PLOTS:
+        variable = VARIABLES[name]
+        text, unit = variable.text or variable.long_name, variable.plot_unit or variable.unit
+        values = np.asarray(dataset[name].values, dtype=float) * variable.plot_scale
         frames[name] = _Numbers(values[i])
         t, v = envelope(times, values, PLOT_BUCKETS)
         plots.append(

@@ -1,0 +1,161 @@
+"""The integrator contract, and the compiled registry that routes a method code to its module.
+
+The contract (in the manner of SciPy's ``OdeSolver``)
+-----------------------------------------------------
+1. **A method is one module** ``solvers/_<name>.py``, registered by one entry in
+   ``codes.METHODS`` (name -> code) and one branch in each function of this module.
+   Tests parametrised over ``solvers.METHODS`` then run it: convergence slope, agreement
+   with SciPy, events, failures. Every function below is compiled by numba and takes
+   numbers, arrays and NamedTuples of them only (item 11).
+2. **The system** is ``kernels.system.rhs(model, t, y, params, out)``: ``model`` a model
+   code, ``params`` the kernel parameter record (opaque to the methods: they only pass it
+   on), ``y`` the state (length n), ``out`` receives dy/dt. A method calls nothing else
+   of the physics.
+3. ``ORDER`` (int): the method's order p, global error O(h^p) (the tests check the
+   slope); ``ERROR_ORDER`` (int): the order q of its local error estimate, with which
+   the driver's first step (Hairer's heuristic, ``_step_control.initial_step``)
+   scales as tol^(1/(q+1)).
+4. ``workspace(n)`` returns the method's workspace: a ``NamedTuple`` of arrays sized for
+   states of length n, created once per run by the driver and passed back to every call.
+   It holds the dense-output coefficients and everything one step leaves for the next
+   (Radau: Jacobian, LU factors, the last collocation polynomial and the controller's
+   memory, a one-element structured array whose record has named fields). Nothing is
+   kept anywhere else, so runs on several threads share nothing.
+5. ``start(model, params, t, y, f, controls, work, stats)`` is called once, after the
+   driver evaluated f = f(t, y) at the first state and before the first ``attempt``
+   (Radau evaluates its first Jacobian here).
+6. ``attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats)``
+   takes one step from (t, y), f = f(t, y), trying the step size h first, and returns
+   ``(status, h_taken, h_next)``. **The method owns the step size**: it rejects and
+   retries with smaller steps until its error norm (item 8) is at most 1, never steps
+   past ``t_end`` (h_taken = min(h, t_end - t)), and proposes h_next for the following
+   step. It fills ``y_new`` (the state at t + h_taken) and ``f_new`` = f(t + h_taken,
+   y_new). With ``controls.adaptive`` False it takes h as given, once, and h_next = h.
+   status is ``STATUS_SUCCESS``, or ``STATUS_STEP_TOO_SMALL`` once h falls below
+   ``_step_control.smallest_step(t)``; then y_new is undefined.
+7. ``dense(model, params, t, y, y_new, h, work, stats)`` is called once after each
+   accepted step [t, t + h] and stores in ``work.dense`` (every workspace has this
+   2-D array) the coefficients of the interpolant over it (it may evaluate f, as
+   DOP853's three extra stages). ``interpolate(dense, y_old, x, out)`` writes the
+   state at t + x h, x in [0, 1], with ``dense`` those coefficients and ``y_old`` the
+   state at t; it reads nothing else, so events and samples pass just these. The
+   interpolant must be continuous from step to step and pass through y and y_new;
+   its order is the method's to state (DOP853: 7, Radau IIA: 3, the collocation
+   polynomial). Sampling and event location use nothing else.
+8. **The error norm** is the RMS over the n components of (error estimate) / (atol +
+   max(|y|, |y_new|) rtol), as SciPy's (``_step_control.rms_scaled``); a step is
+   accepted when it is at most 1.
+9. **Counters**: a method adds what it costs to ``stats`` (``codes.STAT_NFEV``,
+   ``STAT_NJEV``, ``STAT_NLU``, ``STAT_REJECTED``); the driver counts accepted steps,
+   its own evaluations and the samples written.
+10. **What a method does not do**: sampling, events (spin crossings, lift-off, phase
+    changes), the step limit, ``max_step``, finiteness checks and stopping belong to the
+    driver (``solvers.driver.integrate``), which is the same for every method.
+11. **Compiling**: ``workspace`` and ``start`` are ``kernels._jit.kernel`` functions;
+    ``attempt``, ``dense``, ``interpolate`` and the helpers they call once a step are
+    ``_compile.inlined``: numba copies them into the driver, as a separate function
+    every array they take would cost a measurable part of a step
+    (docs/decisions.md §21). Arrays are not sliced per step for the same reason.
+
+Each dispatch below has one branch per registered code and no default: an unknown
+code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from celtstone.kernels._jit import kernel
+from celtstone.solvers import _dop853 as dop853
+from celtstone.solvers import _radau as radau5
+from celtstone.solvers._compile import inlined
+from celtstone.solvers.codes import METHOD_DOP853, METHOD_RADAU5, STATUS_UNKNOWN_CODE
+
+MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5}  # code -> module, for Python
+
+
+class Workspaces(NamedTuple):
+    """One workspace per registered method; only the run's own is sized to the state."""
+
+    dop853: dop853.Workspace
+    radau5: radau5.Workspace
+
+
+@kernel
+def is_known(method):
+    """Whether ``method`` is a registered method code."""
+    return method == METHOD_DOP853 or method == METHOD_RADAU5
+
+
+@kernel
+def workspaces(method, n):
+    """Workspaces for a run of ``method`` on states of length n (the others empty)."""
+    return Workspaces(
+        dop853.workspace(n if method == METHOD_DOP853 else 0),
+        radau5.workspace(n if method == METHOD_RADAU5 else 0),
+    )
+
+
+@kernel
+def error_order(method):
+    """``ERROR_ORDER`` of the method (contract item 3); -1 for an unknown code."""
+    if method == METHOD_DOP853:
+        return dop853.ERROR_ORDER
+    if method == METHOD_RADAU5:
+        return radau5.ERROR_ORDER
+    return -1
+
+
+@inlined
+def start(method, model, params, t, y, f, controls, work, stats):
+    """The method's ``start`` (contract item 5)."""
+    if method == METHOD_DOP853:
+        dop853.start(model, params, t, y, f, controls, work.dop853, stats)
+    elif method == METHOD_RADAU5:
+        radau5.start(model, params, t, y, f, controls, work.radau5, stats)
+
+
+@inlined
+def attempt(method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
+    """The method's ``attempt`` (contract item 6): (status, h_taken, h_next)."""
+    if method == METHOD_DOP853:
+        return dop853.attempt(
+            model, params, t, y, f, h, t_end, controls, work.dop853, y_new, f_new, stats
+        )
+    if method == METHOD_RADAU5:
+        return radau5.attempt(
+            model, params, t, y, f, h, t_end, controls, work.radau5, y_new, f_new, stats
+        )
+    return STATUS_UNKNOWN_CODE, h, h
+
+
+@inlined
+def dense(method, model, params, t, y, y_new, h, work, stats):
+    """The method's ``dense`` (contract item 7)."""
+    if method == METHOD_DOP853:
+        dop853.dense(model, params, t, y, y_new, h, work.dop853, stats)
+    elif method == METHOD_RADAU5:
+        radau5.dense(model, params, t, y, y_new, h, work.radau5, stats)
+
+
+@inlined
+def dense_coefficients(method, work):
+    """The method's interpolant coefficients ``work.<method>.dense`` (contract item 7)."""
+    if method == METHOD_DOP853:
+        return work.dop853.dense
+    if method == METHOD_RADAU5:
+        return work.radau5.dense
+    return np.full((0, 0), np.nan)
+
+
+@inlined
+def interpolate(method, dense, y_old, x, out):
+    """The method's ``interpolate`` (contract item 7); NaN for an unknown code."""
+    if method == METHOD_DOP853:
+        dop853.interpolate(dense, y_old, x, out)
+    elif method == METHOD_RADAU5:
+        radau5.interpolate(dense, y_old, x, out)
+    else:
+        out[:] = np.nan

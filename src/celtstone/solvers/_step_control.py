@@ -1,0 +1,48 @@
+"""Step-size helpers shared by the methods and the driver: error norm, first step, floor."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.system import rhs
+
+
+@kernel
+def rms_scaled(values, reference, other, rtol, atol):
+    """RMS norm of values / (atol + max(|reference|, |other|) rtol) [1]."""
+    total = 0.0
+    for j in range(values.shape[0]):
+        scale = atol + max(abs(reference[j]), abs(other[j])) * rtol
+        total += (values[j] / scale) ** 2
+    return math.sqrt(total / values.shape[0])
+
+
+@kernel
+def initial_step(model, params, y0, f0, order, rtol, atol, scratch, f1):
+    """Hairer's starting step-size heuristic (Solving ODEs I, sec. II.4) [s].
+
+    ``order`` is the method's error order; one right-hand-side evaluation, into ``f1``.
+    """
+    d0 = rms_scaled(y0, y0, y0, rtol, atol)
+    d1 = rms_scaled(f0, y0, y0, rtol, atol)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    for j in range(y0.shape[0]):
+        scratch[j] = y0[j] + h0 * f0[j]
+    rhs(model, h0, scratch, params, f1)
+    for j in range(y0.shape[0]):
+        f1[j] -= f0[j]
+    d2 = rms_scaled(f1, y0, y0, rtol, atol) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1)
+
+
+@kernel
+def smallest_step(t):
+    """The step below which a method gives up at time t: ten units of round-off of t [s]."""
+    return 10.0 * abs(np.nextafter(t, np.inf) - t)

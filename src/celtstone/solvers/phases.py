@@ -1,0 +1,189 @@
+"""The stick–slip phase loop of the hybrid contact, compiled (docs/decisions.md §16).
+
+``run_phases`` alternates two phases, each integrated by ``driver.integrate`` until its
+terminal phase event (``_events``):
+
+* slip: the sliding model with the capture event, the slip–spin speed
+  sqrt(|V1|² + ε²(ω · n)²) falling below the capture speed v_c. Stick starts there if
+  the stick margin is >= 0 after the capture impulse (``kernels.stick.capture_state``,
+  its energy jump moved into the dissipated work W so that E + W = E(0)); else sliding
+  goes on from the same state (a rejected capture) and the phase log's slip phase grows.
+* stick: rolling without sliding and without pivoting (``MODEL_STICK``) until the
+  stick margin falls below zero; sliding restarts from that state.
+
+Each phase runs from its own t = 0 (its sample times and t_end shifted by its start
+t0, its crossings and times shifted back), exactly as the Python loop it replaces, so
+the results are the same to the last bit. Samples, crossings and the counters of
+``stats`` continue from phase to phase in the caller's arrays; phases are written to a
+preallocated :class:`_structures.PhaseLog` whose length is the capacity: a run that
+needs one more phase stops with ``STATUS_MAX_PHASES`` where that phase would start.
+The function releases the GIL, so sweeps run it on threads and Dask workers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, Y_WORK
+from celtstone.kernels.stick import capture_state, slip_spin_speed
+from celtstone.kernels.system import energy, phase_value
+from celtstone.solvers._events import event_table
+from celtstone.solvers._structures import Controls, Output, RunEnd
+from celtstone.solvers.codes import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
+from celtstone.solvers.codes import (
+    STAT_ACCEPTED,
+    STAT_REJECTED,
+    STATUS_MAX_PHASES,
+    STATUS_MAX_STEPS,
+    STATUS_PHASE_CHANGE,
+    STATUS_SUCCESS,
+)
+from celtstone.solvers.driver import integrate
+
+SLIP = 0
+STICK = 1
+
+
+@kernel
+def capture(params, y, out):
+    """``out`` = ``y`` after the capture impulse that starts stick.
+
+    Returns (the kinetic-energy jump of the impulse [J], <= 0, which is also taken from
+    ``out``'s dissipated work so that E + W is unchanged; the stick margin there [1]).
+    """
+    capture_state(y, params, out)
+    jump = energy(MODEL_STICK, out, params) - energy(MODEL_SLIDING, y, params)
+    out[Y_WORK] -= jump
+    return jump, phase_value(MODEL_STICK, out, params, 0.0)
+
+
+@kernel
+def first_phase(params, y, capture_speed, captured):
+    """The phase a run starts in: stick if ``y`` neither slides nor pivots (slip–spin
+    speed <= v_c) and stick is admissible after the capture impulse (then ``y`` becomes
+    the captured state). Returns (kind, energy jump [J])."""
+    if slip_spin_speed(y, params) <= capture_speed:
+        jump, margin = capture(params, y, captured)
+        if margin >= 0.0:
+            y[:] = captured
+            return STICK, jump
+    return SLIP, 0.0
+
+
+@kernel
+def run_phase(
+    params, y, t0, t_end, kind, hybrid, controls, steps_left, output, first_sample, first_crossing
+):
+    """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
+    at most ``steps_left`` steps; its samples go to ``output`` from ``first_sample``, its
+    crossings from ``first_crossing`` (to a spare buffer once ``output.crossings`` is
+    full). Returns (``RunEnd``, its shifted sample times, its crossing buffer)."""
+    model = MODEL_STICK if kind == STICK else MODEL_SLIDING
+    method = hybrid.stick_method if kind == STICK else hybrid.slip_method
+    times = output.sample_times[first_sample:] - t0
+    crossings = np.empty(1)  # a spare: the run's crossings are full
+    if first_crossing < output.crossings.shape[0]:
+        crossings = output.crossings[first_crossing:]
+    phase_output = Output(
+        times, output.samples[first_sample:], crossings, output.stats, output.final_state
+    )
+    phase_controls = Controls(
+        controls.rtol,
+        controls.atol,
+        controls.first_step,
+        controls.max_step,
+        steps_left,
+        controls.adaptive,
+    )
+    table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
+    end = integrate(model, method, params, y, t_end - t0, phase_controls, table, phase_output)
+    return end, times, crossings
+
+
+@kernel
+def run_phases(params, y0, t_end, hybrid, controls, output, log):
+    """Integrate the hybrid contact over [0, t_end] [s]; see the module docstring.
+
+    Parameters
+    ----------
+    params : kernel parameter record, passed on unread
+    y0 : initial state, shape (N_STATE,)
+    t_end : end time [s]
+    hybrid : ``_structures.HybridSettings``: the methods of slip and stick, v_c [m/s] > 0
+    controls : ``_structures.Controls``; ``max_steps`` bounds the steps of all phases
+    output : ``_structures.Output`` over the whole run, filled
+    log : ``_structures.PhaseLog``, filled
+
+    Returns
+    -------
+    (``RunEnd`` of the whole run, phases logged, rejected captures)
+    """
+    stats = output.stats
+    y = y0.copy()
+    captured = np.empty(y0.shape[0])
+    kind, jump = first_phase(params, y, hybrid.capture_speed, captured)
+    t0 = 0.0
+    t_stop = 0.0
+    n_samples = 0
+    n_crossings = 0
+    n_stored = 0
+    n_phases = 0
+    min_normal = np.inf
+    t_min_normal = 0.0
+    rejected = 0
+    status = STATUS_SUCCESS
+    while True:
+        steps_left = controls.max_steps - stats[STAT_ACCEPTED] - stats[STAT_REJECTED]
+        if steps_left <= 0:
+            status = STATUS_MAX_STEPS
+            break
+        is_new = n_phases == 0 or log.kind[n_phases - 1] != kind
+        if is_new and n_phases == log.kind.shape[0]:
+            status = STATUS_MAX_PHASES
+            break
+        end, times, crossings = run_phase(
+            params, y, t0, t_end, kind, hybrid, controls, steps_left, output, n_samples, n_stored
+        )
+        for i in range(end.n_samples):
+            log.sample_times[n_samples + i] = times[i] + t0
+            log.sample_phase[n_samples + i] = kind
+        n_samples += end.n_samples
+        if n_stored < output.crossings.shape[0]:
+            stored = min(end.n_crossings, crossings.shape[0])
+            for k in range(stored):
+                crossings[k] += t0
+            n_stored += stored
+        n_crossings += end.n_crossings
+        if end.min_normal_force < min_normal:
+            min_normal = end.min_normal_force
+            t_min_normal = end.t_min_normal_force + t0
+        t_stop = t0 + end.t_stop
+        if is_new:
+            log.kind[n_phases] = kind
+            log.start[n_phases] = t0
+            log.energy_jump[n_phases] = jump
+            n_phases += 1
+        else:  # sliding went on after a capture where stick was not admissible
+            log.energy_jump[n_phases - 1] = 0.0
+        log.end[n_phases - 1] = t_stop
+        if end.status != STATUS_PHASE_CHANGE:
+            status = end.status
+            break
+        t0 = t_stop
+        y[:] = output.final_state
+        jump = 0.0
+        if t0 >= t_end:
+            break
+        if kind == STICK:
+            kind = SLIP
+            continue
+        capture_jump, margin = capture(params, y, captured)
+        if margin >= 0.0:
+            y[:] = captured
+            kind = STICK
+            jump = capture_jump
+        else:
+            rejected += 1
+    run = RunEnd(status, n_samples, n_crossings, t_stop, min_normal, t_min_normal)
+    return run, n_phases, rejected
