@@ -51,7 +51,7 @@ import resource, sys, tempfile
 from pathlib import Path
 from celtstone.sweep import Sweep
 sweep = Sweep({"friction_coefficient": list(__import__("numpy").linspace(0.02, 0.5, N)),
-               "spin": list(__import__("numpy").linspace(-8, 8, N))}, t_end=T_END)
+               "initial_spin": list(__import__("numpy").linspace(-8, 8, N))}, t_end=T_END)
 with tempfile.TemporaryDirectory() as directory:
     sweep.run(Path(directory) / "memory.zarr")
 print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
@@ -66,7 +66,7 @@ def grid_sweep(n: int, t_end: float) -> Sweep:
     return Sweep(
         {
             "friction_coefficient": np.linspace(*FRICTION, n),
-            "spin": np.linspace(*SPIN, n),
+            "initial_spin": np.linspace(*SPIN, n),
         },
         model="sliding",
         fixed={"contact_radius": 1e-3},
@@ -77,7 +77,7 @@ def grid_sweep(n: int, t_end: float) -> Sweep:
 def time_sweep(n: int, t_end: float) -> dict:
     sweep = grid_sweep(n, t_end)
     with tempfile.TemporaryDirectory() as directory:
-        Sweep({"spin": [-5.0]}, t_end=0.01).run()  # load the compiled driver
+        Sweep({"initial_spin": [-5.0]}, t_end=0.01).run()  # load the compiled driver
         start, cpu_start = time.perf_counter(), time.process_time()
         results = sweep.run(Path(directory) / "bench.zarr")
         elapsed, cpu = time.perf_counter() - start, time.process_time() - cpu_start
@@ -119,7 +119,7 @@ def oracle_sample(n: int, t_end: float, oracle_t_end: float, count: int) -> dict
         )
         oracle_s = (time.perf_counter() - start) * t_end / oracle_t_end
         oracle_cpu_s = (time.process_time() - cpu_start) * t_end / oracle_t_end
-        single = Sweep({"friction_coefficient": [f], "spin": [spin]}, t_end=t_end)
+        single = Sweep({"friction_coefficient": [f], "initial_spin": [spin]}, t_end=t_end)
         start, cpu_start = time.perf_counter(), time.process_time()
         single.run(workers=1)
         engine_s = time.perf_counter() - start
@@ -127,7 +127,7 @@ def oracle_sample(n: int, t_end: float, oracle_t_end: float, count: int) -> dict
         rows.append(
             {
                 "friction_coefficient": f,
-                "spin": spin,
+                "initial_spin": spin,
                 "oracle_s": oracle_s,
                 "oracle_cpu_s": oracle_cpu_s,
                 "oracle_success": bool(run.success),
@@ -215,7 +215,8 @@ def main() -> None:
     )
     for row in sample["points"]:
         print(
-            f"  f = {row['friction_coefficient']:.4f}, spin = {row['spin']:+.3f} rad/s: "
+            f"  f = {row['friction_coefficient']:.4f}, "
+            f"initial spin = {row['initial_spin']:+.3f} rad/s: "
             f"oracle {row['oracle_s']:.1f} s, celtstone {row['celtstone_one_core_s']:.3f} s, "
             f"CPU-time ratio {row['cost_ratio']:.0f}"
         )

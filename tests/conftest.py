@@ -32,4 +32,4 @@ def any_body(request: pytest.FixtureRequest) -> cs.Body:
 
 
 # Kane & Levinson's initial state: alpha = beta = 0.5 deg, omega = (0, 0, w3) body axes
-LITERATURE_TILT = (0.5, 0.5)
+LITERATURE_EULER_ANGLES = (0.5, 0.5)

@@ -73,13 +73,15 @@ class Result:
 @pytest.fixture(scope="module")
 def upright() -> Result:
     """Steady spin at -5 rad/s, exactly upright: a relative equilibrium."""
-    return Result(["run", "--omega", "0,0,-5", "--tilt", "0,0", "--t-end", "1", "--json"])
+    return Result(["run", "--omega", "0,0,-5", "--euler-angles", "0,0", "--t-end", "1", "--json"])
 
 
 @pytest.fixture(scope="module")
 def reversing() -> Result:
     """Kane & Levinson's start w3 = -5 rad/s, α = β = 0.5°: rolling, reverses within 3 s."""
-    return Result(["run", "--omega", "0,0,-5", "--tilt", "0.5,0.5", "--t-end", "3", "--json"])
+    return Result(
+        ["run", "--omega", "0,0,-5", "--euler-angles", "0.5,0.5", "--t-end", "3", "--json"]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -95,11 +97,11 @@ def sliding(tmp_path_factory: pytest.TempPathFactory) -> tuple[Result, Path]:
             "0.25",
             "--contact-radius",
             "0.002",
-            "--normal-force",
+            "--friction-load",
             "dynamic",
             "--omega",
             "0,0,-5",
-            "--tilt",
+            "--euler-angles",
             "0.5,0.5",
             "--t-end",
             "2",
@@ -188,7 +190,7 @@ def test_reversal_is_the_first_zero_crossing(reversing: Result) -> None:
 
 
 def test_text_output(reversing: Result) -> None:
-    text = Result(["run", "--omega", "0,0,-5", "--tilt", "0.5,0.5", "--t-end", "3"])
+    text = Result(["run", "--omega", "0,0,-5", "--euler-angles", "0.5,0.5", "--t-end", "3"])
     summary = reversing.json()
     assert text.status == 0
     assert text.err == ""
@@ -204,7 +206,7 @@ def test_text_output(reversing: Result) -> None:
 
 
 def test_text_output_without_reversal(upright: Result) -> None:
-    text = Result(["run", "--omega", "0,0,-5", "--tilt", "0,0", "--t-end", "1"])
+    text = Result(["run", "--omega", "0,0,-5", "--euler-angles", "0,0", "--t-end", "1"])
     assert text.status == 0
     assert "no reversal" in text.out
     assert "spin zero crossings: 0" in text.out
@@ -266,7 +268,7 @@ def test_netcdf_output(sliding: tuple[Result, Path]) -> None:
     assert attrs["body"] == KL_NAME
     assert attrs["model"] == "sliding"
     assert attrs["friction_law"]
-    assert attrs["normal_force_option"] == "dynamic"
+    assert attrs["friction_load"] == "dynamic"
     assert attrs["friction_coefficient"] == 0.25
     assert attrs["contact_radius"] == 0.002
     assert attrs["rtol"] == 1e-8
@@ -303,7 +305,7 @@ def test_lift_off_exits_3_and_keeps_the_output(tmp_path: Path) -> None:
             "run",
             "--omega",
             "0,60,0",
-            "--tilt",
+            "--euler-angles",
             "0,0",
             "--t-end",
             "1",
@@ -330,7 +332,7 @@ def test_lift_off_exits_3_and_keeps_the_output(tmp_path: Path) -> None:
 
 def test_lift_off_run_reports_a_vanishing_minimum_normal_force() -> None:
     """A run stopped by lift-off ends where N crosses zero: its minimum is about 0, not m g."""
-    result = Result(["run", "--omega", "0,60,0", "--tilt", "0,0", "--t-end", "1", "--json"])
+    result = Result(["run", "--omega", "0,60,0", "--euler-angles", "0,0", "--t-end", "1", "--json"])
     summary = result.json()
     assert summary["status"] == "lift_off"
     assert summary["min_normal_force"] < 1e-3 * MASS * GRAVITY
@@ -395,6 +397,6 @@ def test_text_output_when_a_summary_value_is_null(monkeypatch: pytest.MonkeyPatc
         return {**original(self), "min_normal_force": None}
 
     monkeypatch.setattr(Trajectory, "summary", summary_without_normal_force)
-    result = Result(["run", "--omega", "0,0,-5", "--tilt", "0,0", "--t-end", "1"])
+    result = Result(["run", "--omega", "0,0,-5", "--euler-angles", "0,0", "--t-end", "1"])
     assert result.status == 0, result.err
     assert "min normal force unknown" in result.out

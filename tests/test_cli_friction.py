@@ -102,7 +102,7 @@ def test_run_contact_options_reach_json_and_netcdf(tmp_path: Path) -> None:
     target = tmp_path / "run.nc"
     argv = [
         "run", "--model", "sliding", "--friction-law", "exact", "--contact-pressure", "uniform",
-        "--elastic-modulus", "3e9", "--poisson-ratio", "0.35", "--normal-force", "dynamic",
+        "--elastic-modulus", "3e9", "--poisson-ratio", "0.35", "--friction-load", "dynamic",
         "--t-end", "0.5", "--rtol", "1e-8", "--json", "--out", str(target),
     ]  # fmt: skip
     result = Result(argv)
@@ -114,7 +114,7 @@ def test_run_contact_options_reach_json_and_netcdf(tmp_path: Path) -> None:
         "contact_radius_model": "hertz",
         "elastic_modulus": 3e9,
         "poisson_ratio": 0.35,
-        "normal_force_option": "dynamic",
+        "friction_load": "dynamic",
     }
     assert {k: summary[k] for k in expected} == expected
     # E* = E / (2 (1 − ν²)) for body and plane of one material

@@ -12,7 +12,7 @@ import xarray as xr
 import celtstone as cs
 from celtstone import export
 from celtstone.cli.main import main
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 # every time series of a run and its CSV columns (vectors split per component)
 CSV_COLUMNS = [
@@ -48,8 +48,8 @@ CSV_COLUMNS = [
 @pytest.fixture(scope="module")
 def run_dataset(kane_levinson: cs.Body) -> xr.Dataset:
     """A sliding run over the first spin reversal: spin crossings are not empty."""
-    model = cs.SlidingModel(friction_coefficient=0.35, normal_force="dynamic")
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=LITERATURE_TILT)
+    model = cs.SlidingModel(friction_coefficient=0.35, friction_load="dynamic")
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=LITERATURE_EULER_ANGLES)
     run = cs.simulate(model, kane_levinson, state, 3.0, rtol=1e-8, n_samples=301)
     return run.dataset
 
@@ -94,7 +94,7 @@ def test_netcdf_round_trip_of_a_run_without_crossings(
     kane_levinson: cs.Body, tmp_path: Path
 ) -> None:
     """A run with no spin reversal has an empty ``crossing`` dimension; it still stores."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.0, 0.0))
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.0, 0.0))
     dataset = cs.simulate(cs.RollingModel(), kane_levinson, state, 1.0).dataset
     assert dataset["spin_crossings"].size == 0
     target = export.write(dataset, tmp_path / "still.nc")

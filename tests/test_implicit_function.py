@@ -22,7 +22,7 @@ from celtstone.sweep import Sweep
 from celtstone.visual import scene
 
 A, B, C, H = 0.20, 0.03, 0.02, 0.01
-STATE = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+STATE = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
 
 
 def ellipsoid_value(x: np.ndarray) -> float:
@@ -121,7 +121,7 @@ def test_sliding_run_matches_closed_form(exact: cs.ImplicitFunction, tmp_path: P
 def test_sweeps_refuse_a_function_shape(exact: cs.ImplicitFunction) -> None:
     body = replace(cs.load_body("kane_levinson_1982"), shape=exact)
     with pytest.raises(ParameterError, match="implicit polynomial"):
-        Sweep({"spin": [-5.0, 5.0]}, body=body)
+        Sweep({"initial_spin": [-5.0, 5.0]}, body=body)
 
 
 def plain_python(x: np.ndarray) -> float:

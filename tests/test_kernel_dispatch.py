@@ -31,13 +31,13 @@ from celtstone.kernels import (
 from celtstone.kernels.layout import (
     ContactPressure,
     FrictionLaw,
+    FrictionLoad,
     ModelCode,
-    NormalForce,
     ShapeCode,
 )
 from celtstone.models import initial_vector, kernel_parameters
 
-CODES: list[type[enum.IntEnum]] = [ModelCode, ShapeCode, NormalForce, FrictionLaw, ContactPressure]
+CODES: list[type[enum.IntEnum]] = [ModelCode, ShapeCode, FrictionLoad, FrictionLaw, ContactPressure]
 UNKNOWN = [-1, 99]  # codes no enum has
 STATE = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
 N = (0.1, -0.2, 0.97)  # a tilted upward vertical [1]
@@ -139,7 +139,7 @@ def test_kernel_parameters_carry_the_inputs(shape: ShapeCode) -> None:
     assert np.array_equal(params.inertia, body.inertia)
     assert (params.shape_code, params.damping) == (shape, 1e-4)
     assert (params.friction_coefficient, params.contact_radius) == (0.2, 2e-3)
-    assert (params.normal_force_option, params.regularisation_speed) == (NormalForce.DYNAMIC, 1e-7)
+    assert (params.friction_load, params.regularisation_speed) == (FrictionLoad.DYNAMIC, 1e-7)
     assert (params.friction_law, params.contact_pressure) == (
         FrictionLaw.EXACT,
         ContactPressure.UNIFORM,
@@ -188,9 +188,9 @@ def test_every_law_and_pressure_has_friction(law: FrictionLaw, pressure: Contact
     assert _finite(stick.limit_moment(0.5, law.value, pressure.value))
 
 
-@pytest.mark.parametrize("option", list(NormalForce), ids=lambda code: code.name.lower())
-def test_every_normal_force_option_has_dynamics(option: NormalForce) -> None:
-    params = _record(normal_force_option=option.value)
+@pytest.mark.parametrize("option", list(FrictionLoad), ids=lambda code: code.name.lower())
+def test_every_friction_load_has_dynamics(option: FrictionLoad) -> None:
+    params = _record(friction_load=option.value)
     omega = (0.1, 0.2, -5.0)
     r, r_rate = geometry.contact(N, N_RATE, params)
     assert _finite(dynamics.sliding_acceleration(N, omega, SLIP, r, r_rate, params))
@@ -230,8 +230,8 @@ def test_unknown_law_or_pressure_is_nan_in_friction(code: int) -> None:
 
 
 @pytest.mark.parametrize("code", UNKNOWN)
-def test_unknown_normal_force_option_is_nan_in_dynamics(code: int) -> None:
-    params = _record(normal_force_option=code)
+def test_unknown_friction_load_is_nan_in_dynamics(code: int) -> None:
+    params = _record(friction_load=code)
     omega = (0.1, 0.2, -5.0)
     r, r_rate = geometry.contact(N, N_RATE, params)
     assert _all_nan(dynamics.sliding_acceleration(N, omega, SLIP, r, r_rate, params))
@@ -247,7 +247,7 @@ def test_unknown_model_is_nan_in_the_system(code: int) -> None:
 
 @pytest.mark.parametrize("code", UNKNOWN)
 @pytest.mark.parametrize(
-    "name", ["model", "shape_code", "normal_force_option", "friction_law", "contact_pressure"]
+    "name", ["model", "shape_code", "friction_load", "friction_law", "contact_pressure"]
 )
 def test_unknown_code_is_the_right_hand_sides_status(name: str, code: int) -> None:
     model = code if name == "model" else ModelCode.SLIDING.value

@@ -41,7 +41,7 @@ from celtstone.reproduce import Study, reproduce
 from celtstone.reproduce import cases as reproduce_cases
 from celtstone.sweep.store import Layout, SweepStore
 from celtstone.visual import write_viewer
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 OVERWRITE_HINT = "add --overwrite to replace it"
 KL = "kane_levinson_1982"
@@ -52,7 +52,7 @@ RANDOM = "abcdefgh"  # the random part of a temporary's name (8 characters)
 @pytest.fixture(scope="module")
 def run_dataset(kane_levinson: cs.Body) -> xr.Dataset:
     """A 0.5 s rolling run, 51 samples."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=LITERATURE_TILT)
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=LITERATURE_EULER_ANGLES)
     return cs.simulate(cs.RollingModel(), kane_levinson, state, 0.5, n_samples=51).dataset
 
 

@@ -12,8 +12,8 @@ from celtstone.kernels import layout
 from celtstone.kernels import stick as stick_kernels
 from celtstone.models import initial_vector, kernel_parameters
 
-KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
-ROCKING_START = cs.InitialState(omega=(0.0, 0.0, 0.0), tilt=(1.0, 0.3))  # no spin, no slip
+KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
+ROCKING_START = cs.InitialState(omega=(0.0, 0.0, 0.0), euler_angles=(1.0, 0.3))  # no spin, no slip
 MODEL_OF_PHASE = {hybrid.SLIP: layout.MODEL_SLIDING, hybrid.STICK: layout.MODEL_STICK}
 
 

@@ -54,7 +54,7 @@ def _static(result: dict) -> dict[float, dict]:
     return {
         c["friction_coefficient"]: c
         for c in result["cases"]
-        if c["model"] == "sliding" and c["normal_force"] == "static"
+        if c["model"] == "sliding" and c["friction_load"] == "static"
     }
 
 
@@ -113,7 +113,7 @@ def test_fig2_files_and_provenance(fig2_kl: tuple[Path, dict]) -> None:
             assert dataset.attrs["model"] == case["model"]
             assert float(dataset.attrs["rtol"]) == KL.rtol
             if case["model"] == "sliding":
-                assert dataset.attrs["normal_force_option"] == case["normal_force"]
+                assert dataset.attrs["friction_load"] == case["friction_load"]
                 assert float(dataset.attrs["contact_radius"]) == 1e-3
     assert json.loads((out / "data" / "fig2_kane_levinson_1982.json").read_text())["cases"]
     # the video: rolling beside sliding at f = 0.35, 5 s in real time at 30 fps
@@ -210,7 +210,7 @@ def _fig2(
         cases.append(
             {
                 "model": "sliding",
-                "normal_force": "static",
+                "friction_load": "static",
                 "friction_coefficient": f,
                 "first_reversal_time": t,
                 "energy_final": energies[f],

@@ -7,7 +7,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.analysis import reversal_times
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 
 def test_dither_inside_the_band_is_not_a_reversal() -> None:
@@ -39,7 +39,7 @@ def test_kane_levinson_rolling_reverses_once_in_ten_seconds() -> None:
     """The raw spin crosses zero 7 times around 2.7-2.9 s; it is one reversal."""
     body = cs.load_body("kane_levinson_1982")
     run = cs.simulate(
-        cs.RollingModel(), body, cs.InitialState((0.0, 0.0, -5.0), LITERATURE_TILT), 10.0
+        cs.RollingModel(), body, cs.InitialState((0.0, 0.0, -5.0), LITERATURE_EULER_ANGLES), 10.0
     )
     ds = run.dataset
     reversals = reversal_times(

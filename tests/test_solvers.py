@@ -188,7 +188,7 @@ def test_painleve_case_stops_with_singular_status(
     angular acceleration loses its unique solution; the run stops, no NaN."""
     params, y0 = sliding_problem
     params = params.copy()
-    params.normal_force_option = layout.NormalForce.DYNAMIC
+    params.friction_load = layout.FrictionLoad.DYNAMIC
     params.friction_coefficient = 1e4
     y0 = y0.copy()
     y0[layout.Y_SLIP : layout.Y_SLIP + 3] = [0.01, 0.0, 0.0]

@@ -13,7 +13,7 @@ from celtstone.analysis import dataset_reversal_times
 from celtstone.cli.main import main
 from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
 from celtstone.sweep.spec import build_body, build_state
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 # --------------------------------------------------------------------------- spec
 
@@ -22,21 +22,21 @@ def test_range_and_list_axes() -> None:
     axis = parse_axis("friction_coefficient=0.02:0.5:5")
     assert axis.name == "friction_coefficient"
     np.testing.assert_array_equal(axis.values, np.linspace(0.02, 0.5, 5))
-    assert parse_axis("spin=-8,0,8").values == (-8.0, 0.0, 8.0)
+    assert parse_axis("initial_spin=-8,0,8").values == (-8.0, 0.0, 8.0)
     assert parse_axis("contact-radius=0.001").values == (0.001,)
-    assert parse_setting("normal_force=dynamic") == ("normal_force", "dynamic")
+    assert parse_setting("friction_load=dynamic") == ("friction_load", "dynamic")
 
 
 @pytest.mark.parametrize(
     ("text", "match"),
     [
         ("fricton_coefficient=0:1:3", "did you mean 'friction_coefficient'"),
-        ("spin=1:2", "START:STOP:COUNT"),
-        ("spin=1:2:2.5", "whole number"),
-        ("spin=1:2:0", "whole number"),
-        ("spin=a,b", "a number"),
-        ("spin=1,nan", "finite"),
-        ("spin", "NAME=START:STOP:COUNT"),
+        ("initial_spin=1:2", "START:STOP:COUNT"),
+        ("initial_spin=1:2:2.5", "whole number"),
+        ("initial_spin=1:2:0", "whole number"),
+        ("initial_spin=a,b", "a number"),
+        ("initial_spin=1,nan", "finite"),
+        ("initial_spin", "NAME=START:STOP:COUNT"),
     ],
 )
 def test_bad_axes_name_the_problem(text: str, match: str) -> None:
@@ -52,11 +52,13 @@ def test_invalid_point_fails_before_anything_is_computed(tmp_path) -> None:  # t
         Sweep({"semi_axis_c": [0.02, 0.005]}, model="rolling")
     with pytest.raises(cs.ParameterError, match="rolling model"):
         Sweep({"friction_coefficient": [0.1]}, model="rolling")
-    with pytest.raises(cs.ParameterError, match=r"omega3.*not together with spin"):
-        Sweep({"spin": [1.0]}, fixed={"omega3": 2.0})
+    with pytest.raises(cs.ParameterError, match=r"omega3.*not together with initial_spin"):
+        Sweep({"initial_spin": [1.0]}, fixed={"omega3": 2.0})
     with pytest.raises(cs.ParameterError, match="paraboloid"):
         Sweep({"semi_axis_a": [0.2]}, body="kane_levinson_1982_paraboloid", model="rolling")
-    code = main(["sweep", "--vary", "spin=1,2", "--set", "mass=-1", "--out", str(tmp_path / "s")])
+    code = main(
+        ["sweep", "--vary", "initial_spin=1,2", "--set", "mass=-1", "--out", str(tmp_path / "s")]
+    )
     assert code == 2
     assert not (tmp_path / "s").exists()
 
@@ -73,7 +75,9 @@ def test_misalignment_angle_turns_the_principal_axes(kane_levinson: cs.Body) -> 
 
 
 def test_spin_is_the_initial_omega_dot_n() -> None:
-    state = build_state({"spin": -5.0, "omega1": 0.3, "tilt_alpha": 2.0, "tilt_beta": -1.0})
+    state = build_state(
+        {"initial_spin": -5.0, "omega1": 0.3, "euler_alpha": 2.0, "euler_beta": -1.0}
+    )
     assert np.dot(state.omega, state.vertical) == pytest.approx(-5.0, rel=1e-15)
     assert state.omega[:2] == (0.3, 0.0)
 
@@ -85,12 +89,12 @@ def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
     """Each point equals simulate() + reversal_times() + summary() with the same samples,
     and the default band is the reproduction's (dataset_reversal_times)."""
     frictions, spins = [0.35, 0.5], [-5.0, 3.0]
-    sweep = Sweep({"friction_coefficient": frictions, "spin": spins}, t_end=2.5, rtol=1e-8)
+    sweep = Sweep({"friction_coefficient": frictions, "initial_spin": spins}, t_end=2.5, rtol=1e-8)
     results = sweep.run(workers=2, task_points=1)
-    assert results["status"].dims == ("friction_coefficient", "spin")
+    assert results["status"].dims == ("friction_coefficient", "initial_spin")
     for f in frictions:
         for spin in spins:
-            state = build_state({"spin": spin})
+            state = build_state({"initial_spin": spin})
             run = cs.simulate(
                 cs.SlidingModel(friction_coefficient=f),
                 kane_levinson,
@@ -99,9 +103,11 @@ def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
                 rtol=1e-8,
                 atol=1e-12,
             )
-            _assert_point_is_the_run(results.sel(friction_coefficient=f, spin=spin), run, spin)
+            _assert_point_is_the_run(
+                results.sel(friction_coefficient=f, initial_spin=spin), run, spin
+            )
     # f = 0.35 from w3 = -5 reverses once near 1.66 s (the paper's Figure 2 case, README)
-    assert results["n_reversals"].sel(friction_coefficient=0.35, spin=-5.0) == 1
+    assert results["n_reversals"].sel(friction_coefficient=0.35, initial_spin=-5.0) == 1
 
 
 def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float) -> None:
@@ -130,7 +136,7 @@ def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
     reaches the model)."""
     points = {
         "friction_coefficient": [0.35, 0.5, 0.5, 0.5],
-        "spin": [-5.0, -5.0, 3.0, 3.0],
+        "initial_spin": [-5.0, -5.0, 3.0, 3.0],
         "capture_speed": [1e-10, 1e-10, 1e-10, 1e-8],
     }
     sweep = Sweep(points=points, fixed={"contact": "hybrid"}, t_end=3.0, rtol=1e-8)
@@ -139,7 +145,7 @@ def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
     stick_phases = 0
     for k, (f, spin, capture) in enumerate(zip(*points.values(), strict=True)):
         model = cs.HybridModel(friction_coefficient=f, capture_speed=capture)
-        run = cs.simulate(model, kane_levinson, build_state({"spin": spin}), 3.0, rtol=1e-8)
+        run = cs.simulate(model, kane_levinson, build_state({"initial_spin": spin}), 3.0, rtol=1e-8)
         _assert_point_is_the_run(results.isel(point=k), run, spin)
         stick_phases += run.summary()["stick_phases"]
     assert stick_phases >= 2  # the phase loop really switched
@@ -151,7 +157,7 @@ def test_hybrid_contact_options_are_checked_per_point() -> None:
     with pytest.raises(cs.ParameterError, match="capture_speed"):
         Sweep({"capture_speed": [1e-8]}, t_end=0.1)
     with pytest.raises(cs.ParameterError, match="rolling model"):
-        Sweep({"spin": [-5.0]}, model="rolling", fixed={"contact": "hybrid"}, t_end=0.1)
+        Sweep({"initial_spin": [-5.0]}, model="rolling", fixed={"contact": "hybrid"}, t_end=0.1)
     with pytest.raises(cs.ParameterError, match=r"regularisation_speed.*capture_speed=1e-10"):
         Sweep(
             {"capture_speed": [1e-8, 1e-10]},
@@ -159,18 +165,18 @@ def test_hybrid_contact_options_are_checked_per_point() -> None:
             t_end=0.1,
         )
     with pytest.raises(cs.ParameterError, match=r"contact.*sliding, hybrid"):
-        Sweep({"spin": [-5.0]}, fixed={"contact": "stick"}, t_end=0.1)
+        Sweep({"initial_spin": [-5.0]}, fixed={"contact": "stick"}, t_end=0.1)
 
 
 def test_failed_points_are_recorded_and_the_others_carry_on() -> None:
-    results = Sweep({"spin": [-5.0, -40.0, 5.0]}, model="rolling", t_end=0.5).run(workers=1)
+    results = Sweep({"initial_spin": [-5.0, -40.0, 5.0]}, model="rolling", t_end=0.5).run(workers=1)
     assert list(results["status"].values) == ["success", "lift_off", "success"]
-    lifted = results.sel(spin=-40.0)
+    lifted = results.sel(initial_spin=-40.0)
     assert 0.0 < lifted["t_stop"] < 0.5
     assert lifted["min_normal_force"] == 0.0
     assert np.isnan(lifted["final_spin"]) and np.isnan(lifted["energy_lost"])
     assert "lifts off" in str(lifted["message"].values)
-    assert results["t_stop"].sel(spin=5.0) == 0.5
+    assert results["t_stop"].sel(initial_spin=5.0) == 0.5
 
 
 def test_mirror_symmetry_of_misalignment_and_spin() -> None:
@@ -179,14 +185,14 @@ def test_mirror_symmetry_of_misalignment_and_spin() -> None:
     spin reverses for each sign of the misalignment (rolling, Kane & Levinson)."""
     angle = cs.load_body("kane_levinson_1982").misalignment_angle
     sweep = Sweep(
-        {"misalignment_angle": [-angle, angle], "spin": [-5.0, 5.0]},
+        {"misalignment_angle": [-angle, angle], "initial_spin": [-5.0, 5.0]},
         model="rolling",
-        fixed={"tilt_alpha": 0.0, "tilt_beta": 0.5},
+        fixed={"euler_alpha": 0.0, "euler_beta": 0.5},
         t_end=4.0,
         rtol=1e-10,
     )
     r = sweep.run(workers=2)
-    flipped = r.isel(misalignment_angle=slice(None, None, -1), spin=slice(None, None, -1))
+    flipped = r.isel(misalignment_angle=slice(None, None, -1), initial_spin=slice(None, None, -1))
     for name in ("first_reversal_time", "max_tilt", "min_normal_force", "energy_lost"):
         np.testing.assert_allclose(r[name].values, flipped[name].values, rtol=1e-6, atol=1e-9)
     np.testing.assert_allclose(r["final_spin"].values, -flipped["final_spin"].values, rtol=1e-6)
@@ -194,12 +200,12 @@ def test_mirror_symmetry_of_misalignment_and_spin() -> None:
 
 
 def test_points_list_and_memory_results_equal_the_store(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    points = {"damping": [0.0, 1e-5, 2e-5], "tilt_beta": [0.5, 1.0, 2.0]}
+    points = {"damping": [0.0, 1e-5, 2e-5], "euler_beta": [0.5, 1.0, 2.0]}
     sweep = Sweep(points=points, model="rolling", t_end=0.5)
     in_memory = sweep.run(workers=1, chunk_points=2)
     stored = sweep.run(tmp_path / "p.zarr", chunk_points=2, task_points=1)
     assert in_memory["status"].dims == ("point",)
-    np.testing.assert_array_equal(stored["tilt_beta"].values, points["tilt_beta"])
+    np.testing.assert_array_equal(stored["euler_beta"].values, points["euler_beta"])
     xr.testing.assert_identical(in_memory, stored)
 
 
@@ -208,7 +214,15 @@ def test_points_list_and_memory_results_equal_the_store(tmp_path) -> None:  # ty
 
 def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "grid.zarr"
-    grid = ["sweep", "--model", "rolling", "--vary", "spin=-5,5", "--vary", "damping=0:1e-5:2"]
+    grid = [
+        "sweep",
+        "--model",
+        "rolling",
+        "--vary",
+        "initial_spin=-5,5",
+        "--vary",
+        "damping=0:1e-5:2",
+    ]
     options = ["--out", str(out), "--no-progress", "--chunk-points", "2"]
     argv = [*grid, "--t-end", "0.5", *options]
     assert main(argv) == 0
@@ -216,7 +230,7 @@ def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ign
     results = open_sweep(out)
     assert results.attrs["complete"] is True
     assert results.attrs["rtol"] == 1e-8
-    assert results["spin"].attrs["units"] == "rad/s"
+    assert results["initial_spin"].attrs["units"] == "rad/s"
     maps = sorted(p.name for p in (tmp_path / "grid_maps").iterdir())
     assert "first_reversal_time.png" in maps and "status.png" in maps
     # an existing store is kept unless resumed or overwritten
@@ -231,7 +245,7 @@ def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ign
 
 def test_cli_sweeps_the_stick_slip_contact(tmp_path) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "hybrid.zarr"
-    argv = ["sweep", "--vary", "spin=-5,5", "--set", "contact=hybrid", "--t-end", "0.5"]
+    argv = ["sweep", "--vary", "initial_spin=-5,5", "--set", "contact=hybrid", "--t-end", "0.5"]
     assert main([*argv, "--out", str(out), "--no-progress", "--no-maps"]) == 0
     results = open_sweep(out)
     assert list(results["status"].values) == ["success", "success"]
@@ -241,17 +255,17 @@ def test_cli_sweeps_the_stick_slip_contact(tmp_path) -> None:  # type: ignore[no
 
 def test_cli_points_file(tmp_path) -> None:  # type: ignore[no-untyped-def]
     table = tmp_path / "points.csv"
-    table.write_text("spin,tilt_alpha\n-5,0.5\n5,1.0\n")
+    table.write_text("initial_spin,euler_alpha\n-5,0.5\n5,1.0\n")
     out = tmp_path / "points.zarr"
     argv = ["sweep", "--model", "rolling", "--points", str(table), "--t-end", "0.2"]
     assert main([*argv, "--out", str(out), "--no-progress", "--no-maps"]) == 0
     results = open_sweep(out)
-    np.testing.assert_array_equal(results["tilt_alpha"].values, [0.5, 1.0])
+    np.testing.assert_array_equal(results["euler_alpha"].values, [0.5, 1.0])
     assert (tmp_path / "points_maps").exists() is False
 
 
 def test_literature_tilt_is_the_default() -> None:
-    assert build_state({}).tilt == LITERATURE_TILT
+    assert build_state({}).euler_angles == LITERATURE_EULER_ANGLES
 
 
 def test_superellipsoid_exponent_is_a_sweep_parameter(kane_levinson: cs.Body) -> None:
@@ -274,19 +288,19 @@ def test_friction_law_and_pressure_are_fixed_choices() -> None:
     assert parse_setting("friction_law=exact") == ("friction_law", "exact")
     sweep = Sweep(
         {"friction_coefficient": [0.35]},
-        fixed={"friction_law": "exact", "contact_pressure": "uniform", "normal_force": "dynamic"},
+        fixed={"friction_law": "exact", "contact_pressure": "uniform", "friction_load": "dynamic"},
         t_end=0.1,
     )
     model = sweep.builder.model
-    assert (model.friction_law, model.contact_pressure, model.normal_force) == (
+    assert (model.friction_law, model.contact_pressure, model.friction_load) == (
         "exact",
         "uniform",
         "dynamic",
     )
     with pytest.raises(cs.ParameterError, match=r"friction_law.*pade, exact"):
-        Sweep({"spin": [-5.0]}, fixed={"friction_law": "padé"}, t_end=0.1)
+        Sweep({"initial_spin": [-5.0]}, fixed={"friction_law": "padé"}, t_end=0.1)
     with pytest.raises(cs.ParameterError, match="rolling model"):
-        Sweep({"spin": [-5.0]}, model="rolling", fixed={"friction_law": "exact"}, t_end=0.1)
+        Sweep({"initial_spin": [-5.0]}, model="rolling", fixed={"friction_law": "exact"}, t_end=0.1)
     hertz = Sweep(
         {"elastic_modulus": [3e9, 70e9]}, fixed={"poisson_ratio": 0.35}, t_end=0.1
     ).builder

@@ -18,7 +18,7 @@ def test_local_cluster_equals_local_threads(tmp_path: Path, contact: str) -> Non
     """Also the stick–slip contact, whose compiled phase loop runs on the workers."""
     fixed = {"contact": contact} if contact != "sliding" else {}
     sweep = Sweep(
-        {"friction_coefficient": [0.2, 0.35, 0.5], "spin": [-5.0, 5.0]},
+        {"friction_coefficient": [0.2, 0.35, 0.5], "initial_spin": [-5.0, 5.0]},
         fixed=fixed,
         t_end=1.0,
         rtol=1e-8,
@@ -32,7 +32,13 @@ def test_local_cluster_equals_local_threads(tmp_path: Path, contact: str) -> Non
         dashboard_address=None,
     ) as cluster:
         store = tmp_path / "cluster.zarr"
-        argv = ["sweep", "--vary", "friction_coefficient=0.2,0.35,0.5", "--vary", "spin=-5,5"]
+        argv = [
+            "sweep",
+            "--vary",
+            "friction_coefficient=0.2,0.35,0.5",
+            "--vary",
+            "initial_spin=-5,5",
+        ]
         argv += ["--t-end", "1", "--chunk-points", "2", "--no-progress", "--no-maps"]
         argv += ["--out", str(store), "--scheduler", cluster.scheduler_address]
         argv += [f"--set=contact={contact}"] if fixed else []

@@ -21,7 +21,7 @@ from celtstone.solvers import batch
 from celtstone.sweep import budget, open_sweep, runner, spec
 
 FAST = ["--model", "rolling", "--t-end", "0.05", "--no-progress", "--no-maps"]
-GRID = ["--vary", "spin=-5,5"]
+GRID = ["--vary", "initial_spin=-5,5"]
 
 
 @pytest.fixture(autouse=True)
@@ -85,23 +85,23 @@ OPTION_CASES = [
 AXIS_CASES = [
     ("stop-inf", "friction_coefficient=0:inf:2", "friction_coefficient"),
     ("start-nan", "friction_coefficient=nan:1:2", "friction_coefficient"),
-    ("start-overflow", "spin=-1e400:1:3", "spin"),
-    ("span-overflow", "spin=-1e308:1e308:3", "spin"),
-    ("all-equal", "spin=1e308:1e308:3", "spin"),
-    ("repeated-value", "spin=1,2,1", "spin"),
-    ("negative-zero-twice", "spin=-0,0", "spin"),
-    ("list-inf", "spin=1,inf", "spin"),
-    ("list-overflow", "spin=1,1e999", "spin"),
-    ("list-empty-item", "spin=1,,2", "spin"),
-    ("count-nan", "spin=0:1:nan", "spin count"),
-    ("count-inf", "spin=0:1:inf", "spin count"),
-    ("count-overflow", "spin=0:1:1e400", "spin count"),
-    ("count-fraction", "spin=0:1:2.5", "spin count"),
-    ("count-zero", "spin=0:1:0", "spin count"),
-    ("count-negative", "spin=0:1:-4", "spin count"),
+    ("start-overflow", "initial_spin=-1e400:1:3", "initial_spin"),
+    ("span-overflow", "initial_spin=-1e308:1e308:3", "initial_spin"),
+    ("all-equal", "initial_spin=1e308:1e308:3", "initial_spin"),
+    ("repeated-value", "initial_spin=1,2,1", "initial_spin"),
+    ("negative-zero-twice", "initial_spin=-0,0", "initial_spin"),
+    ("list-inf", "initial_spin=1,inf", "initial_spin"),
+    ("list-overflow", "initial_spin=1,1e999", "initial_spin"),
+    ("list-empty-item", "initial_spin=1,,2", "initial_spin"),
+    ("count-nan", "initial_spin=0:1:nan", "initial_spin count"),
+    ("count-inf", "initial_spin=0:1:inf", "initial_spin count"),
+    ("count-overflow", "initial_spin=0:1:1e400", "initial_spin count"),
+    ("count-fraction", "initial_spin=0:1:2.5", "initial_spin count"),
+    ("count-zero", "initial_spin=0:1:0", "initial_spin count"),
+    ("count-negative", "initial_spin=0:1:-4", "initial_spin count"),
     ("count-absurd", "friction_coefficient=0.1:0.3:100000000", "friction_coefficient count"),
-    ("count-huge-integer", "spin=0:1:" + "9" * 40, "spin count"),
-    ("two-colons", "spin=0:1", "spin"),
+    ("count-huge-integer", "initial_spin=0:1:" + "9" * 40, "initial_spin count"),
+    ("two-colons", "initial_spin=0:1", "initial_spin"),
     ("unknown-name", "spn=0:1:3", "spn"),
 ]
 
@@ -127,24 +127,39 @@ def test_bad_axis_is_one_line_without_a_warning(
 
 # (id, CSV content, the parameter named, fragments of the line)
 POINTS_CASES = [
-    ("duplicate-column", b"spin,spin\n0.1,0.2\n", "spin", ("columns 1 and 2",)),
-    ("duplicate-spelled-twice", b"tilt-alpha,tilt_alpha\n1,2\n", "tilt_alpha", ("named once",)),
-    ("empty-header-cell", b"spin,\n1,2\n", "points", ("column 2",)),
-    ("unknown-column", b"spn\n1\n", "spn", ("line 1", "column 1", "did you mean 'spin'")),
-    ("empty-cell", b"spin,tilt_alpha\n1,\n", "tilt_alpha", ("line 2", "column 2")),
-    ("text-cell", b"spin,tilt_alpha\n1,0.5\nfast,0.5\n", "spin", ("line 3", "column 1")),
-    ("nan-cell", b"spin\nnan\n", "spin", ("line 2", "finite")),
-    ("inf-cell", b"spin\n1\n-inf\n", "spin", ("line 3", "finite")),
-    ("overflow-cell", b"spin\n1e999\n", "spin", ("line 2", "finite")),
-    ("short-row", b"spin,tilt_alpha\n1,0.5\n2\n", "points", ("line 3", "1")),
-    ("long-row", b"spin,tilt_alpha\n1,0.5,3\n", "points", ("line 2", "3")),
-    ("header-only", b"spin,tilt_alpha\n", "points", ("no rows",)),
+    (
+        "duplicate-column",
+        b"initial_spin,initial_spin\n0.1,0.2\n",
+        "initial_spin",
+        ("columns 1 and 2",),
+    ),
+    ("duplicate-spelled-twice", b"euler-alpha,euler_alpha\n1,2\n", "euler_alpha", ("named once",)),
+    ("empty-header-cell", b"initial_spin,\n1,2\n", "points", ("column 2",)),
+    (
+        "unknown-column",
+        b"initial_spn\n1\n",
+        "initial_spn",
+        ("line 1", "column 1", "did you mean 'initial_spin'"),
+    ),
+    ("empty-cell", b"initial_spin,euler_alpha\n1,\n", "euler_alpha", ("line 2", "column 2")),
+    (
+        "text-cell",
+        b"initial_spin,euler_alpha\n1,0.5\nfast,0.5\n",
+        "initial_spin",
+        ("line 3", "column 1"),
+    ),
+    ("nan-cell", b"initial_spin\nnan\n", "initial_spin", ("line 2", "finite")),
+    ("inf-cell", b"initial_spin\n1\n-inf\n", "initial_spin", ("line 3", "finite")),
+    ("overflow-cell", b"initial_spin\n1e999\n", "initial_spin", ("line 2", "finite")),
+    ("short-row", b"initial_spin,euler_alpha\n1,0.5\n2\n", "points", ("line 3", "1")),
+    ("long-row", b"initial_spin,euler_alpha\n1,0.5,3\n", "points", ("line 2", "3")),
+    ("header-only", b"initial_spin,euler_alpha\n", "points", ("no rows",)),
     ("comments-only", b"# nothing here\n\n", "points", ("no header",)),
     ("empty-file", b"", "points", ("no header",)),
     ("binary", bytes(range(256)) * 4, "points", ("UTF-8",)),
-    ("latin-1", "spin\n1\n# Müller\n".encode("latin-1"), "points", ("UTF-8",)),
-    ("bad-quoting", b'spin\n"1"2\n', "points", ("CSV",)),
-    ("nul-byte", b"spin\n1\x00\n", "spin", ("line 2",)),
+    ("latin-1", "initial_spin\n1\n# Müller\n".encode("latin-1"), "points", ("UTF-8",)),
+    ("bad-quoting", b'initial_spin\n"1"2\n', "points", ("CSV",)),
+    ("nul-byte", b"initial_spin\n1\x00\n", "initial_spin", ("line 2",)),
 ]
 
 
@@ -179,8 +194,10 @@ def test_a_byte_order_mark_is_allowed_in_the_points_file(tmp_path: Path) -> None
     from celtstone.sweep.points import read_points
 
     table = tmp_path / "points.csv"
-    table.write_bytes(b"\xef\xbb\xbfspin,tilt_alpha\r\n-5,0.5\r\n\r\n# a comment\r\n5,1.0\r\n")
-    assert read_points(str(table)) == {"spin": [-5.0, 5.0], "tilt_alpha": [0.5, 1.0]}
+    table.write_bytes(
+        b"\xef\xbb\xbfinitial_spin,euler_alpha\r\n-5,0.5\r\n\r\n# a comment\r\n5,1.0\r\n"
+    )
+    assert read_points(str(table)) == {"initial_spin": [-5.0, 5.0], "euler_alpha": [0.5, 1.0]}
 
 
 @pytest.mark.parametrize(
@@ -202,7 +219,7 @@ def test_a_byte_order_mark_is_allowed_in_the_points_file(tmp_path: Path) -> None
 def test_run_options_from_python_are_checked_before_the_store(
     tmp_path: Path, options: dict[str, object], name: str
 ) -> None:
-    sweep = runner.Sweep({"spin": [-5.0, 5.0]}, model="rolling", t_end=0.05)
+    sweep = runner.Sweep({"initial_spin": [-5.0, 5.0]}, model="rolling", t_end=0.05)
     with pytest.raises(ParameterError) as caught:
         sweep.run(tmp_path / "out.zarr", **options)  # type: ignore[arg-type]
     assert caught.value.name == name
@@ -228,18 +245,22 @@ def no_point_builder(monkeypatch: pytest.MonkeyPatch) -> None:
 @pytest.mark.parametrize(
     ("axes", "force", "fragment"),
     [
-        (["friction_coefficient=0.1:0.3:1001", "spin=-8:8:1000"], False, "or --force"),
+        (["friction_coefficient=0.1:0.3:1001", "initial_spin=-8:8:1000"], False, "or --force"),
         (
-            ["friction_coefficient=0.1:0.3:1000", "spin=-8:8:1000", "damping=0:1e-5:1000"],
+            ["friction_coefficient=0.1:0.3:1000", "initial_spin=-8:8:1000", "damping=0:1e-5:1000"],
             False,
             "even with --force",
         ),
         (
-            ["friction_coefficient=0.1:0.3:1000", "spin=-8:8:1000", "damping=0:1e-5:1000"],
+            ["friction_coefficient=0.1:0.3:1000", "initial_spin=-8:8:1000", "damping=0:1e-5:1000"],
             True,
             "even with --force",
         ),
-        (["friction_coefficient=0.1:0.3:10000000", "spin=-8:8:2"], True, "even with --force"),
+        (
+            ["friction_coefficient=0.1:0.3:10000000", "initial_spin=-8:8:2"],
+            True,
+            "even with --force",
+        ),
     ],
     ids=["just-over-the-limit", "billion", "billion-forced", "hard-limit-forced"],
 )
@@ -259,10 +280,10 @@ def test_huge_grid_is_refused_from_its_counts(
 def test_estimate_names_size_and_time() -> None:
     """Above the limit, the line gives the store size and CPU time behind the refusal."""
     with pytest.raises(ParameterError, match=r"store of up to .*B, about .* of CPU") as caught:
-        budget.check_size({"spin": 2000, "tilt_alpha": 1000}, t_end=10.0, model="sliding")
+        budget.check_size({"initial_spin": 2000, "euler_alpha": 1000}, t_end=10.0, model="sliding")
     assert caught.value.name == "points"
     found = budget.check_size(
-        {"spin": 2000, "tilt_alpha": 1000}, t_end=10.0, model="sliding", force=True
+        {"initial_spin": 2000, "euler_alpha": 1000}, t_end=10.0, model="sliding", force=True
     )
     assert found.points == 2_000_000
     assert found.store_bytes == 2_000_000 * budget.store_bytes_per_point()
@@ -273,7 +294,7 @@ def test_too_many_points_in_a_file_is_refused_before_reading_on(
 ) -> None:
     monkeypatch.setattr(budget, "POINT_LIMIT", 3)
     table = tmp_path / "points.csv"
-    table.write_text("spin\n1\n2\n3\n4\nnot read\n")
+    table.write_text("initial_spin\n1\n2\n3\n4\nnot read\n")
     line = _refused(capsys, tmp_path, ["--points", str(table), *FAST], "points")
     assert "--force" in line and "line 5" in line
 
@@ -284,12 +305,12 @@ def test_force_runs_a_sweep_over_the_limit(
     """With a limit of 2 points, 3 points need --force; with it they run."""
     monkeypatch.undo()  # the driver computes here
     monkeypatch.setattr(budget, "POINT_LIMIT", 2)
-    argv = ["sweep", "--vary", "spin=-5,0.5,5", *FAST, "--out", str(tmp_path / "s.zarr")]
+    argv = ["sweep", "--vary", "initial_spin=-5,0.5,5", *FAST, "--out", str(tmp_path / "s.zarr")]
     assert main(argv) == 2
     assert "--force" in capsys.readouterr().err
     assert not (tmp_path / "s.zarr").exists()
     assert main([*argv, "--force"]) == 0
-    assert open_sweep(tmp_path / "s.zarr")["spin"].size == 3
+    assert open_sweep(tmp_path / "s.zarr")["initial_spin"].size == 3
 
 
 def test_a_long_sweep_states_its_estimate_first(
@@ -297,7 +318,7 @@ def test_a_long_sweep_states_its_estimate_first(
 ) -> None:
     monkeypatch.undo()
     monkeypatch.setattr("celtstone.cli.sweep.LONG_SWEEP_SECONDS", 0.0)
-    argv = ["sweep", "--vary", "spin=-5,5", *FAST, "--workers", "1"]
+    argv = ["sweep", "--vary", "initial_spin=-5,5", *FAST, "--workers", "1"]
     assert main([*argv, "--out", str(tmp_path / "s.zarr")]) == 0
     err = capsys.readouterr().err
     assert err.splitlines()[0].startswith("celtstone: sweep of 2 points")
@@ -321,7 +342,10 @@ def test_validation_builds_each_distinct_object_once(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr(spec, "build_model", count_model)
     monkeypatch.setattr(spec, "build_state", count_state)
     sweep = runner.Sweep(
-        {"friction_coefficient": np.linspace(0.1, 0.3, 300), "spin": np.linspace(-8, 8, 300)},
+        {
+            "friction_coefficient": np.linspace(0.1, 0.3, 300),
+            "initial_spin": np.linspace(-8, 8, 300),
+        },
         t_end=1.0,
     )
     assert sweep.size == 90_000
@@ -330,10 +354,10 @@ def test_validation_builds_each_distinct_object_once(monkeypatch: pytest.MonkeyP
 
 def test_the_first_bad_point_is_named_whatever_its_group(monkeypatch: pytest.MonkeyPatch) -> None:
     """Per-group validation still reports the lowest failing point, as point by point."""
-    points = {"friction_coefficient": [0.1, 0.1, -0.2, 0.1], "tilt_alpha": [1.0, 95.0, 1.0, 1.0]}
-    with pytest.raises(ParameterError, match=r"tilt.*at sweep point 1 ") as caught:
+    points = {"friction_coefficient": [0.1, 0.1, -0.2, 0.1], "euler_alpha": [1.0, 95.0, 1.0, 1.0]}
+    with pytest.raises(ParameterError, match=r"euler_angles.*at sweep point 1 ") as caught:
         runner.Sweep(points=points, t_end=1.0)
-    assert "tilt" in caught.value.name
+    assert "euler_angles" in caught.value.name
 
 
 # --------------------------------------------------------------------------- scheduler

@@ -24,7 +24,7 @@ ARGS = [
     "--vary",
     "friction_coefficient=0.2:0.5:6",
     "--vary",
-    "spin=-5,-3,3,5",
+    "initial_spin=-5,-3,3,5",
     "--t-end",
     "1",
     "--workers",
@@ -112,7 +112,7 @@ MEMORY_SCRIPT = """
 import resource, sys
 import numpy as np
 from celtstone.sweep import Sweep
-grid = {"damping": np.linspace(0.0, 1e-5, 256), "spin": np.linspace(-8.0, 8.0, 256)}
+grid = {"damping": np.linspace(0.0, 1e-5, 256), "initial_spin": np.linspace(-8.0, 8.0, 256)}
 Sweep(grid, model="rolling", t_end=0.01).run(sys.argv[1])
 print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """

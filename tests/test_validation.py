@@ -183,9 +183,9 @@ PYTHON_CASES = [
     ("sliding-damping", lambda: cs.SlidingModel(damping=-1e-4), "damping", -1e-4, ">= 0"),
     ("rolling-damping", lambda: cs.RollingModel(damping=-1e-4), "damping", -1e-4, ">= 0"),
     (
-        "normal-force",
-        lambda: cs.SlidingModel(normal_force="dynamc"),
-        "normal_force",
+        "friction-load",
+        lambda: cs.SlidingModel(friction_load="dynamc"),
+        "friction_load",
         "dynamc",
         "static, dynamic",
     ),
@@ -198,9 +198,9 @@ PYTHON_CASES = [
         "no value with the rolling model",
     ),
     (
-        "rolling-refuses-normal-force",
-        lambda: cs.model_from_name("rolling", normal_force="dynamic"),
-        "normal_force",
+        "rolling-refuses-friction-load",
+        lambda: cs.model_from_name("rolling", friction_load="dynamic"),
+        "friction_load",
         "dynamic",
         "no value with the rolling model",
     ),
@@ -221,9 +221,27 @@ PYTHON_CASES = [
         "[-10000, 10000]",
     ),
     ("omega-two", lambda: cs.InitialState(omega=(0, -5)), "omega", (0, -5), "three"),
-    ("tilt-90", lambda: cs.InitialState(tilt=(90.0, 0.0)), "tilt", 90.0, "[-89, 89]"),
-    ("tilt-minus-95", lambda: cs.InitialState(tilt=(0.0, -95.0)), "tilt", -95.0, "[-89, 89]"),
-    ("tilt-nan", lambda: cs.InitialState(tilt=(0.0, NAN)), "tilt", NAN, "[-89, 89]"),
+    (
+        "euler-90",
+        lambda: cs.InitialState(euler_angles=(90.0, 0.0)),
+        "euler_angles",
+        90.0,
+        "[-89, 89]",
+    ),
+    (
+        "euler-minus-95",
+        lambda: cs.InitialState(euler_angles=(0.0, -95.0)),
+        "euler_angles",
+        -95.0,
+        "[-89, 89]",
+    ),
+    (
+        "euler-nan",
+        lambda: cs.InitialState(euler_angles=(0.0, NAN)),
+        "euler_angles",
+        NAN,
+        "[-89, 89]",
+    ),
     ("body-unknown", lambda: cs.load_body("cube"), "body", "cube", KL_NAME),
     ("body-missing-file", lambda: cs.load_body("missing.toml"), "body", "missing.toml", ".toml"),
 ]
@@ -298,9 +316,9 @@ def test_simulate_rejects_decreasing_sample_times(kane_levinson: cs.Body) -> Non
         (lambda: cs.load_body("kane_levinson_1982_parabolid"), f"{KL_NAME}_paraboloid"),
         (lambda: cs.model_from_name("slidng"), "sliding"),
         (lambda: cs.model_from_name("Rolling"), "rolling"),
-        (lambda: cs.SlidingModel(normal_force="dynamc"), "dynamic"),
+        (lambda: cs.SlidingModel(friction_load="dynamc"), "dynamic"),
     ],
-    ids=["body", "body-paraboloid", "model", "model-capital", "normal-force"],
+    ids=["body", "body-paraboloid", "model", "model-capital", "friction-load"],
 )
 def test_unknown_names_suggest_the_closest(build, suggestion: str) -> None:
     with pytest.raises(cs.ParameterError) as caught:
@@ -434,14 +452,14 @@ CLI_CASES = [
         ("> 0",),
     ),
     (
-        ["--model", "sliding", "--normal-force", "dynamc"],
-        "normal_force",
+        ["--model", "sliding", "--friction-load", "dynamc"],
+        "friction_load",
         ("dynamc",),
         ("static", "dynamic", "did you mean 'dynamic'"),
     ),
     (
-        ["--model", "rolling", "--normal-force", "dynamic"],
-        "normal_force",
+        ["--model", "rolling", "--friction-load", "dynamic"],
+        "friction_load",
         ("dynamic",),
         ("rolling model",),
     ),
@@ -461,10 +479,10 @@ CLI_CASES = [
     (["--omega", "nan,0,-5"], "omega", ("nan,0,-5",), ("finite",)),
     (["--omega", "0,0,inf"], "omega", ("0,0,inf",), ("finite",)),
     (["--omega", "0;0;-5"], "omega", ("0;0;-5",), ("3",)),
-    (["--tilt", "95,0"], "tilt", ("95", "95.0"), ("-89", "89")),
-    (["--tilt", "0,-90"], "tilt", ("-90", "-90.0"), ("-89", "89")),
-    (["--tilt", "0.5"], "tilt", ("0.5",), ("2",)),
-    (["--tilt", "0.5,nan"], "tilt", ("0.5,nan",), ("finite",)),
+    (["--euler-angles", "95,0"], "euler_angles", ("95", "95.0"), ("-89", "89")),
+    (["--euler-angles", "0,-90"], "euler_angles", ("-90", "-90.0"), ("-89", "89")),
+    (["--euler-angles", "0.5"], "euler_angles", ("0.5",), ("2",)),
+    (["--euler-angles", "0.5,nan"], "euler_angles", ("0.5,nan",), ("finite",)),
     (["--samples", "1"], "n_samples", ("1", "1.0"), ("[2, 1e+06]",)),
     (["--samples", "nan"], "n_samples", ("nan",), ("[2, 1e+06]",)),
     (["--samples", "inf"], "n_samples", ("inf",), ("[2, 1e+06]",)),
@@ -503,10 +521,10 @@ def test_cli_rejects_out_in_missing_directory(
 def test_cli_negative_first_component_is_a_number_not_an_option(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    """``--omega -5,0,0`` and ``--tilt -95,0`` are values: the range check, not argparse,
+    """``--omega -5,0,0`` and ``--euler-angles -95,0`` are values: the range check, not argparse,
     must answer."""
-    line = _cli_error(capsys, ["run", "--tilt", "-95,0"])
-    _check_line(line, "tilt", ("-95", "-95.0"), ("-89", "89"))
+    line = _cli_error(capsys, ["run", "--euler-angles", "-95,0"])
+    _check_line(line, "euler_angles", ("-95", "-95.0"), ("-89", "89"))
     line = _cli_error(capsys, ["run", "--omega", "-nan,0,0"])
     _check_line(line, "omega", ("-nan,0,0",), ("finite",))
 

@@ -128,8 +128,15 @@ class PlausibilityWarning(CeltstoneWarning):
 
 def did_you_mean(value: object, options: Iterable[object], cutoff: float = 0.6) -> str:
     """``"did you mean 'sliding'?"`` for the option closest to ``value``, or ``""``: the one
-    suggestion every "unknown name" message of celtstone uses."""
-    close = difflib.get_close_matches(str(value), [str(o) for o in options], n=1, cutoff=cutoff)
+    suggestion every "unknown name" message of celtstone uses.
+
+    The closest is difflib's best match above ``cutoff``, else the first option that starts
+    with the first four letters of ``value`` (``fric`` -> ``friction_coefficient``).
+    """
+    text, names = str(value), [str(o) for o in options]
+    close = difflib.get_close_matches(text, names, n=1, cutoff=cutoff) or [
+        name for name in names if text and name.startswith(text[:4])
+    ]
     return f"did you mean {close[0]!r}?" if close else ""
 
 

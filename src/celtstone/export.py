@@ -33,6 +33,7 @@ import pandas as pd
 import xarray as xr
 
 from celtstone.errors import OutputError, ParameterError
+from celtstone.schema import current_attributes
 
 __all__ = [
     "FORMATS",
@@ -405,7 +406,9 @@ def write_json(data: Any, path: str | Path, *, overwrite: bool = False) -> Path:
 
 
 def read_run(path: str | Path) -> xr.Dataset:
-    """A run written by celtstone (``celtstone run --out RUN.nc``), loaded into memory.
+    """A run written by celtstone (``celtstone run --out RUN.nc``), loaded into memory;
+    the attributes of a file written before a rename read under their new names
+    (``schema.RENAMED_ATTRIBUTES``).
 
     Raises
     ------
@@ -434,4 +437,5 @@ def read_run(path: str | Path) -> xr.Dataset:
             f"a run with at least {MIN_SAMPLES} samples",
             f"it has {samples}; run it again with a later --t-end",
         )
+    dataset.attrs = current_attributes(dataset.attrs)
     return dataset

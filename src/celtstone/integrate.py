@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import warnings
 from collections.abc import Callable
 from importlib import metadata
@@ -10,8 +9,13 @@ from importlib import metadata
 import numpy as np
 
 from celtstone import hybrid, plausibility, schema, solvers
-from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial
-from celtstone.errors import CeltstoneWarning, ParameterError, PlausibilityWarning
+from celtstone.bodies import Body
+from celtstone.errors import (
+    CeltstoneWarning,
+    ParameterError,
+    PlausibilityWarning,
+    require_choice,
+)
 from celtstone.kernels import layout
 from celtstone.models import (
     HybridModel,
@@ -36,18 +40,8 @@ DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
 SAMPLES_PER_SECOND = 200  # default output density [1/s]
 
-STATUS_NAMES = {  # solver status code -> the name in results and the CLI
-    solvers.STATUS_SUCCESS: "success",
-    solvers.STATUS_LIFT_OFF: "lift_off",
-    solvers.STATUS_SINGULAR: "friction_singular",
-    solvers.STATUS_OFF_SHAPE: "off_shape",
-    solvers.STATUS_MAX_STEPS: "max_steps",
-    solvers.STATUS_STEP_TOO_SMALL: "step_too_small",
-    solvers.STATUS_NOT_FINITE: "not_finite",
-    solvers.STATUS_NON_CONVEX: "non_convex",
-    solvers.STATUS_UNKNOWN_CODE: "unknown_code",
-    solvers.STATUS_MAX_PHASES: "max_phases",
-}
+# solver status code -> its label in results and the CLI (``solvers.Status``)
+STATUS_NAMES = {int(status): status.label for status in solvers.Status}
 
 
 def version() -> str:
@@ -60,11 +54,8 @@ def version() -> str:
 
 def _method_name(model: Model, method: str | None) -> str:
     name = model.default_method if method is None else method
-    if name not in solvers.METHODS:
-        close = difflib.get_close_matches(str(name), list(solvers.METHODS), n=1)
-        hint = f"did you mean {close[0]!r}?" if close else ""
-        raise ParameterError("method", name, "one of: " + ", ".join(solvers.METHODS), hint)
-    return name
+    require_choice("method", name, solvers.METHODS)
+    return str(name)
 
 
 def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> np.ndarray:
@@ -93,12 +84,11 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
 
 
 def _status_message(status: str, code: int, t_stop: float, final_n: np.ndarray) -> str:
-    if status == "success":
-        return "reached t_end"
-    text = solvers.STATUS_MESSAGES.get(code, "")
+    """``solvers.stop_message``; a non-convex stop also names the last sampled vertical."""
+    detail = ""
     if code == solvers.STATUS_NON_CONVEX:
-        text += f" (last sampled vertical n = {np.round(final_n, 4).tolist()} in body axes)"
-    return f"stopped at t = {t_stop:.6g} s: {text}"
+        detail = f" (last sampled vertical n = {np.round(final_n, 4).tolist()} in body axes)"
+    return solvers.stop_message(code, t_stop, detail)
 
 
 _STATISTICS = ("nfev", "njev", "nlu", "n_accepted", "n_rejected")
@@ -165,25 +155,15 @@ def simulate(
         "body_mass": body.mass,
         "body_gravity": body.gravity,
         "body_inertia": str(np.array(body.inertia).tolist()),
-        "body_shape": body.shape.kind,
-        "body_shape_parameters": str(list(body.shape.kernel_parameters())),
+        **body.shape.attributes(),  # kind, numbers, and the table that rebuilds it
         "initial_omega": str(list(initial_state.omega)),
-        "initial_tilt_deg": str(list(initial_state.tilt)),
+        "initial_euler_angles_deg": str(list(initial_state.euler_angles)),
         "t_end": t_end,
         "method": method_name,
         "rtol": rtol,
         "atol": atol,
         **model.attributes(),
     }
-    if hasattr(body.shape, "exponent"):  # superellipsoid: its fifth shape parameter
-        attrs["body_shape_exponent"] = body.shape.exponent
-    if isinstance(body.shape, ImplicitPolynomial):  # the terms make the run reproducible
-        attrs["body_shape_terms"] = body.shape.terms_json()
-        attrs["body_shape_com_offset"] = body.shape.com_offset
-    if isinstance(body.shape, ImplicitFunction):  # recorded, but not enough to rerun it
-        attrs["body_shape_function"] = body.shape.name
-        attrs["body_shape_function_source"] = body.shape.source_text()
-        attrs["body_shape_com_offset"] = body.shape.com_offset
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)

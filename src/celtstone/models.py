@@ -6,44 +6,171 @@ returns the typed record the kernels read (declared in ``celtstone.kernels.layou
 
 from __future__ import annotations
 
-import difflib
 import math
-from dataclasses import dataclass
-from typing import ClassVar
+from collections.abc import Mapping
+from dataclasses import KW_ONLY, InitVar, dataclass, fields
+from typing import Any, ClassVar
 
 import numpy as np
 
 from celtstone import plausibility, schema
 from celtstone.bodies import Body
-from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, effective_modulus
-from celtstone.errors import ParameterError
+from celtstone.contact import (
+    CONTACT_PRESSURES,
+    FRICTION_LAWS,
+    LAW_WORDS,
+    PRESSURE_WORDS,
+    choice_words,
+    effective_modulus,
+)
+from celtstone.errors import ParameterError, require_choice
 from celtstone.kernels import layout
-from celtstone.kernels.layout import ModelCode, NormalForce, parameter_record
+from celtstone.kernels.layout import FrictionLoad, ModelCode, parameter_record
 
 __all__ = [
     "CONTACTS",
     "CONTACT_PRESSURES",
     "FRICTION_LAWS",
+    "FRICTION_LOAD_OPTIONS",
     "MODELS",
-    "NORMAL_FORCE_OPTIONS",
+    "MODEL_KINDS",
+    "SETTINGS",
     "HybridModel",
     "InitialState",
     "Model",
     "RollingModel",
+    "Setting",
     "SlidingModel",
     "initial_vector",
     "kernel_parameters",
     "model_from_name",
+    "setting_defaults",
+    "settings_of",
 ]
 
-NORMAL_FORCE_OPTIONS = {option.name.lower(): option.value for option in NormalForce}
+FRICTION_LOAD_OPTIONS = {option.name.lower(): option.value for option in FrictionLoad}
 
 
-def _choice(name: str, value: str, options: dict[str, int] | dict[str, type]) -> None:
-    if value not in options:
-        close = difflib.get_close_matches(str(value), list(options), n=1)
-        hint = f"did you mean {close[0]!r}?" if close else ""
-        raise ParameterError(name, value, "one of: " + ", ".join(options), hint)
+@dataclass(frozen=True)
+class Setting:
+    """A model setting, declared once: the model's field of this ``name`` is validated,
+    offered on the command line (``--name-with-dashes``) and in sweeps, recorded in a
+    run's attributes and copied into the kernel record from this row.
+
+    Parameters
+    ----------
+    name : the model's field, the CLI option, the sweep parameter and the run's attribute
+    choices : for a named option, name -> kernel code (an IntEnum's members); None for
+        a number, checked by ``schema.PARAMETERS[name]`` (its unit and range)
+    words : for a named option, what each choice means (help text)
+    record : the kernel record's field it fills (codes for a choice), or None
+    optional : whether None ("not set") is allowed
+    default_words : what the default means when it is None ("not set" otherwise)
+    """
+
+    name: str
+    choices: Mapping[str, int] | None = None
+    words: str = ""
+    record: str | None = None
+    optional: bool = False
+    default_words: str = ""
+
+    def check(self, value: Any) -> Any:
+        """``value`` validated: a choice's name, or a number in its range (None if optional)."""
+        if value is None and self.optional:
+            return None
+        if self.choices is not None:
+            require_choice(self.name, value, self.choices)
+            return value
+        return schema.check(self.name, value)
+
+    def help(self) -> str:
+        """The setting in words, with its unit and range or its choices (CLI help)."""
+        if self.choices is None:
+            return schema.PARAMETERS[self.name].help()
+        return self.words or " or ".join(self.choices)
+
+
+SETTINGS: dict[str, Setting] = {
+    s.name: s
+    for s in (
+        Setting("damping", record="damping"),
+        Setting("friction_coefficient", record="friction_coefficient"),
+        Setting("contact_radius", record="contact_radius"),
+        Setting(
+            "friction_load",
+            FRICTION_LOAD_OPTIONS,
+            "the normal force in the friction law: static (N = m g, the paper's first "
+            "approximation) or dynamic (the consistent normal force)",
+            record="friction_load",
+        ),
+        Setting("regularisation_speed", record="regularisation_speed"),
+        Setting(
+            "friction_law",
+            FRICTION_LAWS,
+            choice_words(LAW_WORDS),
+            record="friction_law",
+        ),
+        Setting(
+            "contact_pressure",
+            CONTACT_PRESSURES,
+            choice_words(PRESSURE_WORDS),
+            record="contact_pressure",
+        ),
+        Setting(  # the record holds E* (effective_modulus)
+            "elastic_modulus",
+            optional=True,
+            default_words="not set: the fixed contact_radius; with poisson_ratio, the Hertz "
+            "radius replaces it",
+        ),
+        Setting("poisson_ratio", optional=True, default_words="not set; given with E"),
+        Setting("capture_speed", optional=True, default_words="100 atol"),  # resolved per run
+    )
+}
+
+
+MODEL_KINDS: dict[str, type[RollingModel] | type[SlidingModel]] = {}  # filled below
+
+
+def setting_defaults(name: str) -> dict[str, Any]:
+    """Kind of model ("rolling", "sliding", "hybrid") -> its default of setting ``name``,
+    for the kinds that have it."""
+    found = {}
+    for kind, cls in MODEL_KINDS.items():
+        for field in fields(cls):
+            if field.name == name:
+                found[kind] = field.default
+    return found
+
+
+def settings_of(kind: str) -> tuple[str, ...]:
+    """The settings (:data:`SETTINGS` names) of the kind of model ``kind`` ("rolling",
+    "sliding", "hybrid")."""
+    return tuple(field.name for field in fields(MODEL_KINDS[kind]))
+
+
+def _check_settings(model: Any) -> None:
+    """Validate every field of ``model`` by its :data:`SETTINGS` row (numbers as floats)."""
+    for field in fields(model):
+        object.__setattr__(
+            model, field.name, SETTINGS[field.name].check(getattr(model, field.name))
+        )
+
+
+def _recorded(model: Any) -> dict[str, Any]:
+    """The kernel-record fields of ``model``'s settings (choices as their codes)."""
+    values = {}
+    for field in fields(model):
+        setting = SETTINGS[field.name]
+        if setting.record is not None:
+            value = getattr(model, field.name)
+            values[setting.record] = value if setting.choices is None else setting.choices[value]
+    return values
+
+
+def _settings_attributes(model: Any) -> dict[str, Any]:
+    """Each setting of ``model`` as a provenance attribute ("none": not set)."""
+    return {field.name: _or_none(getattr(model, field.name)) for field in fields(model)}
 
 
 @dataclass(frozen=True)
@@ -63,7 +190,7 @@ class RollingModel:
     default_method: ClassVar[str] = "dop853"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "damping", schema.check("damping", self.damping))
+        _check_settings(self)
 
     @property
     def friction_law(self) -> str:
@@ -75,7 +202,7 @@ class RollingModel:
         return {
             "model": self.name,
             "contact": self.contact,
-            "damping": self.damping,
+            **_settings_attributes(self),
             "friction_law": self.friction_law,
         }
 
@@ -89,8 +216,8 @@ class SlidingModel:
     friction_coefficient : f [1], >= 0
     contact_radius : ε, radius of the contact disk [m], > 0; not used when
         ``elastic_modulus`` is given
-    normal_force : "static" (N = m g in the friction law, the paper's first
-        approximation) or "dynamic" (the consistent normal force)
+    friction_load : the normal force in the friction law: "static" (N = m g, the
+        paper's first approximation) or "dynamic" (the consistent normal force)
     damping : σ, viscous torque -σω [N m s], >= 0
     regularisation_speed : δ, the slip speed below which friction turns viscous,
         |V1| -> sqrt(|V1|² + δ²) [m/s], > 0 (treatment of paper eq. 11)
@@ -108,7 +235,7 @@ class SlidingModel:
 
     friction_coefficient: float = 0.35
     contact_radius: float = 1e-3
-    normal_force: str = "static"
+    friction_load: str = "static"
     damping: float = 0.0
     regularisation_speed: float = 1e-6
     friction_law: str = "pade"
@@ -122,16 +249,8 @@ class SlidingModel:
     default_method: ClassVar[str] = "radau5"
 
     def __post_init__(self) -> None:
-        for field in ("friction_coefficient", "contact_radius", "damping", "regularisation_speed"):
-            object.__setattr__(self, field, schema.check(field, getattr(self, field)))
-        _choice("normal_force", self.normal_force, NORMAL_FORCE_OPTIONS)
-        _choice("friction_law", self.friction_law, FRICTION_LAWS)
-        _choice("contact_pressure", self.contact_pressure, CONTACT_PRESSURES)
+        _check_settings(self)
         _check_elastic(self.elastic_modulus, self.poisson_ratio)
-        for field in ("elastic_modulus", "poisson_ratio"):
-            value = getattr(self, field)
-            if value is not None:
-                object.__setattr__(self, field, schema.check(field, value))
 
     @property
     def is_hertz_radius(self) -> bool:
@@ -150,21 +269,13 @@ class SlidingModel:
         return {
             "model": self.name,
             "contact": self.contact,
-            "damping": self.damping,
-            "friction_law": self.friction_law,
-            "contact_pressure": self.contact_pressure,
-            "friction_coefficient": self.friction_coefficient,
-            "contact_radius": self.contact_radius,
+            **_settings_attributes(self),
             "contact_radius_model": "hertz" if self.is_hertz_radius else "fixed",
-            "elastic_modulus": _or_none(self.elastic_modulus),
-            "poisson_ratio": _or_none(self.poisson_ratio),
             "effective_modulus": _or_none(self.effective_modulus if self.is_hertz_radius else None),
-            "normal_force_option": self.normal_force,
-            "regularisation_speed": self.regularisation_speed,
         }
 
 
-def _or_none(value: float | None) -> float | str:
+def _or_none(value: Any) -> Any:
     return "none" if value is None else value
 
 
@@ -187,7 +298,7 @@ class HybridModel(SlidingModel):
 
     Parameters
     ----------
-    friction_coefficient, contact_radius, normal_force, damping : as :class:`SlidingModel`
+    friction_coefficient, contact_radius, friction_load, damping : as :class:`SlidingModel`
     regularisation_speed : δ [m/s], > 0: only smooths the first instant of sliding after
         stick (V1 = 0, ω · n = 0, where Zhuravlev's law is 0/0); must be below
         capture_speed / 10 so that stick is found in the dry-friction regime
@@ -201,13 +312,6 @@ class HybridModel(SlidingModel):
 
     contact: ClassVar[str] = "hybrid"
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        if self.capture_speed is not None:
-            object.__setattr__(
-                self, "capture_speed", schema.check("capture_speed", self.capture_speed)
-            )
-
     def resolved_capture_speed(self, atol: float) -> float:
         """v_c for a run at absolute tolerance ``atol``; checks δ < v_c / 10 [m/s]."""
         capture = CAPTURE_ATOL_FACTOR * atol if self.capture_speed is None else self.capture_speed
@@ -220,11 +324,6 @@ class HybridModel(SlidingModel):
             )
         return capture
 
-    def attributes(self) -> dict[str, str | float]:
-        """The model's settings, for provenance attributes (capture_speed "none": 100 atol;
-        a run records the resolved value)."""
-        return {**super().attributes(), "capture_speed": _or_none(self.capture_speed)}
-
 
 # default capture speed of the hybrid contact in units of the absolute tolerance
 CAPTURE_ATOL_FACTOR = 100.0
@@ -236,6 +335,7 @@ MODELS: dict[str, type[RollingModel] | type[SlidingModel]] = {
 }
 # contact options of the sliding model
 CONTACTS: dict[str, type[SlidingModel]] = {"sliding": SlidingModel, "hybrid": HybridModel}
+MODEL_KINDS.update(rolling=RollingModel, sliding=SlidingModel, hybrid=HybridModel)
 
 
 def model_from_name(name: str, **settings: float | str | None) -> Model:
@@ -246,12 +346,15 @@ def model_from_name(name: str, **settings: float | str | None) -> Model:
     friction setting of the rolling model, a capture speed without the hybrid contact)
     is refused.
     """
-    _choice("model", name, MODELS)
+    require_choice("model", name, MODELS)
     contact = settings.pop("contact", None)
     settings = {k: v for k, v in settings.items() if v is not None}
+    for key, value in settings.items():
+        if key in schema.RENAMED:
+            raise schema.renamed(key, value)
     cls = MODELS[name]
     if contact is not None:
-        _choice("contact", str(contact), CONTACTS)
+        require_choice("contact", str(contact), CONTACTS)
         if cls is SlidingModel:
             cls = CONTACTS[str(contact)]
         elif contact != "sliding":
@@ -266,12 +369,13 @@ def model_from_name(name: str, **settings: float | str | None) -> Model:
             "the capture speed belongs to the stick-slip contact: add contact 'hybrid'",
         )
     if cls is RollingModel:
+        own = settings_of(RollingModel.name)
         for key, value in settings.items():
-            if key != "damping":  # a sliding setting given to rolling is a mistake, not a no-op
+            if key not in own:  # a sliding setting given to rolling is a mistake, not a no-op
                 raise ParameterError(
                     key,
                     value,
-                    "no value with the rolling model (its one setting is damping)",
+                    f"no value with the rolling model (its settings: {', '.join(own)})",
                     "the contact does not slide; use the model 'sliding' for friction settings",
                 )
     return cls(**settings)  # type: ignore[arg-type]
@@ -284,25 +388,31 @@ class InitialState:
     Parameters
     ----------
     omega : ω0, angular velocity in body axes [rad/s]
-    tilt : (α, β), Euler angles [deg]: the vertical in body axes is
+    euler_angles : (α, β), Euler angles [deg]: the vertical in body axes is
         n0 = (-cos α sin β, sin α, cos α cos β) (Kane & Levinson's convention)
+    tilt : the old name of ``euler_angles``, refused (``tilt`` is the output angle [rad])
     """
 
     omega: tuple[float, float, float] = (0.0, 0.0, -5.0)
-    tilt: tuple[float, float] = (0.5, 0.5)
+    euler_angles: tuple[float, float] = (0.5, 0.5)
+    _: KW_ONLY
+    tilt: InitVar[tuple[float, float] | None] = None
 
-    def __post_init__(self) -> None:
+    def __post_init__(self, tilt: tuple[float, float] | None) -> None:
+        if tilt is not None:
+            raise schema.renamed("tilt", tilt)
         if len(self.omega) != 3:
             raise ParameterError("omega", self.omega, "three numbers W1,W2,W3 in rad/s")
-        if len(self.tilt) != 2:
-            raise ParameterError("tilt", self.tilt, "two numbers ALPHA,BETA in deg")
+        if len(self.euler_angles) != 2:
+            raise ParameterError("euler_angles", self.euler_angles, "two numbers ALPHA,BETA in deg")
         object.__setattr__(self, "omega", tuple(schema.check("omega", w) for w in self.omega))
-        object.__setattr__(self, "tilt", tuple(schema.check("tilt", t) for t in self.tilt))
+        angles = tuple(schema.check("euler_angles", angle) for angle in self.euler_angles)
+        object.__setattr__(self, "euler_angles", angles)
 
     @property
     def vertical(self) -> tuple[float, float, float]:
         """n0, the upward vertical in body axes [1]."""
-        alpha, beta = (math.radians(t) for t in self.tilt)
+        alpha, beta = (math.radians(angle) for angle in self.euler_angles)
         return (
             -math.cos(alpha) * math.sin(beta),
             math.sin(alpha),
@@ -312,8 +422,8 @@ class InitialState:
     def mirrored(self) -> InitialState:
         """The state mirrored in the plane x2 = 0 of the body (pairs with D -> -D)."""
         w1, w2, w3 = self.omega
-        alpha, beta = self.tilt
-        return InitialState(omega=(-w1, w2, -w3), tilt=(-alpha, beta))
+        alpha, beta = self.euler_angles
+        return InitialState(omega=(-w1, w2, -w3), euler_angles=(-alpha, beta))
 
 
 def kernel_parameters(model: Model, body: Body) -> np.record:
@@ -329,24 +439,16 @@ def kernel_parameters(model: Model, body: Body) -> np.record:
         (:func:`celtstone.plausibility.require_runnable`).
     """
     plausibility.require_runnable(body, contact_settings(model))
-    fields = {
+    values = {
         "mass": body.mass,
         "gravity": body.gravity,
         "inertia": body.inertia,
-        "damping": model.damping,
         **body.shape.kernel_fields(),
+        **_recorded(model),
     }
     if isinstance(model, SlidingModel):
-        fields |= {
-            "friction_coefficient": model.friction_coefficient,
-            "contact_radius": model.contact_radius,
-            "normal_force_option": NORMAL_FORCE_OPTIONS[model.normal_force],
-            "regularisation_speed": model.regularisation_speed,
-            "friction_law": FRICTION_LAWS[model.friction_law],
-            "contact_pressure": CONTACT_PRESSURES[model.contact_pressure],
-            "effective_modulus": model.effective_modulus,  # 0: the fixed contact_radius
-        }
-    return parameter_record(**fields)
+        values["effective_modulus"] = model.effective_modulus  # 0: the fixed contact_radius
+    return parameter_record(**values)
 
 
 def contact_settings(model: Model) -> plausibility.ContactSettings:

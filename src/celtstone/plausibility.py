@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from celtstone.bodies import Body, Ellipsoid, ImplicitSurface, Superellipsoid
+from celtstone.bodies import Body
 from celtstone.errors import ParameterError
 
 __all__ = [
@@ -90,22 +90,12 @@ def _principal_moments(body: Body) -> tuple[float, float, float]:
 
 def _half_extent(body: Body) -> float | None:
     """Largest distance from G to the surface, bounded above [m]; None for an open cap."""
-    shape = body.shape
-    if isinstance(shape, Ellipsoid | Superellipsoid):
-        return max(shape.semi_axes) + abs(shape.com_offset)
-    if isinstance(shape, ImplicitSurface):
-        return shape.size + abs(shape.com_offset)
-    return None
+    return body.shape.bounding_radius
 
 
 def _volume(body: Body) -> float | None:
     """Volume enclosed by the surface [m³]; None where it has no closed form."""
-    shape = body.shape
-    if isinstance(shape, Ellipsoid | Superellipsoid):
-        a, b, c = shape.semi_axes
-        p = shape.exponent if isinstance(shape, Superellipsoid) else 2.0
-        return 8.0 * a * b * c * math.gamma(1.0 + 1.0 / p) ** 3 / math.gamma(1.0 + 3.0 / p)
-    return None
+    return body.shape.volume
 
 
 def contact_radius_at_rest(

@@ -7,11 +7,24 @@ validators, the CLI help and the ``units`` attributes of exported data read it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from celtstone.errors import ParameterError
 
-__all__ = ["PARAMETERS", "VARIABLES", "Quantity", "Variable", "check"]
+__all__ = [
+    "PARAMETERS",
+    "RENAMED",
+    "RENAMED_ATTRIBUTES",
+    "VARIABLES",
+    "Quantity",
+    "Variable",
+    "check",
+    "current_attributes",
+    "renamed",
+    "renamed_hint",
+]
 
 
 @dataclass(frozen=True)
@@ -144,7 +157,7 @@ PARAMETERS: dict[str, Quantity] = {
             upper=MAX_ANGULAR_SPEED,
         ),
         _q(
-            "tilt",
+            "euler_angles",
             "alpha, beta",
             "deg",
             "initial Euler angles of the vertical in body axes",
@@ -164,6 +177,46 @@ PARAMETERS: dict[str, Quantity] = {
 }
 
 
+# Inputs renamed so that each name has one meaning across CLI, JSON, Dataset and docs
+# (README, "Renamed in this version"): old name -> new name, as Python and sweeps spell
+# them (the CLI with dashes). An old name is refused with the new one (``renamed``).
+RENAMED: dict[str, str] = {
+    "normal_force": "friction_load",  # the option static|dynamic; normal_force is N [N]
+    "tilt": "euler_angles",  # the initial (alpha, beta) [deg]; tilt is an angle [rad]
+    "tilt_alpha": "euler_alpha",
+    "tilt_beta": "euler_beta",
+    "spin": "initial_spin",  # a sweep's omega0 . n0; spin is the time series omega . n
+}
+
+# a run's attributes renamed with them: old key -> new key (older files keep the old key)
+RENAMED_ATTRIBUTES: dict[str, str] = {
+    "normal_force_option": "friction_load",
+    "initial_tilt_deg": "initial_euler_angles_deg",
+}
+
+
+def renamed_hint(name: str, spell: Callable[[str], str] = str) -> str:
+    """``"renamed friction_load"`` for an old name of :data:`RENAMED`, else ``""``; ``spell``
+    writes a name as the user writes it (``--friction-load`` on the command line)."""
+    return f"renamed {spell(RENAMED[name])}" if name in RENAMED else ""
+
+
+def renamed(name: str, value: object = None, spell: Callable[[str], str] = str) -> ParameterError:
+    """The error refusing ``name``, an old name of :data:`RENAMED`, with a hint naming the
+    new one (``renamed_hint``)."""
+    return ParameterError(spell(name), value, "its new name", renamed_hint(name, spell))
+
+
+def current_attributes(attrs: Mapping[str, Any]) -> dict[str, Any]:
+    """A run's ``attrs`` with the old keys of :data:`RENAMED_ATTRIBUTES` under their new
+    names: a file written before the rename reads as one written now."""
+    current = dict(attrs)
+    for old, new in RENAMED_ATTRIBUTES.items():
+        if old in current and new not in current:
+            current[new] = current.pop(old)
+    return current
+
+
 @dataclass(frozen=True)
 class Variable:
     """An output quantity, declared once: what the Dataset, the sweep store, the CSV
@@ -172,6 +225,15 @@ class Variable:
     ``unit`` and ``long_name`` are the NetCDF attributes of the stored values (SI);
     ``label`` names it on a matplotlib axis (mathtext) and ``text`` in plain text (the
     HTML viewer); plots show ``plot_unit`` = stored value × ``plot_scale``.
+
+    ``source`` makes it a time series of every run's Dataset, read from the sampled
+    states (``trajectory.build_dataset``): ``"derived"`` is the derived column of the
+    same name (``kernels.system.DERIVED``), ``"derived:a,b"`` the consecutive derived
+    columns a to b, ``"state:block"`` a block of the state (``kernels.system.STATE_BLOCKS``).
+    ``axis`` names the second dimension of a vector (after ``time``). Without a source
+    a variable is filled where it is made: the time coordinate, the spin crossings and
+    phases of a run, the result fields of a sweep (``solvers.batch.RESULT_FIELDS``),
+    or a parameter drawn on an axis.
     """
 
     unit: str
@@ -180,6 +242,8 @@ class Variable:
     text: str = ""
     plot_unit: str = ""
     plot_scale: float = 1.0
+    source: str = ""
+    axis: str = ""
 
     @property
     def attributes(self) -> dict[str, str]:
@@ -196,10 +260,14 @@ class Variable:
 _DEG = 180.0 / math.pi
 
 VARIABLES: dict[str, Variable] = {
-    # every variable a trajectory carries, and the sweep's result fields
+    # the time coordinate, then a run's time series in the Dataset's order
     "time": Variable("s", "time", "time $t$", "time t"),
     "spin": Variable(
-        "rad/s", "spin omega . n about the vertical", r"spin $\omega\cdot n$", "spin ω·n"
+        "rad/s",
+        "spin omega . n about the vertical",
+        r"spin $\omega\cdot n$",
+        "spin ω·n",
+        source="derived",
     ),
     "tilt": Variable(
         "rad",
@@ -208,29 +276,62 @@ VARIABLES: dict[str, Variable] = {
         "tilt",
         plot_unit="deg",
         plot_scale=_DEG,
+        source="derived",
     ),
-    "energy": Variable("J", "kinetic plus potential energy, plane as zero", "energy $E$", "energy"),
+    "energy": Variable(
+        "J",
+        "kinetic plus potential energy, plane as zero",
+        "energy $E$",
+        "energy",
+        source="derived",
+    ),
     "dissipated_work": Variable(
-        "J", "work done by friction and damping since t = 0", "friction work", "friction work"
+        "J",
+        "work done by friction and damping since t = 0",
+        "friction work",
+        "friction work",
+        source="state:work",
     ),
     "normal_force": Variable(
-        "N", "normal force N of the plane", "normal force $N$", "normal force N"
+        "N", "normal force N of the plane", "normal force $N$", "normal force N", source="derived"
     ),
     "slip_speed": Variable(
-        "m/s", "sliding speed |V1| of the contact point", "slip speed $|V_1|$", "slip speed |V1|"
+        "m/s",
+        "sliding speed |V1| of the contact point",
+        "slip speed $|V_1|$",
+        "slip speed |V1|",
+        source="derived",
     ),
-    "friction_power": Variable("W", "friction power F . V1 + M Omega_n"),
-    "omega": Variable("rad/s", "angular velocity, body axes"),
-    "n": Variable("1", "upward vertical unit vector, body axes"),
-    "slip_velocity": Variable("m/s", "sliding velocity V1 of the contact point, body axes"),
-    "quaternion": Variable("1", "attitude quaternion (w, x, y, z), body to space"),
-    "com_position": Variable("m", "horizontal position of the centre of mass, space axes"),
+    "friction_power": Variable("W", "friction power F . V1 + M Omega_n", source="derived"),
+    "com_height": Variable("m", "height of the centre of mass above the plane", source="derived"),
+    "omega": Variable("rad/s", "angular velocity, body axes", source="state:omega", axis="axis"),
+    "n": Variable("1", "upward vertical unit vector, body axes", source="state:n", axis="axis"),
+    "slip_velocity": Variable(
+        "m/s",
+        "sliding velocity V1 of the contact point, body axes",
+        source="state:slip_velocity",
+        axis="axis",
+    ),
+    "quaternion": Variable(
+        "1",
+        "attitude quaternion (w, x, y, z), body to space",
+        source="state:quaternion",
+        axis="component",
+    ),
+    "com_position": Variable(
+        "m",
+        "horizontal position of the centre of mass, space axes",
+        source="state:com_position",
+        axis="plane_axis",
+    ),
     "contact_position": Variable(
-        "m", "position of the contact point on the plane, space axes", "contact point"
+        "m",
+        "position of the contact point on the plane, space axes",
+        "contact point",
+        source="derived:contact_x,contact_y",
+        axis="plane_axis",
     ),
-    "contact_x": Variable("m", "contact point x, space axes", "contact point $x$"),
-    "contact_y": Variable("m", "contact point y, space axes", "contact point $y$"),
-    "com_height": Variable("m", "height of the centre of mass above the plane"),
+    # a run's events and phases (trajectory.build_dataset)
     "spin_crossings": Variable("s", "times at which the spin changes sign"),
     "phase": Variable("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
     "phase_kind": Variable("1", "kind of each contact phase: 0 slip, 1 stick"),
@@ -239,7 +340,37 @@ VARIABLES: dict[str, Variable] = {
     "phase_energy_jump": Variable(
         "J", "kinetic energy change of the capture impulse opening each phase"
     ),
-    # parameters drawn on an axis
+    # a sweep's result fields (solvers.batch.RESULT_FIELDS), in the store's order
+    "first_reversal_time": Variable(
+        "s",
+        "first reversal of the sense of spin (hysteresis band), NaN if none",
+        "first reversal time",
+    ),
+    "n_reversals": Variable(
+        "1", "number of spin reversals (hysteresis band)", "number of spin reversals"
+    ),
+    "final_spin": Variable(
+        "rad/s", "spin omega . n at t_end, NaN if stopped early", r"final spin $\omega\cdot n$"
+    ),
+    "energy_lost": Variable(
+        "J", "E(0) - E(t_end), NaN if stopped early", r"energy lost $E(0)-E(t_\mathrm{end})$"
+    ),
+    "max_tilt": Variable(
+        "rad",
+        "largest angle between the vertical and axis 3",
+        "largest tilt of body axis 3",
+        plot_unit="deg",
+        plot_scale=_DEG,
+    ),
+    "min_normal_force": Variable(
+        "N", "smallest normal force (0 at lift-off)", "smallest normal force $N$"
+    ),
+    "t_stop": Variable("s", "time the run stopped", "stop time"),
+    "status": Variable("", "success, or why the run stopped early", "status"),
+    "message": Variable("", "what happened and what to change", "message"),
+    # axis labels of plots
+    "contact_x": Variable("m", "contact point x, space axes", "contact point $x$"),
+    "contact_y": Variable("m", "contact point y, space axes", "contact point $y$"),
     "friction_coefficient": Variable(
         "1", "Coulomb friction coefficient", "friction coefficient $f$"
     ),

@@ -18,7 +18,8 @@ from celtstone.errors import (
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
 from celtstone.reversals import reversal_bands, reversal_times
-from celtstone.schema import VARIABLES
+from celtstone.schema import VARIABLES, Variable
+from celtstone.solvers.codes import Status
 
 __all__ = ["SUMMARY_KEYS", "Trajectory", "build_dataset"]
 
@@ -49,7 +50,7 @@ MODEL_OPTION_KEYS = (
     "damping",
     "friction_coefficient",
     "contact_radius",
-    "normal_force_option",
+    "friction_load",
     "regularisation_speed",
     "contact_pressure",
     "contact_radius_model",
@@ -58,14 +59,45 @@ MODEL_OPTION_KEYS = (
     "effective_modulus",
 )
 
+# the exception of a status label; any other stop raises IntegrationError
 _ERRORS: dict[str, type[CeltstoneError]] = {
-    "lift_off": LiftOffError,
-    "friction_singular": FrictionSingularityError,
+    Status.LIFT_OFF.label: LiftOffError,
+    Status.SINGULAR.label: FrictionSingularityError,
 }
 
 
 def _variable(name: str, dims: tuple[str, ...], values: np.ndarray) -> xr.Variable:
     return xr.Variable(dims, values, attrs=VARIABLES[name].attributes)
+
+
+def _columns(name: str, variable: Variable) -> tuple[bool, int | slice]:
+    """Where the time series ``name`` is read from, by its ``source``: (whether from the
+    derived columns, else the states; the column index or slice).
+
+    Raises
+    ------
+    ValueError
+        for a source that names no state block or derived column, or derived columns
+        that are not consecutive (a declaration to fix, found on import).
+    """
+    kind, _, names = variable.source.partition(":")
+    if kind == "state" and names in kernel_system.STATE_BLOCKS:
+        return False, kernel_system.STATE_BLOCKS[names]
+    columns = names.split(",") if names else [name]
+    if kind != "derived" or not set(columns) <= set(kernel_system.DERIVED):
+        raise ValueError(f"VARIABLES[{name!r}]: source {variable.source!r} names no columns")
+    first, last = (kernel_system.DERIVED.index(c) for c in (columns[0], columns[-1]))
+    if columns != list(kernel_system.DERIVED[first : last + 1]):
+        raise ValueError(f"VARIABLES[{name!r}]: derived columns {columns} are not consecutive")
+    return True, first if len(columns) == 1 else slice(first, last + 1)
+
+
+# name -> (from the derived columns, columns, dimensions): a run's time series, in order
+_TIME_SERIES: dict[str, tuple[bool, int | slice, tuple[str, ...]]] = {
+    name: (*_columns(name, variable), ("time", variable.axis) if variable.axis else ("time",))
+    for name, variable in VARIABLES.items()
+    if variable.source
+}
 
 
 def build_dataset(
@@ -95,40 +127,11 @@ def build_dataset(
         )
         derived[stick] = stick_derived
     time = ("time",)
-    n_slice = slice(layout.Y_N, layout.Y_N + 3)
     variables = {
-        "spin": _variable("spin", time, derived[:, kernel_system.D_SPIN]),
-        "tilt": _variable("tilt", time, derived[:, kernel_system.D_TILT]),
-        "energy": _variable("energy", time, derived[:, kernel_system.D_ENERGY]),
-        "dissipated_work": _variable("dissipated_work", time, states[:, layout.Y_WORK]),
-        "normal_force": _variable("normal_force", time, derived[:, kernel_system.D_NORMAL_FORCE]),
-        "slip_speed": _variable("slip_speed", time, derived[:, kernel_system.D_SLIP_SPEED]),
-        "friction_power": _variable(
-            "friction_power", time, derived[:, kernel_system.D_FRICTION_POWER]
-        ),
-        "com_height": _variable("com_height", time, derived[:, kernel_system.D_HEIGHT]),
-        "omega": _variable(
-            "omega", ("time", "axis"), states[:, layout.Y_OMEGA : layout.Y_OMEGA + 3]
-        ),
-        "n": _variable("n", ("time", "axis"), states[:, n_slice]),
-        "slip_velocity": _variable(
-            "slip_velocity", ("time", "axis"), states[:, layout.Y_SLIP : layout.Y_SLIP + 3]
-        ),
-        "quaternion": _variable(
-            "quaternion", ("time", "component"), states[:, layout.Y_QUAT : layout.Y_QUAT + 4]
-        ),
-        "com_position": _variable(
-            "com_position",
-            ("time", "plane_axis"),
-            states[:, layout.Y_POSITION : layout.Y_POSITION + 2],
-        ),
-        "contact_position": _variable(
-            "contact_position",
-            ("time", "plane_axis"),
-            derived[:, kernel_system.D_CONTACT_X : kernel_system.D_CONTACT_Y + 1],
-        ),
-        "spin_crossings": _variable("spin_crossings", ("crossing",), crossings),
+        name: _variable(name, dims, derived[:, columns] if is_derived else states[:, columns])
+        for name, (is_derived, columns, dims) in _TIME_SERIES.items()
     }
+    variables["spin_crossings"] = _variable("spin_crossings", ("crossing",), crossings)
     if phase is not None:
         variables["phase"] = _variable("phase", time, np.asarray(phase, dtype=np.int8))
     for name, values in phase_table.items():

@@ -41,7 +41,7 @@ pytestmark = pytest.mark.skipif(
 @pytest.fixture(scope="module")
 def page_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """Page of a 10 s rolling run of the Kane & Levinson body (spin reverses at 2.7 s)."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
     body = cs.load_body("kane_levinson_1982")
     run = cs.simulate(cs.RollingModel(), body, state, T_END).raise_for_status()
     return write_viewer(run.dataset, tmp_path_factory.mktemp("page") / "run.html").path

@@ -220,7 +220,7 @@ def _sliding_terms(
     body: dict[str, Any],
     friction_coefficient: float,
     contact_radius: float,
-    normal_force: str,
+    friction_load: str,
     damping: float,
     regularisation_speed: float,
 ) -> dict[str, Any]:
@@ -238,7 +238,7 @@ def _sliding_terms(
     free_torque = -np.cross(omega, inertia @ omega) - damping * omega  # gyroscopic + viscous
     n0 = m * g - m * np.dot(n, acceleration_free)  # N_true without its domega/dt term
 
-    if normal_force == "static":
+    if friction_load == "static":
         # F and M with N = m g (paper's first approximation); torque of N n with N_true
         friction = m * g * f * phi
         moment = m * g * f * psi
@@ -246,7 +246,7 @@ def _sliding_terms(
         rhs = free_torque + n0 * d + np.cross(r, friction) + moment * n
         omega_dot = np.linalg.solve(lhs, rhs)
         normal = n0 - m * np.dot(d, omega_dot)
-    elif normal_force == "dynamic":
+    elif friction_load == "dynamic":
         # F = N f phi, M = N f psi with N = N_true = n0 - m d.domega/dt: linear in domega/dt
         k = d + f * np.cross(r, phi) + f * psi * n
         lhs = inertia + m * np.outer(k, d)
@@ -256,7 +256,7 @@ def _sliding_terms(
         friction = normal * f * phi
         moment = normal * f * psi
     else:
-        raise ValueError(f"normal_force must be 'static' or 'dynamic', not {normal_force!r}")
+        raise ValueError(f"friction_load must be 'static' or 'dynamic', not {friction_load!r}")
 
     projector = np.eye(3) - np.outer(n, n)
     w1 = friction / m + projector @ (np.cross(omega_dot, r) + acceleration_free)
@@ -281,7 +281,7 @@ def rhs_sliding(
     body: dict[str, Any],
     friction_coefficient: float,
     contact_radius: float,
-    normal_force: str = "static",
+    friction_load: str = "static",
     damping: float = 0.0,
     regularisation_speed: float = 1e-6,
 ) -> np.ndarray:
@@ -291,7 +291,7 @@ def rhs_sliding(
         body,
         friction_coefficient,
         contact_radius,
-        normal_force,
+        friction_load,
         damping,
         regularisation_speed,
     )
@@ -326,7 +326,7 @@ def normal_force(y: np.ndarray, body: dict[str, Any], model: str, **params: Any)
     """Vertical contact reaction N = m g - m n.(domega/dt x r + omega x rdot + omega x (omega x r)).
 
     ``params`` are those of ``rhs_rolling`` or ``rhs_sliding``. In the sliding model this is
-    N_true in both normal-force options (the static option uses m g only inside F and M).
+    N_true in both friction loads (the static one uses m g only inside F and M).
     """
     if model == "rolling":
         m, g = body["mass"], body["gravity"]
@@ -342,7 +342,7 @@ def normal_force(y: np.ndarray, body: dict[str, Any], model: str, **params: Any)
             body,
             params["friction_coefficient"],
             params["contact_radius"],
-            params.get("normal_force", "static"),
+            params.get("friction_load", "static"),
             params.get("damping", 0.0),
             params.get("regularisation_speed", 1e-6),
         )
@@ -386,7 +386,7 @@ def simulate(
 
     ``method`` defaults to "DOP853" for rolling and "Radau" for sliding (the friction law is
     stiff near zero slip); implicit methods get ``numerical_jacobian``. ``params`` go to the
-    right-hand side (damping; friction_coefficient, contact_radius, normal_force,
+    right-hand side (damping; friction_coefficient, contact_radius, friction_load,
     regularisation_speed). Returns SciPy's OdeResult.
     """
     if model == "rolling":

@@ -127,14 +127,14 @@ def test_damped_rolling_energy_balance(body: dict) -> None:
 
 
 @pytest.mark.parametrize(
-    ("normal_force", "friction_coefficient"), [("static", 0.35), ("dynamic", 0.25)]
+    ("friction_load", "friction_coefficient"), [("static", 0.35), ("dynamic", 0.25)]
 )
-def test_sliding_invariants(body: dict, normal_force: str, friction_coefficient: float) -> None:
+def test_sliding_invariants(body: dict, friction_load: str, friction_coefficient: float) -> None:
     """|n| = 1, V1.n = 0, and the energy lost equals the friction work."""
     params = {
         "friction_coefficient": friction_coefficient,
         "contact_radius": 1e-3,
-        "normal_force": normal_force,
+        "friction_load": friction_load,
     }
     y0 = oracle.initial_state(*TILT, (0.0, 0.0, -5.0), "sliding")
     run = oracle.simulate(

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import celtstone as cs
 from celtstone.kernels.friction import pade_friction
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 RADIUS = 1e-3  # m
 
@@ -81,7 +81,7 @@ def test_sliding_tends_to_rolling_as_friction_grows_and_pivot_moment_vanishes() 
     """f -> ∞ with f ε -> 0 (references.md): the sliding spin history approaches rolling.
     The regularisation speed shrinks with ε so that the stick zone stays below the slip."""
     body = cs.load_body("kane_levinson_1982")
-    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_TILT)
+    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_EULER_ANGLES)
     rolling = cs.simulate(cs.RollingModel(), body, state, 4.0, n_samples=401)
     differences = []
     for f, radius, delta in [(5.0, 1e-6, 1e-6), (50.0, 1e-8, 1e-8), (500.0, 1e-10, 1e-9)]:

@@ -27,7 +27,7 @@ from celtstone.kernels.friction import (
     contact_friction,
 )
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 PRESSURES = ["hertz", "uniform"]
 # references.md: M0/(fNε), small-u slope of F/(fN) (= 1/b), lim u M/(fNε) (= M0/a)
@@ -216,7 +216,7 @@ def test_exact_kernel_opposes_motion_and_depends_on_u_only(pressure: int) -> Non
 
 @pytest.fixture(scope="module")
 def exact_and_pade_runs(kane_levinson: cs.Body) -> dict[str, cs.Trajectory]:
-    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_TILT)
+    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_EULER_ANGLES)
     return {
         f"{law}-{pressure}": cs.simulate(
             cs.SlidingModel(0.35, 1e-3, friction_law=law, contact_pressure=pressure),

@@ -13,7 +13,7 @@ from celtstone.kernels.dynamics import contact_radius
 from celtstone.kernels.geometry import contact
 from celtstone.kernels.hertz import equivalent_radius
 from celtstone.models import kernel_parameters
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 
 def test_sphere_on_flat_textbook_case() -> None:
@@ -84,18 +84,18 @@ def _modulus_for_one_millimetre(body: cs.Body) -> float:
     return 2 * star
 
 
-@pytest.mark.parametrize("normal_force, tolerance", [("static", 0.01), ("dynamic", 0.05)])
+@pytest.mark.parametrize("friction_load, tolerance", [("static", 0.01), ("dynamic", 0.05)])
 def test_hertz_run_keeps_the_energy_budget_and_matches_the_fixed_radius(
-    kane_levinson: cs.Body, normal_force: str, tolerance: float
+    kane_levinson: cs.Body, friction_load: str, tolerance: float
 ) -> None:
     """E chosen so that ε = 1 mm at rest: the Hertz run differs from the fixed-ε run
     only by ε's change with tilt (a few degrees; static N) and with N (ε ∝ N^(1/3),
     dynamic N); energy lost = friction work."""
-    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_TILT)
+    state = cs.InitialState((0.0, 0.0, -5.0), LITERATURE_EULER_ANGLES)
     modulus = _modulus_for_one_millimetre(kane_levinson)
     runs = [
         cs.simulate(
-            cs.SlidingModel(0.35, 1e-3, normal_force, friction_law="exact", **elastic),
+            cs.SlidingModel(0.35, 1e-3, friction_load, friction_law="exact", **elastic),
             kane_levinson,
             state,
             3.0,

@@ -8,19 +8,19 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 SLIDING_CASES = [
-    cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3, normal_force="static"),
-    cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3, normal_force="dynamic"),
-    cs.SlidingModel(friction_coefficient=0.15, contact_radius=1e-3, normal_force="static"),
+    cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3, friction_load="static"),
+    cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3, friction_load="dynamic"),
+    cs.SlidingModel(friction_coefficient=0.15, contact_radius=1e-3, friction_load="static"),
 ]
 
 
 @pytest.mark.parametrize("spin", [-5.0, 5.0])
 def test_rolling_conserves_energy_over_60_s(kane_levinson: cs.Body, spin: float) -> None:
     """Issue 2: relative drift below 1e-8 over 60 s at the default tolerance (rtol 1e-10)."""
-    state = cs.InitialState(omega=(0.0, 0.0, spin), tilt=LITERATURE_TILT)
+    state = cs.InitialState(omega=(0.0, 0.0, spin), euler_angles=LITERATURE_EULER_ANGLES)
     run = cs.simulate(cs.RollingModel(), kane_levinson, state, 60.0)
     assert run.ok, run.message
     summary = run.summary()
@@ -29,13 +29,13 @@ def test_rolling_conserves_energy_over_60_s(kane_levinson: cs.Body, spin: float)
 
 
 @pytest.mark.parametrize(
-    "model", SLIDING_CASES, ids=lambda m: f"f{m.friction_coefficient}-{m.normal_force}"
+    "model", SLIDING_CASES, ids=lambda m: f"f{m.friction_coefficient}-{m.friction_load}"
 )
 def test_sliding_energy_lost_equals_friction_work(
     kane_levinson: cs.Body, model: cs.SlidingModel
 ) -> None:
     """E(0) - E(t) = W(t), the integrated friction work, to the solver's accuracy."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=LITERATURE_TILT)
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=LITERATURE_EULER_ANGLES)
     run = cs.simulate(model, kane_levinson, state, 4.0, rtol=1e-9)
     assert run.ok, run.message
     ds = run.dataset
@@ -54,7 +54,7 @@ def test_unit_vertical_and_horizontal_slip_are_held(
     kane_levinson: cs.Body, model: cs.Model
 ) -> None:
     """|n| = 1 and V1 · n = 0 are first integrals of the equations; they stay to tolerance."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=LITERATURE_TILT)
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=LITERATURE_EULER_ANGLES)
     run = cs.simulate(model, kane_levinson, state, 4.0, rtol=1e-10)
     ds = run.dataset
     n = ds["n"].values
@@ -65,7 +65,7 @@ def test_unit_vertical_and_horizontal_slip_are_held(
 
 def test_attitude_quaternion_agrees_with_vertical(kane_levinson: cs.Body) -> None:
     """n(t) from the Poisson equation equals R(q(t))^T e_z from the quaternion."""
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(3.0, -2.0))
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(3.0, -2.0))
     run = cs.simulate(cs.SlidingModel(), kane_levinson, state, 3.0)
     q = run.dataset["quaternion"].values
     w, x, y, z = q.T
@@ -84,7 +84,7 @@ def _mirror_body(body: cs.Body) -> cs.Body:
 @pytest.mark.parametrize("model", [cs.RollingModel(), SLIDING_CASES[0], SLIDING_CASES[1]], ids=str)
 def test_mirrored_body_spins_the_mirrored_way(kane_levinson: cs.Body, model: cs.Model) -> None:
     """Reflect in the plane x2 = 0: D -> -D, mirrored start; the spin changes sign exactly."""
-    state = cs.InitialState(omega=(0.3, -0.2, -5.0), tilt=(0.7, 0.4))
+    state = cs.InitialState(omega=(0.3, -0.2, -5.0), euler_angles=(0.7, 0.4))
     original = cs.simulate(model, kane_levinson, state, 6.0)
     mirrored = cs.simulate(model, _mirror_body(kane_levinson), state.mirrored(), 6.0)
     spin, spin_m = original.dataset["spin"].values, mirrored.dataset["spin"].values
@@ -99,7 +99,7 @@ def test_aligned_axes_prefer_no_direction(kane_levinson: cs.Body, model: cs.Mode
     """With D = 0 the +w and -w starts with mirrored tilt are exact mirror images."""
     inertia = np.diag(np.diag(np.array(kane_levinson.inertia)))
     aligned = dataclasses.replace(kane_levinson, inertia=inertia.tolist())
-    plus = cs.InitialState(omega=(0.0, 0.0, 5.0), tilt=(0.5, 0.5))
+    plus = cs.InitialState(omega=(0.0, 0.0, 5.0), euler_angles=(0.5, 0.5))
     minus = plus.mirrored()
     assert minus.omega == (-0.0, 0.0, -5.0)
     run_plus = cs.simulate(model, aligned, plus, 8.0)
@@ -121,7 +121,7 @@ def test_frictionless_sliding_conserves_energy_and_vertical_momentum(
     """f = 0: only vertical forces act, so E, the vertical angular momentum about G and
     the horizontal momentum are constant."""
     model = cs.SlidingModel(friction_coefficient=0.0)
-    state = cs.InitialState(omega=(0.4, -0.3, -5.0), tilt=(2.0, 1.0))
+    state = cs.InitialState(omega=(0.4, -0.3, -5.0), euler_angles=(2.0, 1.0))
     run = cs.simulate(model, kane_levinson, state, 5.0)
     assert run.ok
     ds = run.dataset

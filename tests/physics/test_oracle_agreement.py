@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 from tests.oracle import rattleback as oracle
 
 # The oracle's sliding runs are slow (plain Radau with a NumPy right-hand side through the
@@ -14,11 +14,11 @@ from tests.oracle import rattleback as oracle
 CASES = [
     ("rolling", {}, 3.0),
     ("rolling", {"damping": 1e-4}, 3.0),
-    ("sliding", {"friction_coefficient": 0.35, "normal_force": "static"}, 0.15),
-    ("sliding", {"friction_coefficient": 0.25, "normal_force": "dynamic"}, 0.15),
+    ("sliding", {"friction_coefficient": 0.35, "friction_load": "static"}, 0.15),
+    ("sliding", {"friction_coefficient": 0.25, "friction_load": "dynamic"}, 0.15),
     pytest.param(
         "sliding",
-        {"friction_coefficient": 0.35, "normal_force": "static"},
+        {"friction_coefficient": 0.35, "friction_load": "static"},
         2.0,
         marks=pytest.mark.slow,
     ),
@@ -32,14 +32,14 @@ def test_engine_agrees_with_oracle(
 ) -> None:
     """Spin, vertical, slip and energy agree to far below their scales at rtol 1e-10."""
     model = cs.model_from_name(model_name, **settings)
-    state = cs.InitialState((0.0, 0.0, spin), LITERATURE_TILT)
+    state = cs.InitialState((0.0, 0.0, spin), LITERATURE_EULER_ANGLES)
     times = np.linspace(0.0, t_end, 51)
     run = cs.simulate(model, kane_levinson, state, t_end, sample_times=times, rtol=1e-10)
     reference_body = oracle.kane_levinson_body()
-    y0 = oracle.initial_state(*LITERATURE_TILT, (0.0, 0.0, spin), model_name)
+    y0 = oracle.initial_state(*LITERATURE_EULER_ANGLES, (0.0, 0.0, spin), model_name)
     params = {
         key: settings[key]
-        for key in ("damping", "friction_coefficient", "normal_force")
+        for key in ("damping", "friction_coefficient", "friction_load")
         if key in settings
     }
     if model_name == "sliding":

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from tests.conftest import LITERATURE_TILT
+from tests.conftest import LITERATURE_EULER_ANGLES
 
 
 def characteristic_roots(body: cs.Body, spin: float) -> np.ndarray:
@@ -47,10 +47,16 @@ def test_kane_levinson_negative_spin_reverses_first(kane_levinson: cs.Body) -> N
     within a few seconds, while the +5 start keeps its sense at least four times longer
     (the preferred sense of this body)."""
     negative = cs.simulate(
-        cs.RollingModel(), kane_levinson, cs.InitialState((0.0, 0.0, -5.0), LITERATURE_TILT), 20.0
+        cs.RollingModel(),
+        kane_levinson,
+        cs.InitialState((0.0, 0.0, -5.0), LITERATURE_EULER_ANGLES),
+        20.0,
     )
     positive = cs.simulate(
-        cs.RollingModel(), kane_levinson, cs.InitialState((0.0, 0.0, 5.0), LITERATURE_TILT), 20.0
+        cs.RollingModel(),
+        kane_levinson,
+        cs.InitialState((0.0, 0.0, 5.0), LITERATURE_EULER_ANGLES),
+        20.0,
     )
     assert negative.dataset["spin"].values[0] < 0 < positive.dataset["spin"].values[0]
     assert negative.first_sign_change_time is not None

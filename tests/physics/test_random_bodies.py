@@ -64,7 +64,7 @@ models = st.one_of(
         cs.SlidingModel,
         friction_coefficient=st.floats(0.0, 2.0),
         contact_radius=st.floats(1e-5, 5e-3),
-        normal_force=st.sampled_from(["static", "dynamic"]),
+        friction_load=st.sampled_from(["static", "dynamic"]),
         friction_law=st.sampled_from(["pade", "exact"]),
     ),
 )
@@ -74,7 +74,7 @@ models = st.one_of(
     body=bodies(),
     model=models,
     omega=st.tuples(spins, spins, spins),
-    tilt=st.tuples(tilts, tilts),
+    euler_angles=st.tuples(tilts, tilts),
 )
 @example(  # mass 1e300 with the rolling model ended as friction_singular with NaN before
     body=cs.Body(
@@ -85,15 +85,15 @@ models = st.one_of(
     ),
     model=cs.RollingModel(),
     omega=(0.0, 0.0, -5.0),
-    tilt=(0.5, 0.5),
+    euler_angles=(0.5, 0.5),
 )
 def test_any_input_ends_cleanly(
     body: cs.Body,
     model: cs.Model,
     omega: tuple[float, float, float],
-    tilt: tuple[float, float],
+    euler_angles: tuple[float, float],
 ) -> None:
-    state = cs.InitialState(omega, tilt)
+    state = cs.InitialState(omega, euler_angles)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cs.PlausibilityWarning)
         try:

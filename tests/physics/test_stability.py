@@ -151,11 +151,11 @@ def test_growth_rate_of_nonlinear_runs(
 ) -> None:
     """A run from a 1e-7° tilt: the peaks of the tilt grow as exp(σ t) and n1 (pitch) or n2
     (roll) crosses zero at 2ω/2π per second, with σ + iω the growing eigenvalue."""
-    initial_tilt = (1e-7, 1e-7)  # deg
+    euler_angles = (1e-7, 1e-7)  # deg
     run = cs.simulate(
         cs.RollingModel(),
         any_body,
-        cs.InitialState((0.0, 0.0, spin), initial_tilt),
+        cs.InitialState((0.0, 0.0, spin), euler_angles),
         duration,
         n_samples=round(2000 * duration) + 1,
     )

@@ -31,8 +31,8 @@ from tests.test_cli import Result
 
 B = 8.0 / (3.0 * math.pi)  # paper eq. (12)
 A = 15.0 * math.pi / 16.0
-KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))  # references.md
-ROCKING_START = cs.InitialState(omega=(0.0, 0.0, 0.0), tilt=(1.0, 0.3))  # no spin, no slip
+KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))  # references.md
+ROCKING_START = cs.InitialState(omega=(0.0, 0.0, 0.0), euler_angles=(1.0, 0.3))  # no spin, no slip
 
 
 # ------------------------------------------------------------------ the limit set (5)
@@ -129,7 +129,7 @@ def test_capture_impulse_obeys_carnots_theorem(kane_levinson: cs.Body) -> None:
     """A plastic impact loses the kinetic energy of the lost velocities (Carnot):
     E - E' = ½ m |Δv_G|² + ½ Δω · A Δω, and leaves V1 = 0, ω · n = 0."""
     params = kernel_parameters(cs.HybridModel(), kane_levinson)
-    y = initial_vector(cs.InitialState(omega=(0.3, -0.2, 0.1), tilt=(3.0, -2.0)))
+    y = initial_vector(cs.InitialState(omega=(0.3, -0.2, 0.1), euler_angles=(3.0, -2.0)))
     n = y[0:3]
     slip = np.cross(n, [1e-3, 2e-3, 0.0])  # horizontal, V1 · n = 0
     y[6:9] = slip
@@ -210,7 +210,7 @@ def test_stick_of_a_body_without_product_of_inertia_is_rolling(kane_levinson: cs
     """D = 0, tilted about body axis 1 only: rolling keeps ω · n = 0 by itself (M = 0)."""
     inertia = np.diag(np.diag(np.array(kane_levinson.inertia)))
     aligned = dataclasses.replace(kane_levinson, inertia=inertia.tolist())
-    state = cs.InitialState(omega=(0.0, 0.0, 0.0), tilt=(2.0, 0.0))
+    state = cs.InitialState(omega=(0.0, 0.0, 0.0), euler_angles=(2.0, 0.0))
     stick = cs.simulate(cs.HybridModel(friction_coefficient=1.0), aligned, state, 1.0)
     rolling = cs.simulate(cs.RollingModel(), aligned, state, 1.0)
     assert stick.summary()["stick_phases"] == 1
@@ -364,7 +364,7 @@ def test_cli_reports_the_phases_in_json_and_netcdf(tmp_path) -> None:
             "1",
             "--omega",
             "0,0,0",
-            "--tilt",
+            "--euler-angles",
             "1,0.3",
             "--t-end",
             "0.5",

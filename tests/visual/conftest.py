@@ -6,14 +6,14 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from tests.conftest import BODY_NAMES, LITERATURE_TILT
+from tests.conftest import BODY_NAMES, LITERATURE_EULER_ANGLES
 
 W3 = -5.0  # rad/s, the paper's Figure 2 spin
 
 
 def simulate_run(model: object, body_name: str, t_end: float) -> xr.Dataset:
     """Dataset of a finished run of ``body_name`` from the literature's initial state."""
-    state = cs.InitialState(omega=(0.0, 0.0, W3), tilt=LITERATURE_TILT)
+    state = cs.InitialState(omega=(0.0, 0.0, W3), euler_angles=LITERATURE_EULER_ANGLES)
     body = cs.load_body(body_name)
     return cs.simulate(model, body, state, t_end).raise_for_status().dataset  # type: ignore[arg-type]
 

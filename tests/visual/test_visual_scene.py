@@ -28,6 +28,27 @@ def _space(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     return scene.rotation_matrices(ds["quaternion"].values), scene.centre_positions(ds)
 
 
+def _surface_residual(geometry: scene.BodyGeometry, points: np.ndarray) -> np.ndarray:
+    """The shape's implicit equation at body points (relative to G, body axes) [m]: zero on
+    the surface. Ellipsoid c (sqrt(x²/a² + y²/b² + (z-h)²/c²) - 1); paraboloid
+    x²/(2ρ1) + y²/(2ρ2) - (z + l)."""
+    points = np.atleast_2d(points)
+    p0, p1, p2, p3 = geometry.parameters
+    x, y, z = points[:, 0], points[:, 1], points[:, 2]
+    if geometry.kind == "ellipsoid":
+        return p2 * (np.sqrt((x / p0) ** 2 + (y / p1) ** 2 + ((z - p3) / p2) ** 2) - 1.0)
+    assert geometry.kind == "paraboloid"
+    return 0.5 * x * x / p0 + 0.5 * y * y / p1 - (z + p2)
+
+
+def _paraboloid_contacts(parameters: tuple[float, ...], n: np.ndarray) -> np.ndarray:
+    """The cap's point whose outward normal is -n, relative to G [m] (the surface gradient
+    ∝ (x/ρ1, y/ρ2, -1) set parallel to -n)."""
+    rho1, rho2, height, _ = parameters
+    x, y = -rho1 * n[:, 0] / n[:, 2], -rho2 * n[:, 1] / n[:, 2]
+    return np.stack([x, y, 0.5 * x * x / rho1 + 0.5 * y * y / rho2 - height], axis=1)
+
+
 def _volume(mesh: scene.Mesh) -> float:
     corners = mesh.vertices[mesh.triangles]
     return float(
@@ -62,7 +83,7 @@ def test_mesh_is_closed_outward_and_fills_the_body(rolling_run: xr.Dataset) -> N
     # vertices on the surface (or on the paraboloid's flat lid); inscribed in a convex
     # body, so the enclosed volume is below the exact one
     scale = geometry.parameters[2]
-    on_surface = np.abs(scene.surface_residual(geometry, mesh.vertices)) < 1e-14 * scale
+    on_surface = np.abs(_surface_residual(geometry, mesh.vertices)) < 1e-14 * scale
     on_lid = np.isclose(mesh.vertices[:, 2], geometry.cap_height - scale, rtol=0, atol=1e-15)
     assert np.all(on_surface | (on_lid if geometry.kind == "paraboloid" else False))
     volume, exact = _volume(mesh), _exact_volume(geometry)
@@ -99,13 +120,13 @@ def _check_contact_on_surface(ds: xr.Dataset) -> None:
     rotations, centres = _space(ds)
     contact_space = np.column_stack([ds["contact_position"].values, np.zeros(ds.sizes["time"])])
     body_points = np.einsum("fji,fj->fi", rotations, contact_space - centres)  # Rᵀ (A - G)
-    assert np.max(np.abs(scene.surface_residual(geometry, body_points))) < GEOMETRIC_TOLERANCE
+    assert np.max(np.abs(_surface_residual(geometry, body_points))) < GEOMETRIC_TOLERANCE
     # outward normal = gradient of the implicit function; must be -Rᵀ e_z
     step = 1e-7
     gradient = np.stack(
         [
-            scene.surface_residual(geometry, body_points + step * e)
-            - scene.surface_residual(geometry, body_points - step * e)
+            _surface_residual(geometry, body_points + step * e)
+            - _surface_residual(geometry, body_points - step * e)
             for e in np.eye(3)
         ],
         axis=1,
@@ -163,7 +184,7 @@ def test_paraboloid_cap_holds_every_contact(rolling_runs: dict[str, xr.Dataset])
     rolling_run = rolling_runs["kane_levinson_1982_paraboloid"]
     geometry = scene.body_geometry(rolling_run)
     assert geometry.kind == "paraboloid"
-    contacts = scene.contact_point_body(geometry.kind, geometry.parameters, rolling_run["n"].values)
+    contacts = _paraboloid_contacts(geometry.parameters, rolling_run["n"].values)
     assert np.max(contacts[:, 2] + geometry.parameters[2]) < geometry.cap_height
 
 
@@ -191,7 +212,7 @@ def _superellipsoid_run() -> xr.Dataset:
     a, b, c = body.shape.semi_axes
     shape = cs.Superellipsoid((a, b, c), body.shape.com_offset, 2.0)
     body = dataclasses.replace(body, shape=shape)
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
     return cs.simulate(cs.RollingModel(), body, state, 1.0).raise_for_status().dataset
 
 
@@ -202,7 +223,7 @@ def _egg_run() -> xr.Dataset:
     body = dataclasses.replace(
         cs.load_body("kane_levinson_1982"), shape=cs.ImplicitPolynomial(terms=terms, com_offset=h)
     )
-    state = cs.InitialState(omega=(0.0, 0.0, -5.0), tilt=(0.5, 0.5))
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
     return cs.simulate(cs.RollingModel(), body, state, 1.0).raise_for_status().dataset
 
 

@@ -15,7 +15,6 @@ from typing import Any
 from celtstone.bodies.body import Body
 from celtstone.bodies.file_schema import (
     BODY_ENTRIES,
-    SHAPES,
     SOURCE_KEYS,
     TABLES,
     TOP_LEVEL,
@@ -31,7 +30,11 @@ from celtstone.bodies.file_schema import (
     closest,
     type_problem,
 )
+from celtstone.bodies.file_schema import (
+    SHAPES as SHAPE_FILES,
+)
 from celtstone.bodies.shapes import (
+    SHAPES,
     Ellipsoid,
     ImplicitFunction,
     ImplicitPolynomial,
@@ -43,6 +46,7 @@ from celtstone.bodies.shapes import (
 from celtstone.errors import ParameterError, require_choice
 
 __all__ = [
+    "SHAPES",
     "Body",
     "BodyFileError",
     "Ellipsoid",
@@ -55,6 +59,7 @@ __all__ = [
     "body_from_dict",
     "list_bodies",
     "load_body",
+    "shape_from_table",
 ]
 
 _DATA = resources.files("celtstone.bodies") / "data"
@@ -116,7 +121,7 @@ def _citation_entries(file: str, source: object) -> dict[str, str]:
 
 def _shape_file(file: str, table: Mapping[str, Any]) -> ShapeFile:
     """The declared shape kind of a ``[shape]`` table."""
-    kinds = ", ".join(SHAPES)
+    kinds = ", ".join(SHAPE_FILES)
     if "kind" not in table:
         raise BodyFileError(
             file,
@@ -126,17 +131,17 @@ def _shape_file(file: str, table: Mapping[str, Any]) -> ShapeFile:
             problem=f"[shape] has no kind (expected kind = one of: {kinds})",
         )
     kind = table["kind"]
-    if not isinstance(kind, str) or kind not in SHAPES:
-        hint = closest(kind, list(SHAPES)) if isinstance(kind, str) else "a string in quotes"
+    if not isinstance(kind, str) or kind not in SHAPE_FILES:
+        hint = closest(kind, list(SHAPE_FILES)) if isinstance(kind, str) else "a string in quotes"
         raise BodyFileError(file, "shape.kind", kind, f"one of: {kinds}", hint)
-    return SHAPES[kind]
+    return SHAPE_FILES[kind]
 
 
 def _home_of(key: str) -> str:
     """Where a key foreign to the table it is in belongs, for messages."""
     if key in {entry.key for entry in BODY_ENTRIES}:
         return f"{key} is a key of [body]"
-    kinds = [kind for kind, shape in SHAPES.items() if key in {e.key for e in shape.entries}]
+    kinds = [kind for kind, shape in SHAPE_FILES.items() if key in {e.key for e in shape.entries}]
     if kinds:
         return f"{key} is a [shape] key of kind = {' or '.join(map(repr, kinds))}"
     return ""
@@ -175,6 +180,37 @@ def _in_file(file: str, error: ParameterError, raw: Mapping[str, object]) -> Bod
     return BodyFileError(file, error.name, error.value, error.allowed, hint)
 
 
+def _shape_values(file: str, table: Mapping[str, Any]) -> tuple[ShapeFile, dict[str, object]]:
+    """The kind of a ``[shape]`` table and its entries' values, their forms checked."""
+    shape_file = _shape_file(file, table)
+    values = _read_entries(
+        file, table, shape_file.entries, f"[shape] with kind = {shape_file.kind!r}", also=("kind",)
+    )
+    return shape_file, values
+
+
+def shape_from_table(table: Mapping[str, Any], *, file: str = "the shape table") -> Shape:
+    """The shape a ``[shape]`` table declares (``kind`` and that kind's entries), validated
+    as in a body file; the inverse of ``shape.table()``.
+
+    Raises
+    ------
+    BodyFileError
+        (a ``ParameterError``) naming ``file`` and the key.
+    """
+    if not isinstance(table, Mapping):
+        raise BodyFileError(file, "shape", table, "a [shape] table")
+    shape_file, values = _shape_values(file, table)
+    try:
+        shape: Shape = shape_file.build(**{k: _frozen(v) for k, v in values.items()})
+    except ParameterError as error:
+        raise _in_file(file, error, values) from None
+    for entry in shape_file.entries:
+        if entry.key in values:
+            check_types(file, entry, values[entry.key])
+    return shape
+
+
 def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = None) -> Body:
     """Build a validated :class:`Body` from the parsed TOML structure.
 
@@ -199,14 +235,7 @@ def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = Non
         check_derivation(where, data["derivation"])
     body_table, shape_table = _table(where, data, "body"), _table(where, data, "shape")
     body_values = _read_entries(where, body_table, BODY_ENTRIES, "[body]")
-    shape_file = _shape_file(where, shape_table)
-    shape_values = _read_entries(
-        where,
-        shape_table,
-        shape_file.entries,
-        f"[shape] with kind = {shape_file.kind!r}",
-        also=("kind",),
-    )
+    shape_file, shape_values = _shape_values(where, shape_table)
     raw = {**body_values, **shape_values}
     try:
         shape = shape_file.build(**{k: _frozen(v) for k, v in shape_values.items()})

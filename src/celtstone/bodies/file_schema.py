@@ -25,13 +25,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from celtstone import schema
-from celtstone.bodies.polynomial import ImplicitPolynomial
-from celtstone.bodies.shapes import (
-    MAX_SUPERELLIPSOID_EXPONENT,
-    Ellipsoid,
-    Paraboloid,
-    Superellipsoid,
-)
+from celtstone.bodies.declaration import INTEGER, Entry
+from celtstone.bodies.shapes import SHAPES as SHAPE_CLASSES
 from celtstone.errors import BodyFileError, did_you_mean
 
 __all__ = [
@@ -43,50 +38,6 @@ __all__ = [
     "Entry",
     "ShapeFile",
 ]
-
-NUMBER = "number"  # a TOML integer or float (not a boolean, not a string)
-INTEGER = "integer"  # a TOML integer
-
-
-@dataclass(frozen=True)
-class Entry:
-    """One key of ``[body]`` or ``[shape]``: its form, its quantity and whether it is required.
-
-    Parameters
-    ----------
-    key : the key as written in the file, and the keyword of the object it builds
-    quantity : its unit, symbol, meaning and range (the ``schema.PARAMETERS`` entry)
-    shape : () a number; (3,) three numbers; (3, 3) three rows of three; None in
-        place of a length: any number of rows (the object bounds them)
-    columns : forms of the entries of each row (``terms``: a number and three integers);
-        empty: every entry is a number
-    layout : how a row of a list of any length is written, for messages (``"[c, i, j, k]"``)
-    required : whether the key must be given (else the object's default applies)
-    """
-
-    key: str
-    quantity: schema.Quantity
-    shape: tuple[int | None, ...] = ()
-    columns: tuple[str, ...] = ()
-    layout: str = ""
-    required: bool = True
-
-    def form(self) -> str:
-        """The expected form in words, e.g. ``"3 numbers a, b, c [m]"``."""
-        quantity = self.quantity
-        unit = f" [{quantity.unit}]" if quantity.unit else ""
-        if not self.shape:
-            return f"{quantity.allowed}{unit}"
-        if len(self.shape) == 1:
-            return f"{self.shape[0]} numbers {quantity.symbol}{unit}"
-        rows, width = self.shape
-        if rows is None:
-            return f"a list of rows {self.layout}{unit}"
-        return f"a {rows}x{width} array of numbers {quantity.symbol}{unit}"
-
-    def describe(self) -> str:
-        """``key``: meaning, unit and form, for messages and documentation."""
-        return f"{self.key} ({self.quantity.description}): {self.form()}"
 
 
 @dataclass(frozen=True)
@@ -101,18 +52,6 @@ class ShapeFile:
 
 
 _Q = schema.PARAMETERS
-# shape quantities that schema does not list: their ranges are checked by the shape class
-_EXPONENT = schema.Quantity(
-    "exponent",
-    "p",
-    "1",
-    "superellipsoid exponent",
-    lower=2.0,
-    upper=MAX_SUPERELLIPSOID_EXPONENT,
-)
-_TERMS = schema.Quantity("terms", "c, i, j, k", "", "implicit polynomial terms, c in m^-(i+j+k)")
-SEMI_AXES = Entry("semi_axes", _Q["semi_axes"], (3,))
-COM_OFFSET = Entry("com_offset", _Q["com_offset"])
 
 BODY_ENTRIES: tuple[Entry, ...] = (
     Entry("mass", _Q["mass"]),
@@ -120,46 +59,11 @@ BODY_ENTRIES: tuple[Entry, ...] = (
     Entry("gravity", _Q["gravity"], required=False),  # default: Body's 9.81 m/s^2
 )
 
+# the shapes a body file may declare: every stored shape of the registry
 SHAPES: dict[str, ShapeFile] = {
-    s.kind: s
-    for s in (
-        ShapeFile(
-            Ellipsoid.kind,
-            Ellipsoid,
-            (SEMI_AXES, COM_OFFSET),
-            "x^2/a^2 + y^2/b^2 + z^2/c^2 = 1, G h below the centre",
-        ),
-        ShapeFile(
-            Paraboloid.kind,
-            Paraboloid,
-            (
-                Entry("radii_of_curvature", _Q["radii_of_curvature"], (2,)),
-                Entry("com_height", _Q["com_height"]),
-            ),
-            "z = x^2/(2 rho1) + y^2/(2 rho2), G l above the rest contact",
-        ),
-        ShapeFile(
-            Superellipsoid.kind,
-            Superellipsoid,
-            (SEMI_AXES, COM_OFFSET, Entry("exponent", _EXPONENT)),
-            "|x/a|^p + |y/b|^p + |z/c|^p = 1, G h below the centre",
-        ),
-        ShapeFile(
-            ImplicitPolynomial.kind,
-            ImplicitPolynomial,
-            (
-                Entry(
-                    "terms",
-                    _TERMS,
-                    (None, 4),
-                    (NUMBER, INTEGER, INTEGER, INTEGER),
-                    "[c, i, j, k]: coefficient c and whole exponents i, j, k",
-                ),
-                COM_OFFSET,
-            ),
-            "sum of c x^i y^j z^k = 1 about O, G = (0, 0, -h)",
-        ),
-    )
+    kind: ShapeFile(kind, cls, cls.entries, cls.surface)
+    for kind, cls in SHAPE_CLASSES.items()
+    if cls.stored
 }
 
 # Bibliographic keys of [source] (BibTeX's names, plus where in the source the numbers are)

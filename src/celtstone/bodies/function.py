@@ -12,7 +12,7 @@ from __future__ import annotations
 import inspect
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Self
 
 import numpy as np
 
@@ -71,6 +71,9 @@ class ImplicitFunction(ImplicitSurface):
     _values: Any = field(init=False, repr=False, compare=False)
 
     kind = "implicit_function"
+    surface = "F(x) = 1 about O for a Python function F, G = (0, 0, -h)"
+    entries = ()  # not in body files: the functions are Python
+    stored = False
     parameter = "value"
 
     def __post_init__(self) -> None:
@@ -140,6 +143,21 @@ class ImplicitFunction(ImplicitSurface):
                     x,
                 )
 
+    @classmethod
+    def example(cls) -> Self:
+        """Kane & Levinson's ellipsoid as a Python function."""
+        return cls(_example_value, _example_gradient, 0.01, name="kane_levinson_ellipsoid")
+
+    def attributes(self) -> dict[str, str | float]:
+        """Kind, recorded numbers, the functions' name and source text (not enough to
+        rebuild the shape) and h [m]."""
+        return {
+            **super().attributes(),
+            "body_shape_function": self.name,
+            "body_shape_function_source": self.source_text(),
+            "body_shape_com_offset": self.com_offset,
+        }
+
     def source_text(self) -> str:
         """The functions' source, for the run's attributes (not enough to rerun it)."""
         parts = []
@@ -151,6 +169,16 @@ class ImplicitFunction(ImplicitSurface):
             except (OSError, TypeError):
                 parts.append(f"# {getattr(function, '__qualname__', function)}: no source")
         return "\n".join(parts)
+
+
+def _example_value(x: np.ndarray) -> float:
+    """F of Kane & Levinson's ellipsoid, semi-axes 0.2, 0.03, 0.02 m about O [1]."""
+    return float((x[0] / 0.20) ** 2 + (x[1] / 0.03) ** 2 + (x[2] / 0.02) ** 2)
+
+
+def _example_gradient(x: np.ndarray) -> np.ndarray:
+    """∇F of :func:`_example_value` [1/m]."""
+    return np.array([2.0 * x[0] / 0.20**2, 2.0 * x[1] / 0.03**2, 2.0 * x[2] / 0.02**2])
 
 
 def _refuse_unless_close(

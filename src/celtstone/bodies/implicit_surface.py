@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from celtstone.bodies.declaration import DeclaredShape
 from celtstone.errors import ParameterError
 from celtstone.kernels import implicit
 from celtstone.kernels.layout import ShapeCode, parameter_record
@@ -63,7 +64,7 @@ def ray_points(
     return centre + (0.5 * (low + high))[:, None] * directions
 
 
-class ImplicitSurface:
+class ImplicitSurface(DeclaredShape):
     """Body {F(x) <= 1}, x about the origin O [m], G = (0, 0, -h) inside.
 
     Subclasses are frozen dataclasses with the fields ``com_offset``, ``start_centre``
@@ -178,6 +179,11 @@ class ImplicitSurface:
                 "a lowest point (n = e3) on body axis 3",
                 f"it is at x = {x[0]:.3g} m, y = {x[1]:.3g} m: the stone does not rest upright",
             )
+
+    @property
+    def bounding_radius(self) -> float:
+        """The start box's size plus |h| [m], a bound of the distance from G to the surface."""
+        return self.size + abs(self.com_offset)
 
     @property
     def rest_height(self) -> float:

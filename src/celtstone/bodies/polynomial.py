@@ -11,10 +11,12 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Self
 
 import numpy as np
 
+from celtstone import schema
+from celtstone.bodies.declaration import INTEGER, NUMBER, Entry, SweepName
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import MAX_TERMS
@@ -24,6 +26,7 @@ __all__ = ["ImplicitPolynomial"]
 MAX_EXPONENT = 16  # per variable; enough for superellipsoids up to p = 16
 
 Term = tuple[float, int, int, int]
+_TERMS = schema.Quantity("terms", "c, i, j, k", "", "implicit polynomial terms, c in m^-(i+j+k)")
 
 
 def _term(entry: object) -> Term:
@@ -81,6 +84,18 @@ class ImplicitPolynomial(ImplicitSurface):
     start_semi_axes: tuple[float, float, float] = field(init=False, repr=False, compare=False)
 
     kind = "implicit_polynomial"
+    surface = "sum of c x^i y^j z^k = 1 about O, G = (0, 0, -h)"
+    entries = (
+        Entry(
+            "terms",
+            _TERMS,
+            (None, 4),
+            (NUMBER, INTEGER, INTEGER, INTEGER),
+            "[c, i, j, k]: coefficient c and whole exponents i, j, k",
+        ),
+        Entry("com_offset", schema.PARAMETERS["com_offset"]),
+    )
+    sweep_names = (SweepName("com_offset", "com_offset", "G below the origin h"),)
 
     def __post_init__(self) -> None:
         try:
@@ -95,6 +110,12 @@ class ImplicitPolynomial(ImplicitSurface):
         if degree < 2:
             raise ParameterError("terms", self.terms, "a polynomial of degree >= 2")
         self._validate()
+
+    @classmethod
+    def example(cls) -> Self:
+        """Kane & Levinson's ellipsoid as the polynomial x²/a² + y²/b² + z²/c²."""
+        a, b, c, h = 0.20, 0.03, 0.02, 0.01
+        return cls(((1 / a**2, 2, 0, 0), (1 / b**2, 0, 2, 0), (1 / c**2, 0, 0, 2)), h)
 
     def _evaluate(self, points: np.ndarray) -> np.ndarray:
         return evaluate(self.terms, points)

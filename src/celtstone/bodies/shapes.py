@@ -1,17 +1,20 @@
-"""Convex surfaces a body can have, as plain numbers.
+"""Convex surfaces a body can have, and the registry :data:`SHAPES` of them.
 
-Each shape knows its kernel code, the fields of the kernel parameter record it
-fills (``kernel_fields``, see ``celtstone.kernels.layout``), the four numbers a run
-records of it (``kernel_parameters``) and the geometry of its rest contact point.
+Each shape declares once (``bodies.declaration``) its kind, kernel code, body-file
+entries with units, sweepable numbers, drawing and provenance; the body-file loader,
+sweeps, run attributes and the viewer read :data:`SHAPES`. Adding a shape: a class
+here, its ``ShapeCode`` and record fields (``kernels/layout.py``) and its branches in
+``kernels/geometry.py`` and ``kernels/hertz.py`` (``docs/architecture.md``).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Self
 
 from celtstone import schema
+from celtstone.bodies.declaration import DeclaredShape, Entry, SweepName
 from celtstone.bodies.function import ImplicitFunction
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.bodies.polynomial import ImplicitPolynomial
@@ -19,6 +22,7 @@ from celtstone.errors import ParameterError
 from celtstone.kernels.layout import ShapeCode
 
 __all__ = [
+    "SHAPES",
     "Ellipsoid",
     "ImplicitFunction",
     "ImplicitPolynomial",
@@ -28,15 +32,26 @@ __all__ = [
     "Superellipsoid",
 ]
 
+_Q = schema.PARAMETERS
+_SEMI_AXES = Entry("semi_axes", _Q["semi_axes"], (3,))
+_COM_OFFSET = Entry("com_offset", _Q["com_offset"])
+_ABOUT_CENTRE_SWEEP = (
+    SweepName("semi_axis_a", "semi_axes", "semi-axis a along body axis 1", 0),
+    SweepName("semi_axis_b", "semi_axes", "semi-axis b along body axis 2", 1),
+    SweepName("semi_axis_c", "semi_axes", "semi-axis c along body axis 3", 2),
+    SweepName("com_offset", "com_offset", "G below the centre h"),
+)
+# the Kane & Levinson ellipsoid (references.md): semi-axes [m], G below the centre [m]
+_KL_SEMI_AXES = (0.20, 0.03, 0.02)
+_KL_COM_OFFSET = 0.01
 
-class _AboutCentre:
+
+class _AboutCentre(DeclaredShape):
     """Kernel parameters and rest height of a shape given by semi-axes and the offset h of
     G below its centre O (ellipsoid, superellipsoid)."""
 
     semi_axes: tuple[float, float, float]
     com_offset: float
-
-    code: ShapeCode
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
         """(a, b, c, h) [m], the shape numbers a run records (``body_shape_parameters``)."""
@@ -51,6 +66,18 @@ class _AboutCentre:
     def rest_height(self) -> float:
         """Height l of G above the contact point at rest, c - h [m]."""
         return self.semi_axes[2] - self.com_offset
+
+    @property
+    def bounding_radius(self) -> float:
+        """max(a, b, c) + |h| [m], a bound of the distance from G to the surface."""
+        return max(self.semi_axes) + abs(self.com_offset)
+
+    @property
+    def volume(self) -> float:
+        """8 a b c Γ(1 + 1/p)³ / Γ(1 + 3/p) [m³] (4/3 π a b c for p = 2)."""
+        a, b, c = self.semi_axes
+        p = getattr(self, "exponent", 2.0)
+        return 8.0 * a * b * c * math.gamma(1.0 + 1.0 / p) ** 3 / math.gamma(1.0 + 3.0 / p)
 
 
 @dataclass(frozen=True)
@@ -68,6 +95,10 @@ class Ellipsoid(_AboutCentre):
     com_offset: float
 
     kind = "ellipsoid"
+    code = ShapeCode.ELLIPSOID
+    surface = "x^2/a^2 + y^2/b^2 + z^2/c^2 = 1, G h below the centre"
+    entries = (_SEMI_AXES, _COM_OFFSET)
+    sweep_names = _ABOUT_CENTRE_SWEEP
 
     def __post_init__(self) -> None:
         if len(self.semi_axes) != 3:
@@ -84,7 +115,10 @@ class Ellipsoid(_AboutCentre):
             raise ParameterError("com_offset", self.com_offset, allowed, "G inside the body")
         object.__setattr__(self, "com_offset", offset)
 
-    code = ShapeCode.ELLIPSOID
+    @classmethod
+    def example(cls) -> Self:
+        """Kane & Levinson's ellipsoid."""
+        return cls(_KL_SEMI_AXES, _KL_COM_OFFSET)
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
@@ -94,7 +128,7 @@ class Ellipsoid(_AboutCentre):
 
 
 @dataclass(frozen=True)
-class Paraboloid:
+class Paraboloid(DeclaredShape):
     """Paraboloid cap z = x²/(2ρ1) + y²/(2ρ2) about the rest contact point.
 
     Parameters
@@ -113,6 +147,18 @@ class Paraboloid:
     com_height: float
 
     kind = "paraboloid"
+    code = ShapeCode.PARABOLOID
+    surface = "z = x^2/(2 rho1) + y^2/(2 rho2), G l above the rest contact"
+    entries = (
+        Entry("radii_of_curvature", _Q["radii_of_curvature"], (2,)),
+        Entry("com_height", _Q["com_height"]),
+    )
+    sweep_names = (
+        SweepName("radius_of_curvature_1", "radii_of_curvature", "rho1 along body axis 1", 0),
+        SweepName("radius_of_curvature_2", "radii_of_curvature", "rho2 along body axis 2", 1),
+        SweepName("com_height", "com_height", "G above the rest contact l"),
+    )
+    closed = False  # an unbounded cap: visual.scene draws it up to the run's contacts
 
     def __post_init__(self) -> None:
         if len(self.radii_of_curvature) != 2:
@@ -123,7 +169,11 @@ class Paraboloid:
         object.__setattr__(self, "radii_of_curvature", radii)
         object.__setattr__(self, "com_height", schema.check("com_height", self.com_height))
 
-    code = ShapeCode.PARABOLOID
+    @classmethod
+    def example(cls) -> Self:
+        """The cap of Kane & Levinson's ellipsoid at its rest contact (a²/c, b²/c, c - h)."""
+        a, b, c = _KL_SEMI_AXES
+        return cls((a * a / c, b * b / c), c - _KL_COM_OFFSET)
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
         """(ρ1, ρ2, l, 0) [m], the shape numbers a run records (``body_shape_parameters``)."""
@@ -145,6 +195,9 @@ class Paraboloid:
 
 
 MAX_SUPERELLIPSOID_EXPONENT = 64.0  # beyond, |w|^(1/(p-1)) is a box to rounding
+_EXPONENT = schema.Quantity(  # its range is checked by the class (with hints)
+    "exponent", "p", "1", "superellipsoid exponent", lower=2.0, upper=MAX_SUPERELLIPSOID_EXPONENT
+)
 
 
 @dataclass(frozen=True)
@@ -170,6 +223,13 @@ class Superellipsoid(_AboutCentre):
     exponent: float
 
     kind = "superellipsoid"
+    code = ShapeCode.SUPERELLIPSOID
+    surface = "|x/a|^p + |y/b|^p + |z/c|^p = 1, G h below the centre"
+    entries = (_SEMI_AXES, _COM_OFFSET, Entry("exponent", _EXPONENT))
+    sweep_names = (
+        *_ABOUT_CENTRE_SWEEP,
+        SweepName("exponent", "exponent", "exponent p in [2, 64]"),
+    )
 
     def __post_init__(self) -> None:
         ellipsoid = Ellipsoid(self.semi_axes, self.com_offset)  # the same checks
@@ -190,7 +250,11 @@ class Superellipsoid(_AboutCentre):
             raise ParameterError("exponent", self.exponent, allowed, hint)
         object.__setattr__(self, "exponent", exponent)
 
-    code = ShapeCode.SUPERELLIPSOID
+    @classmethod
+    def example(cls) -> Self:
+        """Kane & Levinson's ellipsoid as a superellipsoid of exponent 2 (p > 2 is flat at
+        the rest contact, where a run stops: docs/decisions.md §13)."""
+        return cls(_KL_SEMI_AXES, _KL_COM_OFFSET, 2.0)
 
     def kernel_fields(self) -> dict[str, Any]:
         """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
@@ -206,3 +270,9 @@ class Superellipsoid(_AboutCentre):
 
 
 Shape = Ellipsoid | Paraboloid | Superellipsoid | ImplicitPolynomial | ImplicitFunction
+
+SHAPES: dict[str, type[Shape]] = {
+    cls.kind: cls
+    for cls in (Ellipsoid, Paraboloid, Superellipsoid, ImplicitPolynomial, ImplicitFunction)
+}
+"""Every shape, by kind: the one list the loader, sweeps, the viewer and the tests read."""

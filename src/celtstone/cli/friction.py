@@ -10,7 +10,15 @@ from pathlib import Path
 import numpy as np
 
 from celtstone import ParameterError
-from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, check_choice, friction_functions
+from celtstone.contact import (
+    CONTACT_PRESSURES,
+    FRICTION_LAWS,
+    LAW_WORDS,
+    PRESSURE_WORDS,
+    choice_words,
+    friction_functions,
+)
+from celtstone.errors import require_choice
 from celtstone.export import atomic_path, check_target
 from celtstone.schema import PARAMETERS
 
@@ -32,10 +40,24 @@ def _ratios(text: str) -> list[float]:
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone friction``."""
-    parser.add_argument("--law", default="exact", help="exact or pade")
-    parser.add_argument("--pressure", default="hertz", help="hertz (paper eq. 2) or uniform")
+    parser.add_argument("--law", default="exact", help=choice_words(LAW_WORDS))
+    parser.add_argument("--pressure", default="hertz", help=choice_words(PRESSURE_WORDS))
     parser.add_argument(
         "--u", default="0.1,0.5,1,2", metavar="U1,U2,...", help=PARAMETERS["slip_ratio"].help()
+    )
+    parser.add_argument(
+        "--ellipse",
+        default=None,
+        metavar="A,B",
+        help="semi-axes A >= B > 0 [m] of an elliptic Hertz contact (major axis A): print "
+        "the elliptic Coulomb-Contensou law, F/(f N), its direction and M/(f N A), "
+        "u = |V| / (A |Omega_n|)",
+    )
+    parser.add_argument(
+        "--direction",
+        default=None,
+        metavar="DEG",
+        help="with --ellipse: direction of the slip V from the major axis [deg] (default: 0)",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument(
@@ -49,9 +71,16 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Print F/(fN) and M/(fN eps) at each u; draw ``--plot``."""
-    check_choice("friction_law", args.law, FRICTION_LAWS)
-    check_choice("contact_pressure", args.pressure, CONTACT_PRESSURES)
+    require_choice("friction_law", args.law, FRICTION_LAWS)
+    require_choice("contact_pressure", args.pressure, CONTACT_PRESSURES)
     ratios = _ratios(args.u)
+    if args.ellipse is not None:
+        return _handle_ellipse(args, ratios)
+    if args.direction is not None:
+        raise ParameterError(
+            "direction", args.direction, "no --direction without --ellipse",
+            "the disk's law does not depend on the slip direction",
+        )  # fmt: skip
     if args.plot is not None:
         check_target(args.plot, PLOT_FORMATS, "plot", overwrite=args.overwrite)
     force, moment = friction_functions(ratios, args.law, args.pressure)
@@ -74,6 +103,83 @@ def handle(args: argparse.Namespace) -> int:
     print(f"{'u':>12} {'F/(f N)':>14} {'M/(f N eps)':>14}")
     for u, f, m in zip(ratios, force, moment, strict=True):
         print(f"{u:12.6g} {f:14.10f} {m:14.10f}")
+    return 0
+
+
+def _semi_axes(text: str) -> tuple[float, float]:
+    allowed = "two semi-axes A,B [m] with A >= B > 0"
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        raise ParameterError("ellipse", text, allowed) from None
+    if len(values) != 2 or not (0.0 < values[1] <= values[0] < math.inf):
+        raise ParameterError("ellipse", text, allowed)
+    return values[0], values[1]
+
+
+def _degrees(text: str | None) -> float:
+    if text is None:
+        return 0.0
+    try:
+        value = float(text)
+    except ValueError:
+        raise ParameterError("direction", text, "a finite angle [deg]") from None
+    if not math.isfinite(value):
+        raise ParameterError("direction", text, "a finite angle [deg]")
+    return value
+
+
+def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
+    """``--ellipse A,B``: |F|/(fN), its direction [deg] and M/(fNA) at each u (exact law)."""
+    from celtstone.contact.ellipse import elliptic_friction_functions
+
+    semi_major, semi_minor = _semi_axes(args.ellipse)
+    if args.law != "exact":
+        raise ParameterError(
+            "friction_law", args.law, "exact with --ellipse",
+            "the fast form of the elliptic law is not built yet",
+        )  # fmt: skip
+    if args.pressure != "hertz":
+        raise ParameterError(
+            "contact_pressure", args.pressure, "hertz with --ellipse",
+            "the elliptic law is built for the Hertz pressure",
+        )  # fmt: skip
+    if args.plot is not None:
+        raise ParameterError(
+            "plot", args.plot, "no --plot with --ellipse", "--plot draws the disk's laws"
+        )
+    direction = _degrees(args.direction)
+    aspect = semi_minor / semi_major
+    force, force_direction, moment = [], [], []
+    for u in ratios:  # spin Ω_n > 0; M reported as it opposes the spin, as for the disk
+        vector, pivot = elliptic_friction_functions(u, math.radians(direction), aspect)
+        force.append(math.hypot(vector[0], vector[1]))
+        # within 1e-9 deg, so that rounding does not flip 0 to 360
+        force_direction.append(round(math.degrees(math.atan2(vector[1], vector[0])), 9) % 360.0)
+        moment.append(-pivot)
+    if args.json:
+        print(
+            json.dumps(
+                {
+                    "law": args.law,
+                    "pressure": args.pressure,
+                    "ellipse": [semi_major, semi_minor],
+                    "direction": direction,
+                    "u": ratios,
+                    "force": force,
+                    "force_direction": force_direction,
+                    "moment": moment,
+                }
+            )
+        )
+        return 0
+    print(
+        f"{args.law} law, {args.pressure} pressure, ellipse A = {semi_major:g} m, "
+        f"B = {semi_minor:g} m (B/A = {aspect:.6g}), slip {direction:g} deg from the major axis"
+    )
+    print(f"{'u':>12} {'F/(f N)':>14} {'F dir [deg]':>14} {'M/(f N A)':>14}")
+    for row in zip(ratios, force, force_direction, moment, strict=True):
+        print(f"{row[0]:12.6g} {row[1]:14.10f} {row[2]:14.9f} {row[3]:14.10f}")
     return 0
 
 

@@ -12,13 +12,13 @@ from contextlib import contextmanager
 from celtstone import (
     InitialState,
     ParameterError,
-    SlidingModel,
     load_body,
     model_from_name,
     simulate,
 )
 from celtstone.export import check_target, write
-from celtstone.schema import PARAMETERS, check
+from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
+from celtstone.schema import PARAMETERS, RENAMED, check, renamed
 
 HELP = "simulate one run of a body"
 MAX_PHASE_LINES = 10  # stick/slip phases listed in the text summary
@@ -51,9 +51,26 @@ def _optional_number(name: str, text: str | None) -> float | None:
     return None if text is None else _number(name)(text)
 
 
-def _sliding_default(name: str) -> str:
-    """Help text: the sliding model's default of ``name``; rolling refuses the option."""
-    return f" (default: {getattr(SlidingModel, name)}; sliding model only)"
+def _words(value: object, setting: Setting) -> str:
+    if value is None:
+        return setting.default_words
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _owners_and_default(setting: Setting) -> str:
+    """Help text: the default of ``setting`` in each kind of model that has it, and which
+    kinds those are (the others refuse the option)."""
+    defaults = {
+        kind: _words(value, setting) for kind, value in setting_defaults(setting.name).items()
+    }
+    if len(set(defaults.values())) == 1:
+        text = next(iter(defaults.values()))
+    else:
+        text = "; ".join(f"{kind} {value}" for kind, value in defaults.items())
+    if len(defaults) == len(MODEL_KINDS):
+        return f" (default: {text})"
+    owners = "sliding model" if "sliding" in defaults else "hybrid contact"
+    return f" (default: {text}; {owners} only)"
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -67,69 +84,25 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--omega", type=str, default="0,0,-5", metavar="W1,W2,W3", help=p["omega"].help()
     )
     parser.add_argument(
-        "--tilt", type=str, default="0.5,0.5", metavar="ALPHA,BETA", help=p["tilt"].help()
+        "--euler-angles",
+        type=str,
+        default="0.5,0.5",
+        metavar="ALPHA,BETA",
+        help=p["euler_angles"].help(),
     )
     parser.add_argument("--t-end", type=str, default="10", help=p["t_end"].help())
-    parser.add_argument("--damping", type=str, default="0", help=p["damping"].help())
-    parser.add_argument(
-        "--friction-coefficient",
-        type=str,
-        default=None,
-        help=p["friction_coefficient"].help() + _sliding_default("friction_coefficient"),
-    )
-    parser.add_argument(
-        "--contact-radius",
-        type=str,
-        default=None,
-        help=p["contact_radius"].help() + _sliding_default("contact_radius"),
-    )
-    parser.add_argument(
-        "--normal-force",
-        default=None,
-        help="static (N = m g, the paper's) or dynamic" + _sliding_default("normal_force"),
-    )
+    for setting in SETTINGS.values():
+        parser.add_argument(
+            _option(setting.name),
+            default=None,
+            metavar=setting.name.upper(),
+            help=setting.help() + _owners_and_default(setting),
+        )
     parser.add_argument(
         "--contact",
         default=None,
         help="contact of the sliding model: sliding (always slides, default) or hybrid "
         "(stick-slip: rolls without slip and pivoting while friction can hold it)",
-    )
-    parser.add_argument(
-        "--regularisation-speed",
-        type=str,
-        default=None,
-        help=p["regularisation_speed"].help()
-        + " (default: 1e-6, hybrid contact 1e-12; sliding model only)",
-    )
-    parser.add_argument(
-        "--capture-speed",
-        type=str,
-        default=None,
-        help=p["capture_speed"].help() + " (default: 100 atol; hybrid contact only)",
-    )
-    parser.add_argument(
-        "--friction-law",
-        default=None,
-        help="pade (Zhuravlev, paper eq. 10) or exact (Coulomb-Contensou integrals)"
-        + _sliding_default("friction_law"),
-    )
-    parser.add_argument(
-        "--contact-pressure",
-        default=None,
-        help="hertz (paper eq. 2) or uniform" + _sliding_default("contact_pressure"),
-    )
-    parser.add_argument(
-        "--elastic-modulus",
-        type=str,
-        default=None,
-        help=p["elastic_modulus"].help()
-        + "; with --poisson-ratio, replaces --contact-radius (sliding model only)",
-    )
-    parser.add_argument(
-        "--poisson-ratio",
-        type=str,
-        default=None,
-        help=p["poisson_ratio"].help() + " (sliding model only)",
     )
     parser.add_argument("--method", default=None, help="dop853 or radau5 (default by model)")
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
@@ -145,6 +118,21 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--overwrite", action="store_true", help="replace the --out file if it exists"
     )
+    _add_renamed(parser)
+
+
+def _option(name: str) -> str:
+    """The option of the name ``name``: ``--friction-load`` for ``friction_load``."""
+    return "--" + name.replace("_", "-")
+
+
+def _add_renamed(parser: argparse.ArgumentParser) -> None:
+    """A hidden option for each old name (``schema.RENAMED``) of an option of ``parser``:
+    given, it is refused with its new name (:func:`handle`), not reported as unknown."""
+    options = {option for action in parser._actions for option in action.option_strings}
+    for old, new in RENAMED.items():
+        if _option(new) in options:
+            parser.add_argument(_option(old), dest=f"renamed_{old}", help=argparse.SUPPRESS)
 
 
 @contextmanager
@@ -167,21 +155,15 @@ def _progress_bar(t_end: float, enabled: bool) -> Iterator[Callable[[float], Non
 
 def handle(args: argparse.Namespace) -> int:
     """Run, print the summary, write ``--out``; exit 3 if the run stopped early."""
+    for old in RENAMED:
+        if getattr(args, f"renamed_{old}", None) is not None:
+            raise renamed(old, getattr(args, f"renamed_{old}"), spell=_option)
     omega = _numbers("omega", 3)(args.omega)
-    tilt = _numbers("tilt", 2)(args.tilt)
-    settings = {
-        "damping": _number("damping")(args.damping),
-        "friction_coefficient": _optional_number("friction_coefficient", args.friction_coefficient),
-        "contact_radius": _optional_number("contact_radius", args.contact_radius),
-        "normal_force": args.normal_force,
-        "contact": args.contact,
-        "regularisation_speed": _optional_number("regularisation_speed", args.regularisation_speed),
-        "capture_speed": _optional_number("capture_speed", args.capture_speed),
-        "friction_law": args.friction_law,
-        "contact_pressure": args.contact_pressure,
-        "elastic_modulus": _optional_number("elastic_modulus", args.elastic_modulus),
-        "poisson_ratio": _optional_number("poisson_ratio", args.poisson_ratio),
-    }
+    euler_angles = _numbers("euler_angles", 2)(args.euler_angles)
+    settings: dict[str, float | str | None] = {"contact": args.contact}
+    for name, setting in SETTINGS.items():
+        text = getattr(args, name)
+        settings[name] = _optional_number(name, text) if setting.choices is None else text
     t_end = _number("t_end")(args.t_end)
     rtol = _number("rtol")(args.rtol)
     atol = _number("atol")(args.atol)
@@ -192,7 +174,7 @@ def handle(args: argparse.Namespace) -> int:
         check_target(args.out, overwrite=args.overwrite)  # before the run, not after it
     model = model_from_name(args.model, **settings)
     body = load_body(args.body)
-    state = InitialState(omega=omega, tilt=tilt)
+    state = InitialState(omega=omega, euler_angles=euler_angles)
     with _progress_bar(t_end, enabled=not args.no_progress) as progress:
         trajectory = simulate(
             model,

@@ -42,7 +42,7 @@ EPILOG = (
         f"\n  {name:22s} (--set only) " + " or ".join(options) for name, options in CHOICES.items()
     )
     + "\n\nexample: celtstone sweep --vary friction_coefficient=0.02:0.5:64 "
-    "--vary spin=-8:8:64 --t-end 10 --out sweep.zarr"
+    "--vary initial_spin=-8:8:64 --t-end 10 --out sweep.zarr"
 )
 
 

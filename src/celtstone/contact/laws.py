@@ -6,27 +6,39 @@ integrator uses, so what ``celtstone friction`` prints is what a run feels.
 
 from __future__ import annotations
 
-import difflib
-
 import numpy as np
 
-from celtstone.errors import ParameterError
+from celtstone.errors import ParameterError, require_choice
 from celtstone.kernels.friction import contact_friction
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
-__all__ = ["CONTACT_PRESSURES", "FRICTION_LAWS", "check_choice", "friction_functions"]
+__all__ = [
+    "CONTACT_PRESSURES",
+    "FRICTION_LAWS",
+    "LAW_WORDS",
+    "PRESSURE_WORDS",
+    "choice_words",
+    "friction_functions",
+]
 
 # names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
 FRICTION_LAWS = {law.name.lower(): law.value for law in FrictionLaw}
 CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
 
+# what each law and pressure is, in words (help texts; a test requires one per member)
+LAW_WORDS = {
+    FrictionLaw.PADE: "Zhuravlev's Padé approximation, paper eq. 10",
+    FrictionLaw.EXACT: "the Coulomb-Contensou integrals of paper section 2",
+}
+PRESSURE_WORDS = {
+    ContactPressure.HERTZ: "Hertz, paper eq. 2",
+    ContactPressure.UNIFORM: "uniform on the disk",
+}
 
-def check_choice(name: str, value: str, options: dict[str, int]) -> None:
-    """Raise a ParameterError listing ``options`` (and the closest) if ``value`` is not one."""
-    if value not in options:
-        close = difflib.get_close_matches(str(value), list(options), n=1)
-        hint = f"did you mean {close[0]!r}?" if close else ""
-        raise ParameterError(name, value, "one of: " + ", ".join(options), hint)
+
+def choice_words(words: dict) -> str:
+    """``"pade (…) or exact (…)"``: each option's name and what it is."""
+    return " or ".join(f"{member.name.lower()} ({text})" for member, text in words.items())
 
 
 def friction_functions(
@@ -44,8 +56,8 @@ def friction_functions(
     -------
     force, moment : arrays of the shape of ``u`` [1]; |F| / (f N) and |M| / (f N ε)
     """
-    check_choice("friction_law", law, FRICTION_LAWS)
-    check_choice("contact_pressure", pressure, CONTACT_PRESSURES)
+    require_choice("friction_law", law, FRICTION_LAWS)
+    require_choice("contact_pressure", pressure, CONTACT_PRESSURES)
     ratios = np.asarray(u, dtype=float)
     if not np.all(np.isfinite(ratios)) or np.any(ratios < 0.0):
         raise ParameterError("slip_ratio", u, "finite numbers >= 0")

@@ -11,7 +11,7 @@ import math
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction import contact_friction
 from celtstone.kernels.hertz import equivalent_radius, hertz_contact_radius
-from celtstone.kernels.layout import NormalForce
+from celtstone.kernels.layout import FrictionLoad
 from celtstone.kernels.vector import (
     NAN3,
     Mat,
@@ -153,7 +153,7 @@ def sliding_acceleration(
     solved exactly. With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ
     depend on N in the dynamic case: N is then found by fixed-point iteration.
     Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
-    An unknown normal-force option gives NaN.
+    An unknown friction-load option gives NaN.
     """
     mass = params.mass
     gravity = params.gravity
@@ -164,7 +164,7 @@ def sliding_acceleration(
     spin_rate = dot(omega, n)
     normal_free = mass * gravity - mass * dot(n, centripetal)
     torque = sub(cross(matvec(inertia, omega), omega), scale(params.damping, omega))
-    if params.normal_force_option == NormalForce.DYNAMIC:
+    if params.friction_load == FrictionLoad.DYNAMIC:
         normal_force = normal_free
         for _ in range(MAX_NORMAL_FORCE_ITERATIONS):
             radius = contact_radius(n, normal_force, params)
@@ -182,7 +182,7 @@ def sliding_acceleration(
             ) <= NORMAL_FORCE_RTOL * (abs(normal_force) + mass * gravity):
                 break
         friction_normal = normal_force
-    elif params.normal_force_option == NormalForce.STATIC:
+    elif params.friction_load == FrictionLoad.STATIC:
         friction_normal = mass * gravity
         radius = contact_radius(n, friction_normal, params)
         force_unit, moment_unit = friction_per_unit_load(slip_velocity, spin_rate, radius, params)

@@ -12,7 +12,7 @@ its points into a 1-d array of this dtype, whose ``[i]`` is one point's record.
 
 Codes
 -----
-Model, shape, normal-force option, friction law and contact pressure are
+Model, shape, friction load, friction law and contact pressure are
 ``enum.IntEnum``s, used by name in the kernels (numba folds a member to its integer)
 and from Python. Each is numbered 0, 1, ...; every dispatch on one has a branch per
 member and no default: an unknown code gives NaN there, and the right-hand side
@@ -44,8 +44,8 @@ __all__ = [
     "PARAMETER_FIELDS",
     "ContactPressure",
     "FrictionLaw",
+    "FrictionLoad",
     "ModelCode",
-    "NormalForce",
     "ParameterField",
     "ShapeCode",
     "parameter_record",
@@ -70,8 +70,9 @@ class ShapeCode(enum.IntEnum):
     IMPLICIT = 3  # F(x) = 1: start_*, com_offset, the terms or level_function (§17, §18)
 
 
-class NormalForce(enum.IntEnum):
-    """Normal force in the friction law of the sliding model (docs/decisions.md §5)."""
+class FrictionLoad(enum.IntEnum):
+    """The normal force that loads the friction law of the sliding model
+    (``friction_load``, docs/decisions.md §5)."""
 
     STATIC = 0  # N = m g, the paper's first approximation
     DYNAMIC = 1  # the consistent normal force
@@ -185,9 +186,7 @@ PARAMETER_FIELDS: tuple[ParameterField, ...] = (
     _field("damping", "N m s", "sigma, viscous torque coefficient", quantity="damping"),
     _field("friction_coefficient", "", "f", quantity="friction_coefficient"),
     _field("contact_radius", "m", "epsilon, fixed contact radius", quantity="contact_radius"),
-    _field(
-        "normal_force_option", "", "normal force in the friction law", kind="i8", codes=NormalForce
-    ),
+    _field("friction_load", "", "normal force in the friction law", kind="i8", codes=FrictionLoad),
     _field(
         "regularisation_speed",
         "m/s",
@@ -250,4 +249,4 @@ RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
 RHS_NON_CONVEX = 3  # implicit shape: no contact point found, or the surface is not convex there
-RHS_UNKNOWN_CODE = 4  # a model, shape, normal-force, friction-law or pressure code no branch has
+RHS_UNKNOWN_CODE = 4  # a model, shape, friction-load, friction-law or pressure code no branch has

@@ -35,7 +35,7 @@ from celtstone.kernels.layout import (
     Y_SLIP,
     ContactPressure,
     FrictionLaw,
-    NormalForce,
+    FrictionLoad,
 )
 from celtstone.kernels.vector import Vec, add, cross, dot, scale, solve3, sub
 
@@ -194,15 +194,15 @@ def pade_stick_margin(
 @kernel
 def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
     """``stick_margin_of`` the friction that stick needs in this state, for the run's law,
-    pressure, normal-force option and contact radius (fixed or Hertz) [1]; NaN for an
-    unknown normal-force option."""
+    pressure, friction load and contact radius (fixed or Hertz) [1]; NaN for an
+    unknown friction-load option."""
     _, normal_force, friction_force, pivot_moment, _ = stick_acceleration(
         n, omega, r, r_rate, params
     )
-    option = params.normal_force_option
-    if option == NormalForce.STATIC:
+    option = params.friction_load
+    if option == FrictionLoad.STATIC:
         friction_normal = params.mass * params.gravity
-    elif option == NormalForce.DYNAMIC:
+    elif option == FrictionLoad.DYNAMIC:
         friction_normal = normal_force
     else:
         return math.nan

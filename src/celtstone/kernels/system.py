@@ -28,8 +28,8 @@ from celtstone.kernels.layout import (
     Y_WORK,
     ContactPressure,
     FrictionLaw,
+    FrictionLoad,
     ModelCode,
-    NormalForce,
     ShapeCode,
 )
 from celtstone.kernels.stick import slip_spin_speed, stick_acceleration, stick_margin
@@ -41,7 +41,7 @@ SINGULAR_RATIO = 1e-10
 # each code enum is numbered 0 .. len - 1 (tests/test_kernel_dispatch.py checks it)
 N_MODELS = len(ModelCode)
 N_SHAPES = len(ShapeCode)
-N_NORMAL_FORCES = len(NormalForce)
+N_FRICTION_LOADS = len(FrictionLoad)
 N_FRICTION_LAWS = len(FrictionLaw)
 N_PRESSURES = len(ContactPressure)
 
@@ -53,7 +53,7 @@ def code_status(model, params) -> int:
     known = (
         0 <= model < N_MODELS
         and 0 <= params.shape_code < N_SHAPES
-        and 0 <= params.normal_force_option < N_NORMAL_FORCES
+        and 0 <= params.friction_load < N_FRICTION_LOADS
         and 0 <= params.friction_law < N_FRICTION_LAWS
         and 0 <= params.contact_pressure < N_PRESSURES
     )
@@ -155,19 +155,48 @@ def energy(model, y, params) -> float:
     return kinetic - mass * params.gravity * dot(r, n)
 
 
-N_DIAGNOSTICS = 12
-D_SPIN = 0  # ω · n [rad/s]
-D_ENERGY = 1  # total energy [J]
-D_NORMAL_FORCE = 2  # N [N]
-D_SLIP_SPEED = 3  # |V1| [m/s]
-D_TILT = 4  # angle between n and body axis 3 [rad]
-D_FRICTION_POWER = 5  # F · V1 + M Ω_n [W]
-D_SLIP_NORMAL = 6  # V1 · n [m/s]
-D_NORM_ERROR = 7  # |n| - 1 [1]
-D_CONTACT_X = 8  # contact point, space x [m]
-D_CONTACT_Y = 9  # contact point, space y [m]
-D_HEIGHT = 10  # height of G above the plane [m]
-D_STATUS = 11  # right-hand-side status code
+# The derived columns that ``diagnostics`` fills, by name; the order is the column index.
+# A column is a run's Dataset variable when a ``schema.VARIABLES`` row names it as its
+# source (``trajectory.build_dataset``).
+DERIVED = (
+    "spin",  # ω · n [rad/s]
+    "energy",  # total energy [J]
+    "normal_force",  # N [N]
+    "slip_speed",  # |V1| [m/s]
+    "tilt",  # angle between n and body axis 3 [rad]
+    "friction_power",  # F · V1 + M Ω_n [W]
+    "slip_normal",  # V1 · n [m/s]
+    "norm_error",  # |n| - 1 [1]
+    "contact_x",  # contact point, space x [m]
+    "contact_y",  # contact point, space y [m]
+    "com_height",  # height of G above the plane [m]
+    "rhs_status",  # right-hand-side status code
+)
+N_DIAGNOSTICS = len(DERIVED)
+# the column indices the kernel writes (numba folds each global to its integer)
+D_SPIN = DERIVED.index("spin")
+D_ENERGY = DERIVED.index("energy")
+D_NORMAL_FORCE = DERIVED.index("normal_force")
+D_SLIP_SPEED = DERIVED.index("slip_speed")
+D_TILT = DERIVED.index("tilt")
+D_FRICTION_POWER = DERIVED.index("friction_power")
+D_SLIP_NORMAL = DERIVED.index("slip_normal")
+D_NORM_ERROR = DERIVED.index("norm_error")
+D_CONTACT_X = DERIVED.index("contact_x")
+D_CONTACT_Y = DERIVED.index("contact_y")
+D_HEIGHT = DERIVED.index("com_height")
+D_STATUS = DERIVED.index("rhs_status")
+
+# the blocks of the state array by name (layout in ``kernels.layout``), as a
+# ``schema.VARIABLES`` source names them; a single index is a scalar
+STATE_BLOCKS: dict[str, int | slice] = {
+    "n": slice(Y_N, Y_N + 3),
+    "omega": slice(Y_OMEGA, Y_OMEGA + 3),
+    "slip_velocity": slice(Y_SLIP, Y_SLIP + 3),
+    "quaternion": slice(Y_QUAT, Y_QUAT + 4),
+    "com_position": slice(Y_POSITION, Y_POSITION + 2),
+    "work": Y_WORK,
+}
 
 
 @kernel

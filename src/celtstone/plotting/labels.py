@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import xarray as xr
 
-from celtstone.schema import VARIABLES
+from celtstone.schema import VARIABLES, current_attributes
 
 __all__ = ["axis_label", "run_label", "run_title"]
 
@@ -16,10 +16,10 @@ def axis_label(name: str) -> str:
 
 def run_label(dataset: xr.Dataset) -> str:
     """Short legend entry: ``rolling`` or ``sliding f = 0.35, N = m g``."""
-    attrs = dataset.attrs
+    attrs = current_attributes(dataset.attrs)  # a file written before the rename too
     if attrs["model"] != "sliding":
         return str(attrs["model"])
-    normal = "N = m g" if attrs["normal_force_option"] == "static" else "dynamic N"
+    normal = "N = m g" if attrs["friction_load"] == "static" else "dynamic N"
     return f"sliding f = {float(attrs['friction_coefficient']):g}, {normal}"
 
 

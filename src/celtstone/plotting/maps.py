@@ -9,17 +9,25 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from celtstone.schema import VARIABLES
+
 __all__ = ["plot_field_map"]
 
 
 def _label(variable: xr.DataArray, name: object) -> str:
+    """A parameter's axis label from its ``units`` attribute: ``"spin [rad/s]"``."""
     unit = variable.attrs.get("units", "")
     return f"{name} [{unit}]" if unit else str(name)
 
 
 def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
     """Figure of the sweep field ``name`` over the sweep's dimensions (beyond two, the
-    first value of each further dimension); ``status`` as categories."""
+    first value of each further dimension); ``status`` as categories.
+
+    The field is labelled, and drawn in its plot unit, as its ``schema.VARIABLES`` row
+    says; the varied parameters by their ``units`` attribute.
+    """
+    declared = VARIABLES[name]
     variable = dataset[name]
     title = name
     ticks: list[str] | None = None
@@ -29,7 +37,7 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
         codes = np.array([ticks.index(v) for v in labels], dtype=float)
         variable = variable.copy(data=codes.reshape(variable.shape))
     else:
-        variable = variable.astype(float)
+        variable = variable.astype(float) * declared.plot_scale
     figure = Figure(figsize=(6.4, 4.8), layout="constrained")
     axes = figure.add_subplot()
     dims = [str(d) for d in variable.dims]
@@ -45,7 +53,7 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
     elif len(dims) == 1:
         axes.plot(dataset[dims[0]].values, variable.values, marker=".")
         axes.set_xlabel(_label(dataset[dims[0]], dims[0]))
-        axes.set_ylabel(_label(dataset[name], name))
+        axes.set_ylabel(declared.axis_label())
     else:
         if len(dims) > 2:
             rest = {d: 0 for d in dims[2:]}
@@ -61,7 +69,7 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
         axes.set_xlabel(_label(dataset[dims[1]], dims[1]))
         axes.set_ylabel(_label(dataset[dims[0]], dims[0]))
     if mesh is not None:
-        colorbar = figure.colorbar(mesh, ax=axes, label=_label(dataset[name], name))
+        colorbar = figure.colorbar(mesh, ax=axes, label=declared.axis_label())
         if ticks is not None:
             colorbar.set_ticks(range(len(ticks)), labels=ticks)
     axes.set_title(title)

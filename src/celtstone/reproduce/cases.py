@@ -37,7 +37,7 @@ def case_name(model: Model) -> str:
     if model.name != "sliding":
         return model.name
     settings = model.attributes()
-    return f"sliding_f{settings['friction_coefficient']:g}_{settings['normal_force_option']}"
+    return f"sliding_f{settings['friction_coefficient']:g}_{settings['friction_load']}"
 
 
 def provenance(study: Study, body: Body, **extra: Any) -> dict[str, Any]:
@@ -46,7 +46,9 @@ def provenance(study: Study, body: Body, **extra: Any) -> dict[str, Any]:
         "software": f"celtstone {version()}",
         "body": body.name,
         "body_source": body.source,
-        "initial_state": f"omega {list(study.omega)} rad/s, tilt {list(study.tilt)} deg",
+        "initial_state": (
+            f"omega {list(study.omega)} rad/s, Euler angles {list(study.euler_angles)} deg"
+        ),
         "contact_radius_m": study.contact_radius,
         "friction_law": "zhuravlev_pade (paper eq. 10, 12)",
         "rtol": study.rtol,
@@ -84,13 +86,13 @@ def summarise(trajectory: Trajectory, body: Body, band: float) -> dict[str, Any]
         "friction_coefficient": attrs.get("friction_coefficient")
         if attrs["model"] == "sliding"
         else None,
-        "normal_force": attrs.get("normal_force_option") if attrs["model"] == "sliding" else None,
+        "friction_load": attrs.get("friction_load") if attrs["model"] == "sliding" else None,
         "status": trajectory.status,
         "t_stop": float(trajectory.t_stop),
         "reversal_times": [float(t) for t in reversals],
         "first_reversal_time": float(reversals[0]) if reversals.size else None,
         "raw_sign_changes": int(trajectory.spin_crossings.size),
-        "first_raw_sign_change": trajectory.first_reversal_time,
+        "first_raw_sign_change": trajectory.first_sign_change_time,
         "peak_reversed_spin": float(np.max(sense * spin)),
         "spin_initial": float(spin[0]),
         "spin_final": float(spin[-1]),

@@ -10,23 +10,23 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from celtstone.models import Model
+from celtstone.models import FRICTION_LOAD_OPTIONS, Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
 from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.visual import animate_comparison
 
-__all__ = ["NORMAL_FORCES", "figure2", "figure2_models"]
+__all__ = ["FRICTION_LOADS", "figure2", "figure2_models"]
 
-NORMAL_FORCES = ("static", "dynamic")
+FRICTION_LOADS = tuple(FRICTION_LOAD_OPTIONS)  # static (N = m g), then dynamic
 
 
 def figure2_models(study: Study) -> list[Model]:
-    """Rolling, then sliding at each f with each normal-force option."""
+    """Rolling, then sliding at each f with each friction load."""
     models: list[Model] = [study.rolling()]
     for friction in study.frictions:
-        models.extend(study.sliding(friction, normal) for normal in NORMAL_FORCES)
+        models.extend(study.sliding(friction, load) for load in FRICTION_LOADS)
     return models
 
 
@@ -53,7 +53,7 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         )
         progress.update(1)
     panels = [[datasets["rolling"]]] + [
-        [datasets[case_name(study.sliding(f, normal))] for normal in NORMAL_FORCES]
+        [datasets[case_name(study.sliding(f, load))] for load in FRICTION_LOADS]
         for f in study.frictions
     ]
     title = (

@@ -54,9 +54,9 @@ def _strictly_increasing(values: Sequence[float]) -> bool:
     return all(b > a for a, b in itertools.pairwise(values))
 
 
-def _static_cases(fig2: dict[str, Any], normal: str = "static") -> list[dict[str, Any]]:
-    """Sliding cases with ``normal`` force, in the order of decreasing f."""
-    cases = [c for c in fig2["cases"] if c["model"] == "sliding" and c["normal_force"] == normal]
+def _static_cases(fig2: dict[str, Any], load: str = "static") -> list[dict[str, Any]]:
+    """Sliding cases with friction load ``load``, in the order of decreasing f."""
+    cases = [c for c in fig2["cases"] if c["model"] == "sliding" and c["friction_load"] == load]
     return sorted(cases, key=lambda c: -c["friction_coefficient"])
 
 
@@ -64,10 +64,10 @@ def _time(value: float | None) -> str:
     return "none" if value is None else f"{value:.3g} s"
 
 
-def judge_period_growth(fig2: dict[str, Any], normal: str = "static") -> Verdict:
+def judge_period_growth(fig2: dict[str, Any], load: str = "static") -> Verdict:
     """yes: every f reverses and the first reversal comes later as f falls; partly:
     the reversing ones do (at least two), the rest do not reverse; no otherwise."""
-    cases = _static_cases(fig2, normal)
+    cases = _static_cases(fig2, load)
     rolling = next(c for c in fig2["cases"] if c["model"] == "rolling")
     times = [c["first_reversal_time"] for c in cases]
     ours = ", ".join(
@@ -85,10 +85,10 @@ def judge_period_growth(fig2: dict[str, Any], normal: str = "static") -> Verdict
     return Verdict(ours, "no", "the first reversal does not come later as f falls")
 
 
-def judge_energy_order(fig2: dict[str, Any], normal: str = "static") -> Verdict:
+def judge_energy_order(fig2: dict[str, Any], load: str = "static") -> Verdict:
     """yes: the energy at the end and the peak reversed spin both fall with f;
     partly: one of them does; no: neither."""
-    cases = _static_cases(fig2, normal)
+    cases = _static_cases(fig2, load)
     energies = [c["energy_final"] - c["energy_rest"] for c in cases]
     spins = [c["peak_reversed_spin"] for c in cases]
     ours = "; ".join(
@@ -115,7 +115,7 @@ def judge_energy_decrease(results: Sequence[dict[str, Any]]) -> Verdict:
     worst = max(c["max_budget_error"] / abs(c["energy_initial"]) for c in cases)
     monotone = all(c["energy_monotone"] for c in cases)
     lost = ", ".join(
-        f"f = {c['friction_coefficient']:g} ({c['normal_force']}): "
+        f"f = {c['friction_coefficient']:g} ({c['friction_load']}): "
         f"{c['energy_initial'] - c['energy_final']:.3g} J"
         for c in cases
     )

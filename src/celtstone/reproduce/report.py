@@ -26,10 +26,14 @@ __all__ = ["collect", "render_report", "write_report"]
 
 
 def collect(out: Path) -> dict[str, dict[str, dict[str, Any]]]:
-    """The numbers written by earlier targets in ``out/data``: target -> body -> result."""
+    """The numbers written by earlier targets in ``out/data``: target -> body -> result
+    (a case written before the rename of ``normal_force`` reads as ``friction_load``)."""
     results: dict[str, dict[str, dict[str, Any]]] = {}
     for path in sorted((out / "data").glob("*.json")):
         result = json.loads(path.read_text(encoding="utf-8"))
+        for case in result.get("cases", []):
+            if "normal_force" in case and "friction_load" not in case:
+                case["friction_load"] = case.pop("normal_force")
         results.setdefault(result["target"], {})[result["body"]] = result
     return results
 

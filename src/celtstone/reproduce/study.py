@@ -34,7 +34,7 @@ class Study:
     ----------
     body : shipped body name or .toml path
     omega : initial angular velocity in body axes [rad/s]
-    tilt : initial Euler angles (α, β) [deg]
+    euler_angles : initial Euler angles (α, β) [deg]
     contact_radius : ε [m] (paper: 1 mm)
     frictions : f of the Figure 2 analogue [1]
     fig2_t_end : length of the Figure 2 runs [s]
@@ -49,7 +49,7 @@ class Study:
 
     body: str
     omega: tuple[float, float, float] = (0.0, 0.0, -5.0)
-    tilt: tuple[float, float] = (0.5, 0.5)
+    euler_angles: tuple[float, float] = (0.5, 0.5)
     contact_radius: float = PAPER_CONTACT_RADIUS
     frictions: tuple[float, ...] = PAPER_FRICTIONS
     fig2_t_end: float = 20.0
@@ -76,7 +76,7 @@ class Study:
     @property
     def initial_state(self) -> InitialState:
         """The start shared by every run of the study."""
-        return InitialState(omega=self.omega, tilt=self.tilt)
+        return InitialState(omega=self.omega, euler_angles=self.euler_angles)
 
     def load_body(self) -> Body:
         """The study's body."""
@@ -92,12 +92,12 @@ class Study:
         start, stop, count = self.threshold_grid
         return np.linspace(start, stop, int(count))
 
-    def sliding(self, friction: float, normal_force: str = "static") -> SlidingModel:
+    def sliding(self, friction: float, friction_load: str = "static") -> SlidingModel:
         """The paper's sliding model at friction coefficient ``friction``."""
         return SlidingModel(
             friction_coefficient=friction,
             contact_radius=self.contact_radius,
-            normal_force=normal_force,
+            friction_load=friction_load,
         )
 
     @staticmethod
@@ -108,8 +108,8 @@ class Study:
     def describe(self) -> str:
         """One line for reports: body, start, contact radius."""
         return ("REDUCED (--quick) " if self.reduced else "") + (
-            f"{self.body}, ω0 = {list(self.omega)} rad/s (body axes), tilt α, β = "
-            f"{list(self.tilt)} deg, ε = {self.contact_radius * 1e3:g} mm"
+            f"{self.body}, ω0 = {list(self.omega)} rad/s (body axes), Euler angles α, β = "
+            f"{list(self.euler_angles)} deg, ε = {self.contact_radius * 1e3:g} mm"
         )
 
 

@@ -121,7 +121,7 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         body,
         target="threshold",
         t_end_s=study.threshold_t_end,
-        normal_force="static (N = m g)",
+        friction_load="static (N = m g)",
         bisection_tolerance=study.bisection_tolerance,
     )
     write_table(table, out / f"{stem}.csv", header)

@@ -4,7 +4,9 @@
 ``solve_phases`` does the same for the compiled stick–slip loop ``phases.run_phases``.
 The methods are the registry ``METHODS`` (name -> code); what a method module must
 provide, and what the driver does for all of them, is the contract written in
-``solvers._methods``. Events are rows of a table (``solvers._events``).
+``solvers._methods``. Events are rows of a table (``solvers._events``). How a run
+ends is a member of ``Status`` (code, label, message; ``solvers.codes``), and
+``stop_message`` words it for a run's summary and a sweep point alike.
 """
 
 from __future__ import annotations
@@ -79,6 +81,9 @@ from celtstone.solvers.codes import (
 from celtstone.solvers.codes import (
     STATUS_UNKNOWN_CODE as STATUS_UNKNOWN_CODE,
 )
+from celtstone.solvers.codes import Status as Status
+from celtstone.solvers.codes import status_label as status_label
+from celtstone.solvers.codes import stop_message as stop_message
 from celtstone.solvers.driver import integrate as integrate
 from celtstone.solvers.phases import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
 from celtstone.solvers.phases import run_phases
@@ -102,9 +107,12 @@ __all__ = [
     "STATUS_UNKNOWN_CODE",
     "RawPhases",
     "RawSolution",
+    "Status",
     "integrate",
     "solve",
     "solve_phases",
+    "status_label",
+    "stop_message",
 ]
 
 

@@ -6,7 +6,9 @@ sample buffer and one crossing buffer per call are reused point after point. The
 compiled function releases the GIL (``nogil``), so threads of one process run
 batches in parallel without Python per step.
 
-The reduction is the one of ``simulate(...).summary()`` and
+The result fields are declared once, in ``RESULT_FIELDS`` (name, stored type, fill
+value, column); their units and long names are ``schema.VARIABLES`` rows. ``_reduce``
+computes every column. The reduction is the one of ``simulate(...).summary()`` and
 ``analysis.reversal_times(time, spin, band, crossings)`` on the same sample
 times, with each point's own band; the sweep tests check the two agree point for point.
 """
@@ -27,29 +29,57 @@ from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
 from celtstone.solvers.driver import integrate
 from celtstone.solvers.phases import DEFAULT_MAX_PHASES, run_phases
 
-__all__ = ["FIELDS", "run_batch"]
+__all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "run_batch"]
 
-# columns of the result array
-F_FIRST_REVERSAL = 0  # first reversal time [s], NaN if none
-F_REVERSALS = 1  # number of reversals [1]
-F_FINAL_SPIN = 2  # spin ω·n at t_end [rad/s], NaN if the run stopped early
-F_ENERGY_LOST = 3  # E(0) - E(t_end) [J], NaN if the run stopped early
-F_MAX_TILT = 4  # largest angle between n and body axis 3 over the samples [rad]
-F_MIN_NORMAL_FORCE = 5  # smallest normal force [N] (steps and samples; 0 at lift-off)
-F_T_STOP = 6  # time the run stopped [s]
-F_STATUS = 7  # solver status code (``solvers.codes``)
-N_FIELDS = 8
 
-FIELDS = (
-    "first_reversal_time",
-    "n_reversals",
-    "final_spin",
-    "energy_lost",
-    "max_tilt",
-    "min_normal_force",
-    "t_stop",
-    "status",
+class ResultField(NamedTuple):
+    """A result field of a sweep, declared once. Its unit, long name and plot label are
+    the ``schema.VARIABLES`` row of the same name; the store's arrays, the in-memory
+    results and the runner's conversion of the result array read this row.
+
+    Parameters
+    ----------
+    name : the field's name in the store and the Dataset
+    dtype : the stored type: "float64", "int32" (the column's value, converted) or
+        "str" (text that the runner makes from the status code, see ``sweep.runner``)
+    fill : the value of a point not computed yet
+    column : its column in ``run_batch``'s result array (written by ``_reduce``), or
+        None for text made from other columns
+    """
+
+    name: str
+    dtype: str
+    fill: float | int | str
+    column: int | None
+
+
+RESULT_FIELDS: tuple[ResultField, ...] = (
+    ResultField("first_reversal_time", "float64", math.nan, 0),  # NaN if none
+    ResultField("n_reversals", "int32", -1, 1),
+    ResultField("final_spin", "float64", math.nan, 2),  # NaN if the run stopped early
+    ResultField("energy_lost", "float64", math.nan, 3),  # NaN if the run stopped early
+    ResultField("max_tilt", "float64", math.nan, 4),  # over the samples
+    ResultField("min_normal_force", "float64", math.nan, 5),  # steps and samples
+    ResultField("t_stop", "float64", math.nan, 6),
+    ResultField("status", "str", "", 7),  # the code (``codes.Status``), stored as its label
+    ResultField("message", "str", "", None),  # ``codes.stop_message`` of status and t_stop
 )
+
+_COLUMNS = {f.name: f.column for f in RESULT_FIELDS if f.column is not None}
+# the names of the result array's columns, in column order (numbered 0, 1, ...)
+FIELDS = tuple(sorted(_COLUMNS, key=_COLUMNS.__getitem__))
+N_FIELDS = len(FIELDS)
+
+
+# the column indices ``_reduce`` writes (numba folds each global to its integer)
+F_FIRST_REVERSAL = _COLUMNS["first_reversal_time"]  # first reversal time [s]
+F_REVERSALS = _COLUMNS["n_reversals"]  # number of reversals [1]
+F_FINAL_SPIN = _COLUMNS["final_spin"]  # spin ω·n at t_end [rad/s]
+F_ENERGY_LOST = _COLUMNS["energy_lost"]  # E(0) - E(t_end) [J]
+F_MAX_TILT = _COLUMNS["max_tilt"]  # largest angle between n and body axis 3 [rad]
+F_MIN_NORMAL_FORCE = _COLUMNS["min_normal_force"]  # smallest normal force [N], 0 at lift-off
+F_T_STOP = _COLUMNS["t_stop"]  # time the run stopped [s]
+F_STATUS = _COLUMNS["status"]  # solver status code (``codes.Status``)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import enum
+
 METHOD_DOP853 = 0
 METHOD_RADAU5 = 1
 
@@ -20,38 +22,118 @@ N_STATS = 8
 
 DEFAULT_MAX_PHASES = 100_000  # capacity of a hybrid run's phase log (solvers.phases)
 
-STATUS_SUCCESS = 0
-STATUS_LIFT_OFF = 1
-STATUS_SINGULAR = 2
-STATUS_OFF_SHAPE = 3
-STATUS_MAX_STEPS = 4
-STATUS_STEP_TOO_SMALL = 5
-STATUS_NOT_FINITE = 6
-STATUS_PHASE_CHANGE = 7
-STATUS_NON_CONVEX = 8
-STATUS_UNKNOWN_CODE = 9
-STATUS_MAX_PHASES = 10
 
-STATUS_MESSAGES = {
-    STATUS_SUCCESS: "reached t_end",
-    STATUS_LIFT_OFF: "the normal force became negative: the body lifts off the plane "
-    "(the contact models do not apply; lower the spin or the tilt)",
-    STATUS_SINGULAR: "the friction equations have no unique solution (paper eq. 11 or a "
-    "Painlevé-type case; lower the friction coefficient or use normal_force='static')",
-    STATUS_OFF_SHAPE: "the contact point left the shape's domain (the paraboloid cap turned "
-    "by 90 degrees; use a closed shape)",
-    STATUS_MAX_STEPS: "too many steps: raise max_steps or loosen rtol",
-    STATUS_STEP_TOO_SMALL: "the step size fell below round-off: loosen rtol or use the "
-    "stiff method radau5",
-    STATUS_NOT_FINITE: "the state became infinite or NaN: tighten rtol or use radau5",
-    STATUS_PHASE_CHANGE: "the hybrid contact changed phase (stick <-> slip); the phase loop "
-    "restarts the integration in the other phase",
-    STATUS_NON_CONVEX: "no contact point found for the implicit shape at this vertical: "
-    "the surface is not strictly convex there or the Newton solve failed",
-    STATUS_UNKNOWN_CODE: "a model, shape, normal-force, friction-law, pressure, method or "
-    "right-hand-side status code that no compiled branch handles (a bug in the caller: "
-    "please report it)",
-    STATUS_MAX_PHASES: "more stick-slip phases than the phase log holds (max_phases, "
-    f"{DEFAULT_MAX_PHASES} unless given): shorten t_end, or raise max_phases "
-    "(hybrid.solve_phases, solvers.batch.run_batch)",
-}
+class Status(enum.IntEnum):
+    """How a run ended, declared once: the code the compiled loops return, the ``label``
+    that results, the CLI and the sweep store show, and the ``message`` saying what
+    happened and what to change.
+
+    Each member is ``NAME = code, label, message``. The compiled code reads the plain-int
+    aliases ``STATUS_<NAME>`` below (an IntEnum *argument* would compile another
+    specialisation; a global folds to its integer either way).
+    """
+
+    label: str
+    message: str
+
+    def __new__(cls, code: int, label: str, message: str) -> Status:
+        member = int.__new__(cls, code)
+        member._value_ = code
+        member.label = label
+        member.message = message
+        return member
+
+    SUCCESS = 0, "success", "reached t_end"
+    LIFT_OFF = (
+        1,
+        "lift_off",
+        "the normal force became negative: the body lifts off the plane "
+        "(the contact models do not apply; lower the spin or the tilt)",
+    )
+    SINGULAR = (
+        2,
+        "friction_singular",
+        "the friction equations have no unique solution (paper eq. 11 or a "
+        "Painlevé-type case; lower the friction coefficient or use friction_load='static')",
+    )
+    OFF_SHAPE = (
+        3,
+        "off_shape",
+        "the contact point left the shape's domain (the paraboloid cap turned "
+        "by 90 degrees; use a closed shape)",
+    )
+    MAX_STEPS = 4, "max_steps", "too many steps: raise max_steps or loosen rtol"
+    STEP_TOO_SMALL = (
+        5,
+        "step_too_small",
+        "the step size fell below round-off: loosen rtol or use the stiff method radau5",
+    )
+    NOT_FINITE = (
+        6,
+        "not_finite",
+        "the state became infinite or NaN: tighten rtol or use radau5",
+    )
+    PHASE_CHANGE = (
+        7,
+        "phase_change",
+        "the hybrid contact changed phase (stick <-> slip); the phase loop "
+        "restarts the integration in the other phase",
+    )
+    NON_CONVEX = (
+        8,
+        "non_convex",
+        "no contact point found for the implicit shape at this vertical: "
+        "the surface is not strictly convex there or the Newton solve failed",
+    )
+    UNKNOWN_CODE = (
+        9,
+        "unknown_code",
+        "a model, shape, friction-load, friction-law, pressure, method or "
+        "right-hand-side status code that no compiled branch handles (a bug in the caller: "
+        "please report it)",
+    )
+    MAX_PHASES = (
+        10,
+        "max_phases",
+        "more stick-slip phases than the phase log holds (max_phases, "
+        f"{DEFAULT_MAX_PHASES} unless given): shorten t_end, or raise max_phases "
+        "(hybrid.solve_phases, solvers.batch.run_batch)",
+    )
+
+
+# plain ints for the compiled code (numba folds a global to its value)
+STATUS_SUCCESS = int(Status.SUCCESS)
+STATUS_LIFT_OFF = int(Status.LIFT_OFF)
+STATUS_SINGULAR = int(Status.SINGULAR)
+STATUS_OFF_SHAPE = int(Status.OFF_SHAPE)
+STATUS_MAX_STEPS = int(Status.MAX_STEPS)
+STATUS_STEP_TOO_SMALL = int(Status.STEP_TOO_SMALL)
+STATUS_NOT_FINITE = int(Status.NOT_FINITE)
+STATUS_PHASE_CHANGE = int(Status.PHASE_CHANGE)
+STATUS_NON_CONVEX = int(Status.NON_CONVEX)
+STATUS_UNKNOWN_CODE = int(Status.UNKNOWN_CODE)
+STATUS_MAX_PHASES = int(Status.MAX_PHASES)
+
+UNDECLARED_STATUS = "failed"  # the label of a code that no member declares (never returned)
+
+_BY_CODE = {member.value: member for member in Status}
+STATUS_MESSAGES = {code: member.message for code, member in _BY_CODE.items()}  # a view of Status
+
+
+def status_label(code: int) -> str:
+    """The label of status ``code`` (``"lift_off"``), ``UNDECLARED_STATUS`` if none has it."""
+    member = _BY_CODE.get(int(code))
+    return member.label if member is not None else UNDECLARED_STATUS
+
+
+def stop_message(code: int, t_stop: float, detail: str = "") -> str:
+    """How a run ended, in words, for its summary and its sweep point.
+
+    ``"reached t_end"`` for ``Status.SUCCESS``, else ``"stopped at t = <t_stop> s:
+    <the status's message><detail>"``; ``t_stop`` [s] is the time the run stopped.
+    """
+    member = _BY_CODE.get(int(code))
+    if member is Status.SUCCESS:
+        return member.message
+    text = member.message if member is not None else ""
+    return f"stopped at t = {t_stop:.6g} s: {text}{detail}"

@@ -1,7 +1,7 @@
 """Parameter sweeps: grids or lists of points, run in compiled batches, stored in Zarr.
 
 >>> from celtstone.sweep import Sweep
->>> sweep = Sweep({"friction_coefficient": [0.1, 0.35], "spin": [-5.0, 5.0]}, t_end=10.0)
+>>> sweep = Sweep({"friction_coefficient": [0.1, 0.35], "initial_spin": [-5.0, 5.0]}, t_end=10.0)
 >>> results = sweep.run("sweep.zarr")  # doctest: +SKIP
 
 A sweep is sized from its counts before any point is made (``budget``: limits, and

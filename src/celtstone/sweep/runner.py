@@ -23,15 +23,15 @@ import numpy as np
 import xarray as xr
 
 from celtstone import schema, solvers
-from celtstone.bodies import Body, ImplicitFunction, ImplicitPolynomial, load_body
+from celtstone.bodies import SHAPES, Body, load_body
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.integrate import STATUS_NAMES, version
+from celtstone.integrate import version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
 from celtstone.models import MODELS, HybridModel
 from celtstone.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
 from celtstone.solvers import batch
 from celtstone.sweep import budget
-from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder
+from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder, parse_axis_spec
 from celtstone.sweep.store import FORMAT, RESULT_FIELDS, Layout, SweepStore, open_sweep
 
 __all__ = [
@@ -61,15 +61,28 @@ SCHEDULER_TIMEOUT_SECONDS = 10.0  # to connect to a dask scheduler, before anyth
 Progress = Callable[[int, int], None]  # (points written now, failures among them)
 
 
-AxesInput = Mapping[str, Iterable[float]] | Sequence[Axis | AxisSpec] | None
+AxesInput = Mapping[str, Iterable[float]] | Sequence[Axis | AxisSpec | str] | str | None
 
 
 def _axes(value: AxesInput) -> tuple[Axis | AxisSpec, ...]:
+    """Axes from a mapping name -> values, or a list of axes or of the CLI's
+    ``NAME=START:STOP:COUNT`` / ``NAME=V1,V2,...`` texts."""
     if value is None:
         return ()
     if isinstance(value, Mapping):
         return tuple(Axis(str(name), tuple(values)) for name, values in value.items())
-    return tuple(value)
+    items = [value] if isinstance(value, str) else list(value)
+    axes: list[Axis | AxisSpec] = []
+    for item in items:
+        if isinstance(item, str):
+            axes.append(parse_axis_spec(item))
+        elif isinstance(item, Axis | AxisSpec):
+            axes.append(item)
+        else:
+            raise ParameterError(
+                "vary", item, "a mapping name -> values, or Axis objects or 'NAME=...' texts"
+            )
+    return tuple(axes)
 
 
 def _count(axis: Axis | AxisSpec) -> int:
@@ -108,14 +121,6 @@ def _check_as(schema_name: str, name: str, value: float) -> float:
         raise ParameterError(name, value, error.allowed, error.hint) from None
 
 
-def _shape_extras(body: Body) -> dict[str, object]:
-    """Shape numbers beyond the four kernel parameters (the polynomial's terms)."""
-    shape = body.shape
-    if isinstance(shape, ImplicitPolynomial):
-        return {"terms": [list(term) for term in shape.terms]}
-    return {}
-
-
 class Sweep:
     """A parameter sweep: every combination of ``vary`` (a grid) or the rows of ``points``.
 
@@ -128,7 +133,7 @@ class Sweep:
     body : a :class:`Body`, a shipped body name or a TOML path
     model : "sliding" or "rolling"
     fixed : name -> value held for every point; names as in ``spec.PARAMETERS``, and
-        the options of ``spec.CHOICES`` (``normal_force``: "static" or "dynamic",
+        the options of ``spec.CHOICES`` (``friction_load``: "static" or "dynamic",
         ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or "uniform",
         ``contact``: "sliding" or "hybrid", the stick–slip contact of the sliding model,
         whose ``capture_speed`` [m/s] can be fixed or varied)
@@ -200,12 +205,12 @@ class Sweep:
                     f"it is {times} times",
                 )
         self.base_body = body if isinstance(body, Body) else load_body(body)
-        if isinstance(self.base_body.shape, ImplicitFunction):
+        if not self.base_body.shape.stored:
+            stored = ", ".join(kind for kind, cls in SHAPES.items() if cls.stored)
             raise ParameterError(
                 "body",
                 self.base_body.name,
-                "a body whose shape is data (ellipsoid, paraboloid, superellipsoid, "
-                "implicit polynomial)",
+                f"a body whose shape is data ({stored})",
                 "a Python function's compiled callback lives in this process only; "
                 "give the shape as an implicit polynomial to sweep it",
             )
@@ -294,9 +299,7 @@ class Sweep:
                 "mass": body.mass,
                 "gravity": body.gravity,
                 "inertia": [list(row) for row in body.inertia],
-                "shape": body.shape.kind,
-                "shape_parameters": list(body.shape.kernel_parameters()),
-                **_shape_extras(body),
+                "shape": body.shape.table(),  # the [shape] table that rebuilds it
             },
             "model": self.model_name,
             "fixed": {k: self.fixed[k] for k in sorted(self.fixed)},
@@ -328,12 +331,10 @@ class Sweep:
             "body_mass": body.mass,
             "body_gravity": body.gravity,
             "body_inertia": str(np.array(body.inertia).tolist()),
-            "body_shape": body.shape.kind,
-            "body_shape_parameters": str(list(body.shape.kernel_parameters())),
-            **{f"body_shape_{k}": json.dumps(v) for k, v in _shape_extras(body).items()},
+            **body.shape.attributes(),
             **{f"model_{k}" if k != "model" else k: v for k, v in model.attributes().items()},
             "fixed_parameters": json.dumps(self.fixed, sort_keys=True),
-            "initial_state_default": "omega = (0, 0, -5) rad/s, tilt = (0.5, 0.5) deg",
+            "initial_state_default": "omega = (0, 0, -5) rad/s, euler_angles = (0.5, 0.5) deg",
             "varied_parameters": json.dumps([a.name for a in self.axes + self.point_axes]),
             "t_end": self.t_end,
             "method": self.method,
@@ -504,12 +505,12 @@ class Sweep:
         self, layout: Layout, memory: Mapping[str, np.ndarray], attrs: Mapping[str, Any]
     ) -> xr.Dataset:
         variables = {}
-        for name, (dtype, _, unit, long_name) in RESULT_FIELDS.items():
+        for name, (dtype, _, _, _) in RESULT_FIELDS.items():
             values = memory[name].reshape(layout.shape)
             if dtype == "str":
                 values = values.astype(str)
-            var_attrs = {"long_name": long_name} | ({"units": unit} if unit else {})
-            variables[name] = xr.Variable(layout.dims, values, attrs=var_attrs)
+            attributes = schema.VARIABLES[name].attributes
+            variables[name] = xr.Variable(layout.dims, values, attrs=attributes)
         coords = {
             name: xr.Variable(dims, values, attrs=a)
             for name, (dims, values, a) in self._coords().items()
@@ -572,29 +573,23 @@ def _empty_results(size: int) -> dict[str, np.ndarray]:
 
 
 def _fields(raw: np.ndarray) -> dict[str, np.ndarray]:
-    """Result fields by name from the batch driver's columns."""
+    """Result fields by name (``batch.RESULT_FIELDS``) from the batch driver's columns:
+    numbers as their stored type; ``status`` as its label and ``message`` as the run's
+    stop message (``solvers.Status``), from the status code and ``t_stop``."""
     codes = raw[:, batch.F_STATUS].astype(int)
     t_stop = raw[:, batch.F_T_STOP]
-    status = np.array([STATUS_NAMES.get(int(c), "failed") for c in codes], dtype=object)
-    message = np.array(
-        [
-            "reached t_end"
-            if c == solvers.STATUS_SUCCESS
-            else f"stopped at t = {t:.6g} s: {solvers.STATUS_MESSAGES.get(int(c), '')}"
-            for c, t in zip(codes, t_stop, strict=True)
-        ],
-        dtype=object,
-    )
+    text = {
+        "status": np.array([solvers.status_label(c) for c in codes], dtype=object),
+        "message": np.array(
+            [solvers.stop_message(c, t) for c, t in zip(codes, t_stop, strict=True)],
+            dtype=object,
+        ),
+    }
     return {
-        "first_reversal_time": raw[:, batch.F_FIRST_REVERSAL],
-        "n_reversals": raw[:, batch.F_REVERSALS].astype(np.int32),
-        "final_spin": raw[:, batch.F_FINAL_SPIN],
-        "energy_lost": raw[:, batch.F_ENERGY_LOST],
-        "max_tilt": raw[:, batch.F_MAX_TILT],
-        "min_normal_force": raw[:, batch.F_MIN_NORMAL_FORCE],
-        "t_stop": t_stop,
-        "status": status,
-        "message": message,
+        field.name: text[field.name]
+        if field.dtype == "str"
+        else raw[:, field.column].astype(field.dtype, copy=False)
+        for field in batch.RESULT_FIELDS
     }
 
 

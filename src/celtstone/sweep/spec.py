@@ -4,13 +4,13 @@ Every sweepable name belongs to one group: the body, the model or the initial st
 A point's values are validated once, by building the validated objects
 (:class:`Body`, the model, :class:`InitialState`), and then stripped to the flat
 kernel arrays. Objects are built once per distinct combination of each group's
-values, so a 256 x 256 grid over friction and spin builds 256 models and 256
-initial states, not 65 536 of each.
+values, so a 256 x 256 grid over friction and initial spin builds 256 models and 256
+initial states, not 65 536 of each. The model's numbers and options are its settings
+(``models.SETTINGS``), with their meaning and unit from ``schema.PARAMETERS``.
 """
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
@@ -18,13 +18,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from celtstone import schema
-from celtstone.bodies import Body, Ellipsoid, ImplicitPolynomial, Paraboloid, Superellipsoid
-from celtstone.errors import CeltstoneError, ParameterError
+from celtstone.bodies import SHAPES, Body
+from celtstone.bodies.declaration import SweepName
+from celtstone.errors import CeltstoneError, ParameterError, did_you_mean, require_choice
 from celtstone.models import (
-    CONTACT_PRESSURES,
     CONTACTS,
-    FRICTION_LAWS,
-    NORMAL_FORCE_OPTIONS,
+    SETTINGS,
     HybridModel,
     InitialState,
     Model,
@@ -70,6 +69,29 @@ def _p(
     return SweepParameter(name, group, unit, description)
 
 
+def _shape_parameters() -> list[SweepParameter]:
+    """The numbers of the registry's shapes a sweep may vary (``Shape.sweep_names``),
+    each once, with the kinds that have it."""
+    kinds: dict[str, list[str]] = {}
+    first: dict[str, tuple[SweepName, str]] = {}
+    for kind, cls in SHAPES.items():
+        units = {entry.key: entry.quantity.unit for entry in cls.entries}
+        for sweep in cls.sweep_names:
+            kinds.setdefault(sweep.name, []).append(kind)
+            first.setdefault(sweep.name, (sweep, units[sweep.field]))
+    return [
+        SweepParameter(name, BODY, unit, f"{sweep.description} ({', '.join(kinds[name])})")
+        for name, (sweep, unit) in first.items()
+    ]
+
+
+def _setting_description(name: str) -> str:
+    """A model setting in words, from its ``schema.PARAMETERS`` entry: ``"Coulomb friction
+    coefficient (f)"``."""
+    quantity = schema.PARAMETERS[name]
+    return f"{quantity.description} ({quantity.symbol})"
+
+
 PARAMETERS: dict[str, SweepParameter] = {
     p.name: p
     for p in [
@@ -87,61 +109,48 @@ PARAMETERS: dict[str, SweepParameter] = {
             "(-pi/4, pi/4); the principal moments are kept",
             unit="rad",
         ),
-        _p("semi_axis_a", BODY, "semi_axes", "ellipsoid semi-axis a along body axis 1"),
-        _p("semi_axis_b", BODY, "semi_axes", "ellipsoid semi-axis b along body axis 2"),
-        _p("semi_axis_c", BODY, "semi_axes", "ellipsoid semi-axis c along body axis 3"),
-        _p("com_offset", BODY, "com_offset", "ellipsoid: G below the centre h"),
-        _p("radius_of_curvature_1", BODY, "radii_of_curvature", "paraboloid rho1"),
-        _p("radius_of_curvature_2", BODY, "radii_of_curvature", "paraboloid rho2"),
-        _p("com_height", BODY, "com_height", "paraboloid: G above the rest contact l"),
-        _p("exponent", BODY, None, "superellipsoid exponent p in [2, 64]", unit="1"),
-        _p("friction_coefficient", MODEL, "friction_coefficient", "Coulomb friction f"),
-        _p("contact_radius", MODEL, "contact_radius", "Hertz contact radius epsilon"),
-        _p("damping", MODEL, "damping", "viscous torque coefficient sigma"),
-        _p("regularisation_speed", MODEL, "regularisation_speed", "slip-speed scale delta"),
-        _p("elastic_modulus", MODEL, "elastic_modulus", "Young's modulus E (Hertz radius)"),
-        _p("poisson_ratio", MODEL, "poisson_ratio", "Poisson's ratio nu (with E)"),
-        _p(
-            "capture_speed",
-            MODEL,
-            "capture_speed",
-            "contact=hybrid: slip-spin speed counted as zero v_c (default 100 atol)",
+        *_shape_parameters(),
+        *(  # every number of a model (models.SETTINGS), its meaning from schema
+            _p(name, MODEL, name, _setting_description(name))
+            for name, setting in SETTINGS.items()
+            if setting.choices is None
         ),
         _p(
-            "spin",
+            "initial_spin",
             STATE,
             None,
-            "initial spin omega . n (sets omega3, given omega1, omega2 and the tilt)",
+            "initial spin omega0 . n0 (sets omega3, given omega1, omega2 and the Euler angles)",
             unit="rad/s",
         ),
         _p("omega1", STATE, "omega", "initial angular velocity, body axis 1"),
         _p("omega2", STATE, "omega", "initial angular velocity, body axis 2"),
         _p("omega3", STATE, "omega", "initial angular velocity, body axis 3"),
-        _p("tilt_alpha", STATE, "tilt", "initial Euler tilt alpha"),
-        _p("tilt_beta", STATE, "tilt", "initial Euler tilt beta"),
+        _p("euler_alpha", STATE, "euler_angles", "initial Euler angle alpha"),
+        _p("euler_beta", STATE, "euler_angles", "initial Euler angle beta"),
     ]
 }
 
-# fixed settings that are not numbers (``--set`` only), with their options
+# fixed settings that are not numbers (``--set`` only), with their options: the model's
+# named options (models.SETTINGS) and the contact of the sliding model
 CHOICES: dict[str, tuple[str, ...]] = {
-    "normal_force": tuple(NORMAL_FORCE_OPTIONS),
-    "friction_law": tuple(FRICTION_LAWS),
-    "contact_pressure": tuple(CONTACT_PRESSURES),
+    **{name: tuple(s.choices) for name, s in SETTINGS.items() if s.choices is not None},
     "contact": tuple(CONTACTS),  # of the sliding model: "hybrid" is the stick–slip contact
 }
-_CONFLICTS = (("spin", "omega3"), ("misalignment_angle", "inertia_12"))
+_CONFLICTS = (("initial_spin", "omega3"), ("misalignment_angle", "inertia_12"))
 VALIDATION_PROGRESS_EVERY = 1000  # objects built between two progress reports
 
 
 def check_name(name: str) -> SweepParameter:
-    """The sweep parameter ``name``; unknown names raise with the closest match."""
+    """The sweep parameter ``name``; unknown names raise with the closest match, and an
+    old name (``schema.RENAMED``) with its new one."""
     if name in PARAMETERS:
         return PARAMETERS[name]
     names = [*PARAMETERS, *CHOICES]
-    close = difflib.get_close_matches(name, names, n=1, cutoff=0.5) or [
-        known for known in names if known.startswith(name[:4])
-    ]
-    hint = f"did you mean {close[0]!r}?" if close else "see `celtstone sweep --help`"
+    new = schema.RENAMED.get(name, name)  # an old name suggests its new one, or the closest
+    if new != name and new in names:
+        hint = schema.renamed_hint(name)
+    else:
+        hint = did_you_mean(new, names, cutoff=0.5) or "see `celtstone sweep --help`"
     raise ParameterError("parameter", name, "a sweep parameter name", hint)
 
 
@@ -230,7 +239,7 @@ def parse_axis_spec(text: str) -> AxisSpec:
     name = name.strip().replace("-", "_")
     if not sep or not rest.strip():
         raise ParameterError(
-            "vary", text, "NAME=START:STOP:COUNT or NAME=V1,V2,...", "e.g. spin=-8:8:64"
+            "vary", text, "NAME=START:STOP:COUNT or NAME=V1,V2,...", "e.g. initial_spin=-8:8:64"
         )
     check_name(name)
     if ":" in rest:
@@ -252,7 +261,7 @@ def parse_axis(text: str) -> Axis:
 
 def parse_setting(text: str) -> tuple[str, float | str]:
     """Parse a fixed setting ``name=value``: a number, or an option of ``CHOICES``
-    (``normal_force=static|dynamic``, ``friction_law=pade|exact``,
+    (``friction_load=static|dynamic``, ``friction_law=pade|exact``,
     ``contact_pressure=hertz|uniform``, ``contact=sliding|hybrid``)."""
     name, sep, value = text.partition("=")
     name = name.strip().replace("-", "_")
@@ -291,36 +300,8 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
         if not -math.pi / 4 < angle < math.pi / 4:
             raise ParameterError("misalignment_angle", angle, "a number in (-0.785, 0.785) rad")
         inertia = _rotated_inertia(inertia, angle)
-    shape = base.shape
-    ellipsoid_names = ("semi_axis_a", "semi_axis_b", "semi_axis_c", "com_offset")
-    names_of_shape = {
-        "ellipsoid": ellipsoid_names,
-        "superellipsoid": (*ellipsoid_names, "exponent"),
-        "paraboloid": ("radius_of_curvature_1", "radius_of_curvature_2", "com_height"),
-        "implicit_polynomial": ("com_offset",),
-    }
-    all_shape_names = {name for names in names_of_shape.values() for name in names}
-    for name in values:
-        if name in all_shape_names and name not in names_of_shape[shape.kind]:
-            raise ParameterError("parameter", name, f"a parameter of the body's {shape.kind} shape")
-    if isinstance(shape, ImplicitPolynomial):
-        if "com_offset" in values:
-            shape = ImplicitPolynomial(shape.terms, values["com_offset"])
-    elif isinstance(shape, Ellipsoid | Superellipsoid):
-        axes = list(shape.semi_axes)
-        for k, name in enumerate(ellipsoid_names[:3]):
-            axes[k] = values.get(name, axes[k])
-        semi_axes = (axes[0], axes[1], axes[2])
-        offset = values.get("com_offset", shape.com_offset)
-        if isinstance(shape, Superellipsoid):
-            shape = Superellipsoid(semi_axes, offset, values.get("exponent", shape.exponent))
-        else:
-            shape = Ellipsoid(semi_axes, offset)
-    elif isinstance(shape, Paraboloid):
-        radii = list(shape.radii_of_curvature)
-        radii[0] = values.get("radius_of_curvature_1", radii[0])
-        radii[1] = values.get("radius_of_curvature_2", radii[1])
-        shape = Paraboloid((radii[0], radii[1]), values.get("com_height", shape.com_height))
+    shape_names = {sweep.name for cls in SHAPES.values() for sweep in cls.sweep_names}
+    shape = base.shape.replaced({k: v for k, v in values.items() if k in shape_names})
     return replace(
         base,
         mass=values.get("mass", base.mass),
@@ -331,31 +312,25 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
 
 
 def build_model(model_name: str, choices: Mapping[str, str], values: Mapping[str, float]) -> Model:
-    """The model with the options ``choices`` (``CHOICES``) and numbers ``values``, validated."""
-    if model_name == "rolling":
-        for name in [*values, *choices]:
-            if name != "damping":
-                raise ParameterError(
-                    "parameter", name, "a parameter of the rolling model (damping)"
-                )
-        return model_from_name("rolling", **values)
+    """The model with the options ``choices`` (``CHOICES``) and numbers ``values``, validated
+    (a setting the model does not have is refused: ``models.model_from_name``)."""
     return model_from_name(model_name, **choices, **values)
 
 
 def build_state(values: Mapping[str, float]) -> InitialState:
-    """The initial state from omega1..3, tilt_alpha, tilt_beta and spin (defaults:
+    """The initial state from omega1..3, euler_alpha, euler_beta and initial_spin (defaults:
     ``InitialState()``, Kane & Levinson's ω = (0, 0, -5) rad/s, α = β = 0.5°)."""
     default = InitialState()
     omega = [values.get(f"omega{k + 1}", default.omega[k]) for k in range(3)]
-    tilt = (
-        values.get("tilt_alpha", default.tilt[0]),
-        values.get("tilt_beta", default.tilt[1]),
+    angles = (
+        values.get("euler_alpha", default.euler_angles[0]),
+        values.get("euler_beta", default.euler_angles[1]),
     )
-    if "spin" in values:
-        spin = schema.check("omega", values["spin"])
-        n = InitialState(omega=(0.0, 0.0, 0.0), tilt=tilt).vertical
+    if "initial_spin" in values:
+        spin = schema.check("omega", values["initial_spin"])
+        n = InitialState(omega=(0.0, 0.0, 0.0), euler_angles=angles).vertical
         omega[2] = (spin - omega[0] * n[0] - omega[1] * n[1]) / n[2]
-    return InitialState(omega=(omega[0], omega[1], omega[2]), tilt=tilt)
+    return InitialState(omega=(omega[0], omega[1], omega[2]), euler_angles=angles)
 
 
 class PointBuilder:
@@ -385,11 +360,10 @@ class PointBuilder:
         settings = dict(fixed)
         choices = {name: str(settings.pop(name)) for name in CHOICES if name in settings}
         for name, value in choices.items():
-            if value not in CHOICES[name]:
-                raise ParameterError(name, value, "one of: " + ", ".join(CHOICES[name]))
-        numbers = {name: _float(name, str(value)) for name, value in settings.items()}
-        for name in numbers:
+            require_choice(name, value, CHOICES[name])
+        for name in settings:  # an old or unknown name first, before its value
             check_name(name)
+        numbers = {name: _float(name, str(value)) for name, value in settings.items()}
         for name in columns:
             check_name(name)
             if name in numbers:

@@ -43,6 +43,8 @@ import zarr
 
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.export import make_temporary_directory, output_error
+from celtstone.schema import VARIABLES
+from celtstone.solvers import batch
 
 __all__ = [
     "RESULT_FIELDS",
@@ -53,22 +55,16 @@ __all__ = [
     "open_sweep",
 ]
 
-# name: (dtype, fill value, unit, long name)
+# name: (dtype, fill value, unit, long name), from the one declaration of each field
+# (``solvers.batch.RESULT_FIELDS``) and its ``schema.VARIABLES`` row
 RESULT_FIELDS: dict[str, tuple[str, Any, str, str]] = {
-    "first_reversal_time": (
-        "float64",
-        math.nan,
-        "s",
-        "first reversal of the sense of spin (hysteresis band), NaN if none",
-    ),
-    "n_reversals": ("int32", -1, "1", "number of spin reversals (hysteresis band)"),
-    "final_spin": ("float64", math.nan, "rad/s", "spin omega . n at t_end, NaN if stopped early"),
-    "energy_lost": ("float64", math.nan, "J", "E(0) - E(t_end), NaN if stopped early"),
-    "max_tilt": ("float64", math.nan, "rad", "largest angle between the vertical and axis 3"),
-    "min_normal_force": ("float64", math.nan, "N", "smallest normal force (0 at lift-off)"),
-    "t_stop": ("float64", math.nan, "s", "time the run stopped"),
-    "status": ("str", "", "", "success, or why the run stopped early"),
-    "message": ("str", "", "", "what happened and what to change"),
+    field.name: (
+        field.dtype,
+        field.fill,
+        VARIABLES[field.name].unit,
+        VARIABLES[field.name].long_name,
+    )
+    for field in batch.RESULT_FIELDS
 }
 MASK = "completed"
 FORMAT = "celtstone-sweep-1"
@@ -207,7 +203,8 @@ def _build(
             attributes=dict(var_attrs),
         )
         array[...] = values
-    for name, (dtype, fill, unit, long_name) in RESULT_FIELDS.items():
+    for name, (dtype, fill, _, _) in RESULT_FIELDS.items():
+        attributes: dict[str, Any] = dict(VARIABLES[name].attributes)  # units, long name
         group.create_array(
             name,
             shape=layout.shape,
@@ -215,9 +212,7 @@ def _build(
             dtype=str if dtype == "str" else dtype,
             fill_value=fill,
             dimension_names=layout.dims,
-            attributes={"units": unit, "long_name": long_name}
-            if unit
-            else {"long_name": long_name},
+            attributes=attributes,
         )
     group.create_array(
         MASK,

@@ -1,9 +1,11 @@
 """Pure geometry of the 3-D scene: the body's surface in space at each sample.
 
 Everything here is plain NumPy on arrays in SI units, so the video (matplotlib)
-and the page (JavaScript) draw the same triangles. Ellipsoid and paraboloid are
-meshed from their formulas; a superellipsoid or implicit polynomial through the
-contact kernel (each vertex the surface point of one outward normal).
+and the page (JavaScript) draw the same triangles. The run's shape is rebuilt from
+its attributes through the shape registry (``bodies.SHAPES``); a closed shape is
+meshed through the contact kernel (each vertex the surface point of one outward
+normal), so a new shape is drawn with no code here; the paraboloid, an open cap, is
+meshed from its formula up to the run's highest contact.
 
 Frames
 ------
@@ -24,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from celtstone.bodies import ImplicitPolynomial, Superellipsoid
+from celtstone.bodies import SHAPES, Shape, shape_from_table
 from celtstone.errors import ParameterError
 from celtstone.kernels.geometry import contact as contact_kernel
 from celtstone.kernels.layout import parameter_record
@@ -35,13 +37,11 @@ __all__ = [
     "axis_marks",
     "body_geometry",
     "centre_positions",
-    "contact_point_body",
     "extent",
     "place",
     "rotation_matrices",
     "support_points",
     "surface_mesh",
-    "surface_residual",
 ]
 
 # a paraboloid cap is drawn up to at least this multiple of l above its rest contact
@@ -56,15 +56,15 @@ class BodyGeometry:
 
     Parameters
     ----------
-    kind : "ellipsoid", "paraboloid", "superellipsoid" or "implicit_polynomial"
-    parameters : the kernel's four shape numbers [m]: (a, b, c, h) for the
-        ellipsoid (G a distance h below its centre), (ρ1, ρ2, l, 0) for the
-        paraboloid cap z = x²/(2ρ1) + y²/(2ρ2) (G a height l above the rest contact)
+    kind : the shape's kind (a key of ``bodies.SHAPES``)
+    parameters : the four shape numbers the run recorded [m] (``kernel_parameters``):
+        (a, b, c, h) for the ellipsoid, (ρ1, ρ2, l, 0) for the paraboloid cap
+        z = x²/(2ρ1) + y²/(2ρ2) (G a height l above the rest contact)
     inertia : central inertia tensor in body axes [kg m²], shape (3, 3)
     cap_height : height of the drawn paraboloid cap above its rest contact [m]
-        (the cap is unbounded; unused for the ellipsoid)
-    kernel_params : the kernels' parameter record of the shape, for the shapes drawn
-        through the contact kernel (superellipsoid, implicit polynomial), else None
+        (the cap is unbounded; unused for a closed shape)
+    kernel_params : the kernels' parameter record of a closed shape, drawn through the
+        contact kernel; None for the paraboloid cap
     """
 
     kind: str
@@ -76,11 +76,16 @@ class BodyGeometry:
     @property
     def half_length(self) -> float:
         """Half the extent of the drawn body along axis 1 [m]."""
-        if self.kind == "ellipsoid":
-            return self.parameters[0]
         if self.kernel_params is not None:
             return float(support_points(self, np.array([[1.0, 0.0, 0.0]]))[0, 0])
         return math.sqrt(2.0 * self.parameters[0] * self.cap_height)
+
+    @property
+    def half_extents(self) -> np.ndarray:
+        """Half the extent of a closed body along each body axis [m], shape (3,)."""
+        axes = np.concatenate([np.eye(3), -np.eye(3)])
+        points = support_points(self, axes)
+        return 0.5 * (np.diag(points[:3]) - np.diag(points[3:]))
 
     @property
     def principal_axis(self) -> np.ndarray:
@@ -106,69 +111,62 @@ def _attr_numbers(attrs: dict, name: str) -> list:
         ) from None
 
 
-def contact_point_body(kind: str, parameters: tuple[float, ...], n: np.ndarray) -> np.ndarray:
-    """Contact point relative to G in body axes [m] for upward verticals ``n``, shape (k, 3).
-
-    Ellipsoid: r = -Q n / sqrt(nᵀQn) + h e3, Q = diag(a², b², c²); paraboloid:
-    (x, y) = (-ρ1 n1/n3, -ρ2 n2/n3), z = x²/(2ρ1) + y²/(2ρ2) - l. The point whose
-    outward normal is -n (``kernels.geometry``, paper eq. (3)).
-    """
+def _cap_contacts(parameters: tuple[float, ...], n: np.ndarray) -> np.ndarray:
+    """Contact points of the paraboloid cap relative to G in body axes [m] for upward
+    verticals ``n`` (k, 3): (x, y) = (-ρ1 n1/n3, -ρ2 n2/n3), z = x²/(2ρ1) + y²/(2ρ2) - l."""
     n = np.atleast_2d(np.asarray(n, dtype=float))
+    rho1, rho2, height, _ = parameters
+    x = -rho1 * n[:, 0] / n[:, 2]
+    y = -rho2 * n[:, 1] / n[:, 2]
+    return np.stack([x, y, 0.5 * x * x / rho1 + 0.5 * y * y / rho2 - height], axis=1)
+
+
+def _legacy_table(kind: str, parameters: tuple[float, ...], attrs: dict) -> dict[str, object]:
+    """The ``[shape]`` table of a run file written before shapes recorded theirs
+    (``body_shape_table``), from its four numbers and per-kind attributes."""
     p0, p1, p2, p3 = parameters
-    if kind == "ellipsoid":
-        q = np.array([p0 * p0, p1 * p1, p2 * p2])
-        s = np.sqrt(np.sum(q * n * n, axis=1))[:, None]
-        return -q * n / s + np.array([0.0, 0.0, p3])
-    x = -p0 * n[:, 0] / n[:, 2]
-    y = -p1 * n[:, 1] / n[:, 2]
-    return np.stack([x, y, 0.5 * x * x / p0 + 0.5 * y * y / p1 - p2], axis=1)
-
-
-def surface_residual(geometry: BodyGeometry, points: np.ndarray) -> np.ndarray:
-    """Signed distance-like residual of body points (relative to G, body axes) [m], shape (k,).
-
-    Zero on the surface: for the ellipsoid c (sqrt(x²/a² + y²/b² + (z-h)²/c²) - 1);
-    for the paraboloid x²/(2ρ1) + y²/(2ρ2) - (z + l).
-    """
-    points = np.atleast_2d(points)
-    p0, p1, p2, p3 = geometry.parameters
-    x, y, z = points[:, 0], points[:, 1], points[:, 2]
-    if geometry.kind == "ellipsoid":
-        return p2 * (np.sqrt((x / p0) ** 2 + (y / p1) ** 2 + ((z - p3) / p2) ** 2) - 1.0)
-    return 0.5 * x * x / p0 + 0.5 * y * y / p1 - (z + p2)
-
-
-SHAPE_KINDS = ("ellipsoid", "paraboloid", "superellipsoid", "implicit_polynomial")
-# closed shapes drawn through the contact kernel: the surface is r(ν) over all normals ν
-SUPPORT_DRAWN = ("superellipsoid", "implicit_polynomial")
-
-
-def _kernel_params(kind: str, parameters: tuple[float, ...], attrs: dict) -> np.record:
-    """The kernels' parameter record of a superellipsoid or implicit-polynomial run's shape."""
+    if kind == "paraboloid":
+        return {"kind": kind, "radii_of_curvature": [p0, p1], "com_height": p2}
+    if kind == "implicit_polynomial":
+        try:
+            terms = json.loads(str(attrs["body_shape_terms"]))
+        except (KeyError, ValueError):
+            raise ParameterError(
+                "run", attrs.get("title", "?"), "a run file with attribute 'body_shape_table'"
+            ) from None
+        return {"kind": kind, "terms": terms, "com_offset": p3}
+    table: dict[str, object] = {"kind": kind, "semi_axes": [p0, p1, p2], "com_offset": p3}
     if kind == "superellipsoid":
-        exponent = float(attrs.get("body_shape_exponent", 2.0))
-        a, b, c, h = parameters
-        shape: Superellipsoid | ImplicitPolynomial = Superellipsoid((a, b, c), h, exponent)
-        return parameter_record(**shape.kernel_fields())
-    try:
-        terms = json.loads(str(attrs["body_shape_terms"]))
-    except (KeyError, ValueError):
-        raise ParameterError(
-            "run", attrs.get("title", "?"), "a run file with attribute 'body_shape_terms'"
-        ) from None
-    shape = ImplicitPolynomial(terms=terms, com_offset=parameters[3])
-    return shape.kernel_record()
+        table["exponent"] = float(attrs.get("body_shape_exponent", 2.0))
+    return table
+
+
+def _run_shape(kind: str, parameters: tuple[float, ...], attrs: dict) -> Shape:
+    """The run's shape, rebuilt (and validated) from its recorded table."""
+    title = str(attrs.get("title", "the run file"))
+    if "body_shape_table" in attrs:
+        try:
+            table = json.loads(str(attrs["body_shape_table"]))
+        except ValueError:
+            raise ParameterError(
+                "run", title, "a run file whose attribute 'body_shape_table' is JSON"
+            ) from None
+    else:
+        table = _legacy_table(kind, parameters, attrs)
+    return shape_from_table(table, file=f"{title} (attribute body_shape_table)")
 
 
 def support_points(geometry: BodyGeometry, normals: np.ndarray) -> np.ndarray:
     """Surface points (relative to G, body axes) [m] with outward normals ``normals``, (k, 3).
 
-    The contact kernel's point for the upward vertical n = -ν (paper eq. 3).
+    The contact kernel's point for the upward vertical n = -ν (paper eq. 3); the
+    normals need not be unit vectors.
     """
     params = geometry.kernel_params
     still = (0.0, 0.0, 0.0)
     points = []
-    for normal in np.atleast_2d(normals):
+    normals = np.atleast_2d(np.asarray(normals, dtype=float))
+    for normal in normals / np.linalg.norm(normals, axis=1, keepdims=True):
         vertical = (-float(normal[0]), -float(normal[1]), -float(normal[2]))
         point, _ = contact_kernel(vertical, still, params)
         points.append(point)
@@ -183,7 +181,10 @@ def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
     """
     attrs = dict(dataset.attrs)
     kind = str(attrs.get("body_shape", ""))
-    if kind == "implicit_function":
+    stored = [name for name, cls in SHAPES.items() if cls.stored]
+    if kind not in SHAPES:
+        raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(stored))
+    if not SHAPES[kind].stored:
         raise ParameterError(
             "run",
             str(attrs.get("body_shape_function", kind)),
@@ -191,19 +192,16 @@ def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
             "a shape given by a Python function cannot be redrawn from the file; "
             "write it as an implicit polynomial to animate it",
         )
-    if kind not in SHAPE_KINDS:
-        raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(SHAPE_KINDS))
     parameters = tuple(float(v) for v in _attr_numbers(attrs, "body_shape_parameters"))
     inertia = tuple(tuple(float(v) for v in row) for row in _attr_numbers(attrs, "body_inertia"))
-    if kind in SUPPORT_DRAWN:
-        params = _kernel_params(kind, parameters, attrs)
+    shape = _run_shape(kind, parameters, attrs)
+    if shape.closed:
+        params = parameter_record(**shape.kernel_fields())
         return BodyGeometry(kind, parameters, inertia, kernel_params=params)  # type: ignore[arg-type]
-    cap_height = 0.0
-    if kind == "paraboloid":
-        height = parameters[2]
-        contacts = contact_point_body(kind, parameters, np.asarray(dataset["n"].values))
-        highest = float(np.max(contacts[:, 2] + height)) if contacts.size else 0.0
-        cap_height = max(CAP_HEIGHT_FACTOR * height, CAP_MARGIN * highest)
+    height = parameters[2]  # the paraboloid cap, drawn up to the run's highest contact
+    contacts = _cap_contacts(parameters, np.asarray(dataset["n"].values))
+    highest = float(np.max(contacts[:, 2] + height)) if contacts.size else 0.0
+    cap_height = max(CAP_HEIGHT_FACTOR * height, CAP_MARGIN * highest)
     return BodyGeometry(kind, parameters, inertia, cap_height)  # type: ignore[arg-type]
 
 
@@ -243,37 +241,26 @@ def surface_mesh(geometry: BodyGeometry, along: int = 48, around: int = 32) -> M
 
     Every vertex lies exactly on the body surface (the paraboloid cap is closed by
     a flat lid at its ``cap_height``). Triangles are wound counter-clockwise seen
-    from outside. ``along`` rings along axis 1 (ellipsoid) or from the rest contact
+    from outside. ``along`` rings along axis 1 (closed shapes) or from the rest contact
     to the rim (paraboloid); ``around`` vertices per ring.
     """
     phi = np.linspace(0.0, 2.0 * np.pi, around, endpoint=False)
     if geometry.kernel_params is not None:
-        # normals on a sphere with poles on ±axis 1, mapped to their surface points
+        # poles on ±axis 1; normals ∝ (cos θ/a, sin θ cos φ/b, sin θ sin φ/c) with a, b, c
+        # the half extents: for an ellipsoid the vertices are its (θ, φ) grid, and any
+        # closed shape is sampled evenly along its length rather than by curvature
         theta = np.linspace(0.0, np.pi, along + 1)[1:-1]
+        a, b, c = geometry.half_extents
         ring_normals = np.stack(
             [
-                np.cos(theta)[:, None] * np.ones_like(phi),
-                np.sin(theta)[:, None] * np.cos(phi),
-                np.sin(theta)[:, None] * np.sin(phi),
+                np.cos(theta)[:, None] * np.ones_like(phi) / a,
+                np.sin(theta)[:, None] * np.cos(phi) / b,
+                np.sin(theta)[:, None] * np.sin(phi) / c,
             ],
             axis=-1,
         ).reshape(-1, 3)
         rings = support_points(geometry, ring_normals)
         poles = support_points(geometry, np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]))
-        vertices = np.concatenate([rings, poles])
-        body = _grid_triangles(len(theta), around)
-        first = np.arange(around)
-        last = (len(theta) - 1) * around + np.arange(around)
-        caps = [_fan(len(rings), first, reverse=True), _fan(len(rings) + 1, last, reverse=False)]
-        triangles = np.concatenate([body, *caps])
-    elif geometry.kind == "ellipsoid":
-        a, b, c, h = geometry.parameters
-        theta = np.linspace(0.0, np.pi, along + 1)[1:-1]  # poles at the ends of axis 1
-        ring_x = a * np.cos(theta)[:, None] * np.ones_like(phi)
-        ring_y = b * np.sin(theta)[:, None] * np.cos(phi)
-        ring_z = h + c * np.sin(theta)[:, None] * np.sin(phi)
-        rings = np.stack([ring_x, ring_y, ring_z], axis=-1).reshape(-1, 3)
-        poles = np.array([[a, 0.0, h], [-a, 0.0, h]])
         vertices = np.concatenate([rings, poles])
         body = _grid_triangles(len(theta), around)
         first = np.arange(around)
@@ -310,15 +297,6 @@ def _outward(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return triangles
 
 
-def _top_height(geometry: BodyGeometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Height of the body's upper surface above G at body (x, y) [m]."""
-    p0, p1, p2, p3 = geometry.parameters
-    if geometry.kind == "ellipsoid":
-        inside = np.clip(1.0 - (x / p0) ** 2 - (y / p1) ** 2, 0.0, None)
-        return p3 + p2 * np.sqrt(inside)
-    return np.full_like(x, geometry.cap_height - p2)
-
-
 def axis_marks(geometry: BodyGeometry, points: int = 25) -> dict[str, np.ndarray]:
     """Marks drawn on the body, relative to G in body axes [m], each shape (points, 3).
 
@@ -329,15 +307,16 @@ def axis_marks(geometry: BodyGeometry, points: int = 25) -> dict[str, np.ndarray
     """
     half = geometry.half_length
     if geometry.kernel_params is not None:
-        # the top curve in the plane of axes 1 and 3: outward normals (cos θ, 0, sin θ)
-        theta = np.linspace(0.15 * np.pi, 0.85 * np.pi, points)
-        normals = np.stack([np.cos(theta), np.zeros_like(theta), np.sin(theta)], axis=1)
-        long_axis = support_points(geometry, normals) + np.array([0.0, 0.0, 0.01 * half])
-    else:
+        # the top curve in the plane of axes 1 and 3, ends at ±0.9 of the half extent
+        a, _, c = geometry.half_extents
+        end = math.acos(0.9)
+        theta = np.linspace(np.pi - end, end, points)  # from -x to +x
+        normals = np.stack([np.cos(theta) / a, np.zeros_like(theta), np.sin(theta) / c], axis=1)
+        long_axis = support_points(geometry, normals) + np.array([0.0, 0.0, 0.01 * c])
+    else:  # along the paraboloid's flat lid
         u = np.linspace(-0.9 * half, 0.9 * half, points)
-        zero = np.zeros_like(u)
-        lift = 0.01 * (geometry.parameters[2] if geometry.kind == "ellipsoid" else half)
-        long_axis = np.stack([u, zero, _top_height(geometry, u, zero) + lift], axis=1)
+        lid = np.full_like(u, geometry.cap_height - geometry.parameters[2] + 0.01 * half)
+        long_axis = np.stack([u, np.zeros_like(u), lid], axis=1)
     reach = np.linspace(-1.25 * half, 1.25 * half, points)[:, None]
     principal = reach * geometry.principal_axis[None, :]
     return {"long_axis": long_axis, "principal_axis": principal}
