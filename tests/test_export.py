@@ -24,6 +24,7 @@ CSV_COLUMNS = [
     "normal_force",
     "slip_speed",
     "friction_power",
+    "friction_force",
     "com_height",
     "omega_1",
     "omega_2",

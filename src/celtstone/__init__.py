@@ -24,6 +24,7 @@ from celtstone.bodies import list_bodies as list_bodies
 from celtstone.bodies import load_body as load_body
 from celtstone.errors import CeltstoneError as CeltstoneError
 from celtstone.errors import CeltstoneWarning as CeltstoneWarning
+from celtstone.errors import FrictionBoundWarning as FrictionBoundWarning
 from celtstone.errors import FrictionSingularityError as FrictionSingularityError
 from celtstone.errors import IntegrationError as IntegrationError
 from celtstone.errors import LiftOffError as LiftOffError
@@ -45,6 +46,7 @@ __all__ = [
     "CeltstoneError",
     "CeltstoneWarning",
     "Ellipsoid",
+    "FrictionBoundWarning",
     "FrictionSingularityError",
     "HybridModel",
     "ImplicitFunction",

@@ -13,6 +13,7 @@ __all__ = [
     "BodyFileError",
     "CeltstoneError",
     "CeltstoneWarning",
+    "FrictionBoundWarning",
     "FrictionSingularityError",
     "IntegrationError",
     "LiftOffError",
@@ -124,6 +125,11 @@ class CeltstoneWarning(UserWarning):
 
 class PlausibilityWarning(CeltstoneWarning):
     """A parameter is allowed but implausible for a rattleback (``celtstone.plausibility``)."""
+
+
+class FrictionBoundWarning(CeltstoneWarning):
+    """A run's friction exceeded Coulomb's bound f N for the true normal force N (the
+    paper's first approximation, the friction law loaded with m g)."""
 
 
 def did_you_mean(value: object, options: Iterable[object], cutoff: float = 0.6) -> str:

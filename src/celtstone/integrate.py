@@ -12,6 +12,7 @@ from celtstone import hybrid, plausibility, schema, solvers
 from celtstone.bodies import Body
 from celtstone.errors import (
     CeltstoneWarning,
+    FrictionBoundWarning,
     ParameterError,
     PlausibilityWarning,
     require_choice,
@@ -228,7 +229,7 @@ def simulate(
     dataset = build_dataset(
         model.code, params, sample_times_out, samples, crossings, attrs, **phase_data
     )
-    return Trajectory(
+    trajectory = Trajectory(
         dataset=dataset,
         status=status,
         message=message,
@@ -236,3 +237,21 @@ def simulate(
         min_normal_force=min_normal,
         statistics=statistics,
     )
+    _warn_friction_bound(trajectory)
+    return trajectory
+
+
+def _warn_friction_bound(trajectory: Trajectory) -> None:
+    """One ``FrictionBoundWarning`` when a static-load run's friction exceeded f N for the
+    true N (issue 13 item 6; ``Trajectory.max_friction_bound_ratio``)."""
+    ratio = trajectory.max_friction_bound_ratio
+    if trajectory.dataset.attrs.get("friction_load") == "static" and ratio is not None:
+        if ratio > 1.0:
+            warnings.warn(
+                f"the friction force reached {ratio:.3g} f N for the true normal force N, "
+                f"{100.0 * (ratio - 1.0):.3g} % above Coulomb's bound: the friction law is "
+                "loaded with m g (the paper's first approximation); use --friction-load "
+                "dynamic for the consistent load",
+                FrictionBoundWarning,
+                stacklevel=3,
+            )

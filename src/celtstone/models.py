@@ -50,6 +50,10 @@ __all__ = [
 
 FRICTION_LOAD_OPTIONS = {option.name.lower(): option.value for option in FrictionLoad}
 
+# ω_0 [rad/s] of the rolling resistance: 0.5 % of the rolling rate of a K&L stone rocking
+# at 2° (about 0.2 rad/s); docs/decisions.md §25 measures its effect
+DEFAULT_ROLLING_RESISTANCE_RATE = 1e-3
+
 
 @dataclass(frozen=True)
 class Setting:
@@ -95,6 +99,8 @@ SETTINGS: dict[str, Setting] = {
     s.name: s
     for s in (
         Setting("damping", record="damping"),
+        Setting("rolling_resistance", record="rolling_resistance"),
+        Setting("rolling_resistance_rate", record="rolling_resistance_rate"),
         Setting("friction_coefficient", record="friction_coefficient"),
         Setting("contact_radius", record="contact_radius"),
         Setting(
@@ -180,9 +186,14 @@ class RollingModel:
     Parameters
     ----------
     damping : σ, viscous torque -σω [N m s], >= 0 (Kane & Levinson's optional term)
+    rolling_resistance : λ, rolling-friction length [m], in [0, 0.01]: the moment
+        −λ N ĥ against the rolling part ω_t of ω (docs/equations.md); 0: none
+    rolling_resistance_rate : ω_0 [rad/s], > 0: ĥ = ω_t / sqrt(|ω_t|² + ω_0²)
     """
 
     damping: float = 0.0
+    rolling_resistance: float = 0.0
+    rolling_resistance_rate: float = DEFAULT_ROLLING_RESISTANCE_RATE
 
     name: ClassVar[str] = "rolling"
     contact: ClassVar[str] = "rolling"
@@ -231,6 +242,8 @@ class SlidingModel:
         radius of curvature at the current contact point, E* = E / (2(1 − ν²))
     poisson_ratio : ν of body and plane [1], in (−1, 0.5); required with
         ``elastic_modulus``
+    rolling_resistance, rolling_resistance_rate : λ [m] and ω_0 [rad/s] as in
+        :class:`RollingModel`; the moment is loaded like the friction (``friction_load``)
     """
 
     friction_coefficient: float = 0.35
@@ -242,6 +255,8 @@ class SlidingModel:
     contact_pressure: str = "hertz"
     elastic_modulus: float | None = None
     poisson_ratio: float | None = None
+    rolling_resistance: float = 0.0
+    rolling_resistance_rate: float = DEFAULT_ROLLING_RESISTANCE_RATE
 
     name: ClassVar[str] = "sliding"
     contact: ClassVar[str] = "sliding"

@@ -74,6 +74,9 @@ MAX_SAMPLES = 1_000_000  # output samples of one run (about 0.3 GB with derived 
 MAX_T_END = 1e6  # s; a rolling K&L run takes ~360 steps/s, so 1e6 s is 3.6e8 steps
 MAX_ATOL = 1e-3  # an absolute error above this lets |n| = 1 drift visibly in one step
 MAX_ANGULAR_SPEED = 1e4  # rad/s (95 000 rpm); spun faster, every stone lifts off at once
+# m; a rolling-friction length is a fraction of the contact size (Cross 2016: ~1e-6 to
+# 1e-3 m for balls on hard to soft floors); 1 cm is past any rattleback's contact
+MAX_ROLLING_RESISTANCE = 1e-2
 
 _POSITIVE = {"lower": 0.0, "lower_open": True}
 _NON_NEGATIVE = {"lower": 0.0}
@@ -108,6 +111,22 @@ PARAMETERS: dict[str, Quantity] = {
             "delta",
             "m/s",
             "slip-speed scale regularising the singular state",
+            **_POSITIVE,
+        ),
+        _q(
+            "rolling_resistance",
+            "lambda",
+            "m",
+            "rolling-friction length: shift of the pressure centre, moment lambda*N "
+            "against the rolling part of omega",
+            lower=0.0,
+            upper=MAX_ROLLING_RESISTANCE,
+        ),
+        _q(
+            "rolling_resistance_rate",
+            "omega_0",
+            "rad/s",
+            "rolling rate below which the rolling resistance turns viscous",
             **_POSITIVE,
         ),
         _q(
@@ -303,6 +322,13 @@ VARIABLES: dict[str, Variable] = {
         source="derived",
     ),
     "friction_power": Variable("W", "friction power F . V1 + M Omega_n", source="derived"),
+    "friction_force": Variable(
+        "N",
+        "tangential friction force |F| of the plane (0 in rolling)",
+        "friction force $|F|$",
+        "friction force |F|",
+        source="derived",
+    ),
     "com_height": Variable("m", "height of the centre of mass above the plane", source="derived"),
     "omega": Variable("rad/s", "angular velocity, body axes", source="state:omega", axis="axis"),
     "n": Variable("1", "upward vertical unit vector, body axes", source="state:n", axis="axis"),

@@ -41,6 +41,7 @@ SUMMARY_KEYS = (
     "max_tilt_deg",
     "min_normal_force",
     "max_slip_speed",
+    "max_friction_bound_ratio",
     "status",
     "message",
 )
@@ -48,6 +49,8 @@ SUMMARY_KEYS = (
 # model settings copied from the attributes into the summary when the model has them
 MODEL_OPTION_KEYS = (
     "damping",
+    "rolling_resistance",
+    "rolling_resistance_rate",
     "friction_coefficient",
     "contact_radius",
     "friction_load",
@@ -240,6 +243,24 @@ class Trajectory:
         times = self.reversal_times()
         return float(times[0]) if times.size else None
 
+    @property
+    def max_friction_bound_ratio(self) -> float | None:
+        """Largest |F| / (f N) over the samples with N > 0, N the true normal force [1]:
+        above 1 the friction exceeds Coulomb's bound, as the paper's first approximation
+        (``friction_load`` static, the law loaded with m g) allows. None for rolling (no
+        friction law), f = 0 or no sample with N > 0."""
+        ds = self.dataset
+        coefficient = ds.attrs.get("friction_coefficient")
+        if ds.attrs["model"] == "rolling" or not isinstance(coefficient, (int, float)):
+            return None
+        normal = ds["normal_force"].values
+        loaded = normal > 0.0
+        if not coefficient > 0.0 or not np.any(loaded):
+            return None
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # f N may underflow
+            ratios = ds["friction_force"].values[loaded] / (coefficient * normal[loaded])
+        return _finite_or_none(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
+
     def summary(self) -> dict[str, Any]:
         """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
         ds = self.dataset
@@ -273,6 +294,7 @@ class Trajectory:
                 float(np.fmin(self.min_normal_force, np.nanmin(ds["normal_force"].values)))
             ),
             "max_slip_speed": float(np.max(ds["slip_speed"].values)),
+            "max_friction_bound_ratio": self.max_friction_bound_ratio,
             "status": self.status,
             "message": self.message,
         }

@@ -65,22 +65,37 @@ def contact_inertia(inertia: Mat, mass: float, r: Vec) -> Mat:
 
 
 @kernel
-def rolling_acceleration(
-    n: Vec, omega: Vec, r: Vec, r_rate: Vec, params
-) -> tuple[Vec, float, Vec, float]:
-    """Angular acceleration, normal force and contact force of rolling without sliding.
+def rolling_resistance_direction(n: Vec, omega: Vec, params) -> Vec:
+    """ĥ = ω_t / sqrt(|ω_t|² + ω_0²), ω_t = ω − (ω · n) n: the rolling part of ω, whose
+    rolling-resistance moment is M_r = −λ N ĥ [1] (docs/equations.md, "Rolling resistance").
+
+    ω_0 (``rolling_resistance_rate``) regularises the switch of M_r at ω_t = 0 as δ does
+    the friction's (decisions §4, §25).
+    """
+    tangential = sub(omega, scale(dot(omega, n), n))
+    rate = params.rolling_resistance_rate
+    return scale(1.0 / math.sqrt(dot(tangential, tangential) + rate * rate), tangential)
+
+
+@kernel
+def rolling_system(
+    n: Vec, omega: Vec, r: Vec, r_rate: Vec, params, is_true_load: bool
+) -> tuple[Mat, Vec, Vec]:
+    """Matrix, right-hand side and centripetal terms of rolling, paper eq. (5), with the
+    rolling-resistance moment M_r = −λ N ĥ.
 
     Returns
     -------
-    omega_rate : dω/dt [rad/s²]
-    normal_force : vertical component of the reaction, N = R · n [N]
-    reaction : full contact reaction R in body axes [N]
-    determinant : determinant of the inertia tensor about the contact point [kg³ m⁶]
+    matrix : J_A = A + m(|r|²E − r⊗r), less λ m ĥ ⊗ d with the true load [kg m²]
+    torque : Aω × ω + m r × (g n − ω×ṙ − ω×(ω×r)) − σω − λ N0 ĥ (or − λ m g ĥ) [N m]
+    centripetal : ω × ṙ + ω × (ω × r) [m/s²]
 
     Notes
     -----
-    Paper eq. (5): (A + m(r²E - r⊗r)) ω̇ = -ω × Aω + m r × (g n - ω × ṙ - ω × (ω × r)) - σω,
-    written with r = r_CA; the reaction follows from eq. (3): R = m(W_C + g n).
+    With ``is_true_load`` N is the true normal force N = N0 − m d · ω̇, d = r × n,
+    N0 = m g − m n · (ω×ṙ + ω×(ω×r)), linear in ω̇, so the λ term enters the matrix
+    exactly: (J_A − λ m ĥ dᵀ) ω̇ = τ − λ N0 ĥ. Otherwise N = m g (``friction_load``
+    static in stick). λ = 0 leaves eq. (5) untouched, bit for bit.
     """
     mass = params.mass
     gravity = params.gravity
@@ -91,10 +106,44 @@ def rolling_acceleration(
         scale(params.damping, omega),
     )
     torque = add(torque, scale(mass, cross(r, sub(scale(gravity, n), centripetal))))
-    omega_rate, determinant = solve3(contact_inertia(inertia, mass, r), torque)
+    matrix = contact_inertia(inertia, mass, r)
+    resistance = params.rolling_resistance
+    if resistance > 0.0:
+        direction = rolling_resistance_direction(n, omega, params)
+        if is_true_load:
+            normal_free = mass * gravity - mass * dot(n, centripetal)
+            matrix = add_outer(matrix, -resistance * mass, direction, cross(r, n))
+            torque = sub(torque, scale(resistance * normal_free, direction))
+        else:
+            torque = sub(torque, scale(resistance * mass * gravity, direction))
+    return matrix, torque, centripetal
+
+
+@kernel
+def rolling_acceleration(
+    n: Vec, omega: Vec, r: Vec, r_rate: Vec, params, is_true_load: bool
+) -> tuple[Vec, float, Vec, float]:
+    """Angular acceleration, normal force and contact force of rolling without sliding.
+
+    Returns
+    -------
+    omega_rate : dω/dt [rad/s²]
+    normal_force : vertical component of the reaction, N = R · n [N]
+    reaction : full contact reaction R in body axes [N]
+    determinant : determinant of the system matrix (``rolling_system``) [kg³ m⁶]
+
+    Notes
+    -----
+    Paper eq. (5): (A + m(r²E - r⊗r)) ω̇ = -ω × Aω + m r × (g n - ω × ṙ - ω × (ω × r)) - σω,
+    written with r = r_CA, plus the rolling-resistance moment −λ N ĥ loaded with the
+    true N (``is_true_load``) or m g; the reaction follows from eq. (3): R = m(W_C + g n).
+    """
+    mass = params.mass
+    matrix, torque, centripetal = rolling_system(n, omega, r, r_rate, params, is_true_load)
+    omega_rate, determinant = solve3(matrix, torque)
     # W_C = -ω̇ × r - ω × ṙ - ω × (ω × r); R = m W_C + m g n
     acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal)
-    reaction = add(scale(mass, acceleration), scale(mass * gravity, n))
+    reaction = add(scale(mass, acceleration), scale(mass * params.gravity, n))
     return omega_rate, dot(reaction, n), reaction, determinant
 
 
@@ -150,8 +199,11 @@ def sliding_acceleration(
     M = f N_f ψ (eq. 10, 12, or the exact law), with N_f = m g ("static", the
     paper's first approximation) or N_f = N ("dynamic"), in which case the linear
     system (A + m k ⊗ d) ω̇ = -ω × Aω + N0 k - σω, k = d + f (r × φ + ψ n), is
-    solved exactly. With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ
-    depend on N in the dynamic case: N is then found by fixed-point iteration.
+    solved exactly. The rolling-resistance moment −λ N_f ĥ
+    (``rolling_resistance_direction``) is loaded like the friction: k gains −λ ĥ
+    in the dynamic case, the torque −λ m g ĥ in the static one; λ = 0 skips it.
+    With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ depend on N in the
+    dynamic case: N is then found by fixed-point iteration.
     Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
     An unknown friction-load option gives NaN.
     """
@@ -164,6 +216,8 @@ def sliding_acceleration(
     spin_rate = dot(omega, n)
     normal_free = mass * gravity - mass * dot(n, centripetal)
     torque = sub(cross(matvec(inertia, omega), omega), scale(params.damping, omega))
+    resistance = params.rolling_resistance
+    direction = rolling_resistance_direction(n, omega, params) if resistance > 0.0 else NAN3
     if params.friction_load == FrictionLoad.DYNAMIC:
         normal_force = normal_free
         for _ in range(MAX_NORMAL_FORCE_ITERATIONS):
@@ -173,6 +227,8 @@ def sliding_acceleration(
             )
             friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
             coupling = add(lever, scale(friction_coefficient, friction_torque_unit))
+            if resistance > 0.0:
+                coupling = sub(coupling, scale(resistance, direction))
             matrix = add_outer(inertia, mass, coupling, lever)
             omega_rate, determinant = solve3(matrix, add(torque, scale(normal_free, coupling)))
             previous = normal_force
@@ -189,6 +245,8 @@ def sliding_acceleration(
         friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
         torque = add(torque, scale(normal_free, lever))
         torque = add(torque, scale(friction_coefficient * friction_normal, friction_torque_unit))
+        if resistance > 0.0:
+            torque = sub(torque, scale(resistance * friction_normal, direction))
         matrix = add_outer(inertia, mass, lever, lever)
         omega_rate, determinant = solve3(matrix, torque)
         normal_force = normal_free - mass * dot(lever, omega_rate)

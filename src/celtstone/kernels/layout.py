@@ -196,6 +196,18 @@ PARAMETER_FIELDS: tuple[ParameterField, ...] = (
     _field("friction_law", "", "friction-law code", kind="i8", codes=FrictionLaw),
     _field("contact_pressure", "", "contact-pressure code", kind="i8", codes=ContactPressure),
     _field(
+        "rolling_resistance",
+        "m",
+        "lambda, rolling-friction length: moment -lambda N omega_t / |omega_t|",
+        quantity="rolling_resistance",
+    ),
+    _field(
+        "rolling_resistance_rate",
+        "rad/s",
+        "omega_0, |omega_t| -> sqrt(|omega_t|² + omega_0²) in the rolling resistance",
+        quantity="rolling_resistance_rate",
+    ),
+    _field(
         "effective_modulus",
         "Pa",
         "E* of the Hertz contact radius; 0: the fixed contact_radius",

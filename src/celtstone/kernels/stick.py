@@ -13,11 +13,10 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.dynamics import (
-    centripetal_terms,
     contact_inertia,
     contact_radius,
     inertia_tensor,
-    rolling_acceleration,
+    rolling_system,
 )
 from celtstone.kernels.friction import (
     HERTZ_MOMENT,
@@ -66,17 +65,21 @@ def stick_acceleration(
     A + m(|r|²E - r⊗r) and τ the rolling right-hand side. Since ṅ = n × ω (eq. 3),
     d(ω · n)/dt = ω̇ · n, so ω · n = 0 is held by n · ω̇ = 0:
     M = -(n · J_A⁻¹τ)/(n · J_A⁻¹n). The reaction is R = m W_C + m g n with
-    W_C = -ω̇ × r - ω × ṙ - ω × (ω × r).
+    W_C = -ω̇ × r - ω × ṙ - ω × (ω × r). The rolling-resistance moment −λ N ĥ
+    (``dynamics.rolling_system``) is loaded like the friction: the true N with
+    ``friction_load`` dynamic (exactly, in J_A's place), m g with static.
     """
     mass = params.mass
-    free_rate, _, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
-    pivot_response, _ = solve3(contact_inertia(inertia_tensor(params), mass, r), n)
+    is_true_load = params.friction_load == FrictionLoad.DYNAMIC
+    matrix, torque, centripetal = rolling_system(n, omega, r, r_rate, params, is_true_load)
+    free_rate, determinant = solve3(matrix, torque)
+    pivot_response, _ = solve3(matrix, n)
     compliance = dot(n, pivot_response)  # n · J_A⁻¹ n > 0 [1/(kg m²)]
     pivot_moment = 0.0
     if compliance > 0.0:
         pivot_moment = -dot(n, free_rate) / compliance
     omega_rate = add(free_rate, scale(pivot_moment, pivot_response))
-    acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal_terms(omega, r, r_rate))
+    acceleration = sub(scale(-1.0, cross(omega_rate, r)), centripetal)
     reaction = add(scale(mass, acceleration), scale(mass * params.gravity, n))
     normal_force = dot(reaction, n)
     friction_force = sub(reaction, scale(normal_force, n))

@@ -13,6 +13,7 @@ from celtstone.kernels._jit import kernel
 from celtstone.kernels.dynamics import (
     inertia_tensor,
     rolling_acceleration,
+    rolling_resistance_direction,
     sliding_acceleration,
 )
 from celtstone.kernels.geometry import contact, contact_status
@@ -72,10 +73,13 @@ def unpack(y) -> tuple[Vec, Vec, Vec, tuple[float, float, float, float]]:
 
 @kernel
 def evaluate(model, y, params, dy):
-    """Fill ``dy`` with dy/dt and return (status, normal force [N], friction power [W]).
+    """Fill ``dy`` with dy/dt and return (status, normal force [N], friction power [W],
+    friction force |F| [N]).
 
-    The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it. An unknown
-    code (``code_status``) gives the status ``RHS_UNKNOWN_CODE`` and NaN rates.
+    The friction power F · V1 + M Ω_n is ≤ 0; rolling returns 0 for it and for |F|
+    (its tangential reaction is no friction force bounded by Coulomb's law). In stick
+    |F| is the tangential reaction that holds the contact. An unknown code
+    (``code_status``) gives the status ``RHS_UNKNOWN_CODE`` and NaN rates.
     """
     n, omega, slip, quat = unpack(y)
     n_rate = cross(n, omega)  # Poisson equation, paper eq. (3): ṅ = n × ω
@@ -86,8 +90,11 @@ def evaluate(model, y, params, dy):
     inertia = inertia_tensor(params)
     reference = inertia[0] * inertia[4] * inertia[8]
     friction_power = 0.0
+    friction_force = 0.0
     if model == ModelCode.ROLLING:
-        omega_rate, normal_force, _, determinant = rolling_acceleration(n, omega, r, r_rate, params)
+        omega_rate, normal_force, _, determinant = rolling_acceleration(
+            n, omega, r, r_rate, params, True
+        )
         slip_rate = (0.0, 0.0, 0.0)
         velocity = cross(r, omega)  # v_G = -ω × r
     elif model == ModelCode.STICK:
@@ -97,16 +104,19 @@ def evaluate(model, y, params, dy):
         )
         slip_rate = (0.0, 0.0, 0.0)
         friction_power = dot(force, slip) + moment * dot(omega, n)
+        friction_force = math.sqrt(dot(force, force))
         velocity = sub(slip, cross(omega, r))
     elif model == ModelCode.SLIDING:
         omega_rate, slip_rate, normal_force, force, moment, determinant = sliding_acceleration(
             n, omega, slip, r, r_rate, params
         )
         friction_power = dot(force, slip) + moment * dot(omega, n)
+        friction_force = math.sqrt(dot(force, force))
         velocity = sub(slip, cross(omega, r))  # v_G = V1 - ω × r
     else:
         omega_rate, slip_rate, velocity = NAN3, NAN3, NAN3
         normal_force, friction_power, determinant = math.nan, math.nan, math.nan
+        friction_force = math.nan
     if status == RHS_OK and not determinant > SINGULAR_RATIO * reference:
         status = RHS_SINGULAR
     for k in range(3):
@@ -124,13 +134,29 @@ def evaluate(model, y, params, dy):
     dy[Y_POSITION + 1] = velocity_space[1]
     damping_power = params.damping * dot(omega, omega)
     dy[Y_WORK] = damping_power - friction_power
-    return status, normal_force, friction_power
+    if params.rolling_resistance > 0.0:
+        dy[Y_WORK] += rolling_resistance_power(model, n, omega, normal_force, params)
+    return status, normal_force, friction_power, friction_force
+
+
+@kernel
+def rolling_resistance_power(model, n: Vec, omega: Vec, normal_force: float, params) -> float:
+    """−M_r · ω = λ N ĥ · ω ≥ 0, the power the rolling-resistance moment takes [W].
+
+    N is the load of ``dynamics.rolling_system``: the true normal force in rolling and
+    with ``friction_load`` dynamic, m g with static (the friction's load).
+    """
+    load = normal_force
+    if model != ModelCode.ROLLING and params.friction_load != FrictionLoad.DYNAMIC:
+        load = params.mass * params.gravity
+    direction = rolling_resistance_direction(n, omega, params)
+    return params.rolling_resistance * load * dot(direction, omega)
 
 
 @kernel
 def rhs(model, t, y, params, dy):
     """Right-hand side of the state equation; returns the status code."""
-    status, _, _ = evaluate(model, y, params, dy)
+    status, _, _, _ = evaluate(model, y, params, dy)
     return status
 
 
@@ -165,6 +191,7 @@ DERIVED = (
     "slip_speed",  # |V1| [m/s]
     "tilt",  # angle between n and body axis 3 [rad]
     "friction_power",  # F · V1 + M Ω_n [W]
+    "friction_force",  # |F|, tangential friction force (0 in rolling) [N]
     "slip_normal",  # V1 · n [m/s]
     "norm_error",  # |n| - 1 [1]
     "contact_x",  # contact point, space x [m]
@@ -180,6 +207,7 @@ D_NORMAL_FORCE = DERIVED.index("normal_force")
 D_SLIP_SPEED = DERIVED.index("slip_speed")
 D_TILT = DERIVED.index("tilt")
 D_FRICTION_POWER = DERIVED.index("friction_power")
+D_FRICTION_FORCE = DERIVED.index("friction_force")
 D_SLIP_NORMAL = DERIVED.index("slip_normal")
 D_NORM_ERROR = DERIVED.index("norm_error")
 D_CONTACT_X = DERIVED.index("contact_x")
@@ -205,7 +233,7 @@ def diagnostics(model, y, params, out, work):
 
     ``work`` is scratch of the state's length.
     """
-    status, normal_force, friction_power = evaluate(model, y, params, work)
+    status, normal_force, friction_power, friction_force = evaluate(model, y, params, work)
     n, omega, slip, quat = unpack(y)
     r, _ = contact(n, (0.0, 0.0, 0.0), params)
     norm = math.sqrt(dot(n, n))
@@ -215,6 +243,7 @@ def diagnostics(model, y, params, out, work):
     out[D_SLIP_SPEED] = math.sqrt(dot(slip, slip)) if model != ModelCode.ROLLING else 0.0
     out[D_TILT] = math.acos(min(1.0, max(-1.0, n[2] / norm)))
     out[D_FRICTION_POWER] = friction_power
+    out[D_FRICTION_FORCE] = friction_force
     out[D_SLIP_NORMAL] = dot(slip, n)
     out[D_NORM_ERROR] = norm - 1.0
     contact_space = rotate(quat, r)
@@ -235,7 +264,7 @@ def diagnostics_series(model, ys, params, out):
 @kernel
 def spin_and_normal_force(model, y, params, work) -> tuple[float, float, int]:
     """Event quantities: spin ω · n [rad/s], normal force N [N], rhs status."""
-    status, normal_force, _ = evaluate(model, y, params, work)
+    status, normal_force, _, _ = evaluate(model, y, params, work)
     return (
         y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2],
         normal_force,
