@@ -88,16 +88,6 @@ def _principal_moments(body: Body) -> tuple[float, float, float]:
     return first, second, third
 
 
-def _half_extent(body: Body) -> float | None:
-    """Largest distance from G to the surface, bounded above [m]; None for an open cap."""
-    return body.shape.bounding_radius
-
-
-def _volume(body: Body) -> float | None:
-    """Volume enclosed by the surface [m³]; None where it has no closed form."""
-    return body.shape.volume
-
-
 def contact_radius_at_rest(
     body: Body, contact_radius: float, effective_modulus: float = 0.0
 ) -> float:
@@ -205,7 +195,7 @@ def concerns(body: Body, settings: ContactSettings) -> list[Concern]:
                 f"({height:.3g} m): a mass this concentrated is not a stone; {_UNITS}",
             )
         )
-    extent = _half_extent(body)
+    extent = body.shape.bounding_radius
     if extent is not None:
         largest = math.sqrt(moments[2] / body.mass)
         if largest > extent:
@@ -227,7 +217,7 @@ def concerns(body: Body, settings: ContactSettings) -> list[Concern]:
                     f"[{SIZE_RANGE[0]:g}, {SIZE_RANGE[1]:g}] m for a hand-held stone; {_UNITS}",
                 )
             )
-    volume = _volume(body)
+    volume = body.shape.volume
     if volume is not None:
         density = body.mass / volume
         if not DENSITY_RANGE[0] <= density <= DENSITY_RANGE[1]:

@@ -35,6 +35,7 @@ from celtstone.bodies.file_schema import (
 )
 from celtstone.bodies.shapes import (
     SHAPES,
+    STORED_SHAPES,
     Ellipsoid,
     ImplicitFunction,
     ImplicitPolynomial,
@@ -47,6 +48,7 @@ from celtstone.errors import ParameterError, require_choice
 
 __all__ = [
     "SHAPES",
+    "STORED_SHAPES",
     "Body",
     "BodyFileError",
     "Ellipsoid",

@@ -34,10 +34,23 @@ from celtstone import schema
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import ShapeCode
 
-__all__ = ["INTEGER", "NUMBER", "DeclaredShape", "Entry", "SweepName"]
+__all__ = [
+    "INTEGER",
+    "KL_COM_OFFSET",
+    "KL_SEMI_AXES",
+    "NUMBER",
+    "DeclaredShape",
+    "Entry",
+    "SweepName",
+]
 
 NUMBER = "number"  # a TOML integer or float (not a boolean, not a string)
 INTEGER = "integer"  # a TOML integer
+
+# the Kane & Levinson ellipsoid (references.md) that every shape's ``example()`` builds:
+# semi-axes a, b, c [m] and G below the centre h [m]
+KL_SEMI_AXES = (0.20, 0.03, 0.02)
+KL_COM_OFFSET = 0.01
 
 
 @dataclass(frozen=True)

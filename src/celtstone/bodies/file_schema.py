@@ -27,6 +27,7 @@ from typing import Any
 from celtstone import schema
 from celtstone.bodies.declaration import INTEGER, Entry
 from celtstone.bodies.shapes import SHAPES as SHAPE_CLASSES
+from celtstone.bodies.shapes import STORED_SHAPES
 from celtstone.errors import BodyFileError, did_you_mean
 
 __all__ = [
@@ -63,7 +64,7 @@ BODY_ENTRIES: tuple[Entry, ...] = (
 SHAPES: dict[str, ShapeFile] = {
     kind: ShapeFile(kind, cls, cls.entries, cls.surface)
     for kind, cls in SHAPE_CLASSES.items()
-    if cls.stored
+    if kind in STORED_SHAPES
 }
 
 # Bibliographic keys of [source] (BibTeX's names, plus where in the source the numbers are)

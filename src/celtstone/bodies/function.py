@@ -16,6 +16,7 @@ from typing import Any, Self
 
 import numpy as np
 
+from celtstone.bodies.declaration import KL_COM_OFFSET, KL_SEMI_AXES
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
 from celtstone.kernels._jit import (
@@ -146,7 +147,7 @@ class ImplicitFunction(ImplicitSurface):
     @classmethod
     def example(cls) -> Self:
         """Kane & Levinson's ellipsoid as a Python function."""
-        return cls(_example_value, _example_gradient, 0.01, name="kane_levinson_ellipsoid")
+        return cls(_example_value, _example_gradient, KL_COM_OFFSET, name="kane_levinson_ellipsoid")
 
     def attributes(self) -> dict[str, str | float]:
         """Kind, recorded numbers, the functions' name and source text (not enough to
@@ -172,13 +173,15 @@ class ImplicitFunction(ImplicitSurface):
 
 
 def _example_value(x: np.ndarray) -> float:
-    """F of Kane & Levinson's ellipsoid, semi-axes 0.2, 0.03, 0.02 m about O [1]."""
-    return float((x[0] / 0.20) ** 2 + (x[1] / 0.03) ** 2 + (x[2] / 0.02) ** 2)
+    """F of Kane & Levinson's ellipsoid (``KL_SEMI_AXES``) about O [1]."""
+    a, b, c = KL_SEMI_AXES
+    return float((x[0] / a) ** 2 + (x[1] / b) ** 2 + (x[2] / c) ** 2)
 
 
 def _example_gradient(x: np.ndarray) -> np.ndarray:
     """∇F of :func:`_example_value` [1/m]."""
-    return np.array([2.0 * x[0] / 0.20**2, 2.0 * x[1] / 0.03**2, 2.0 * x[2] / 0.02**2])
+    a, b, c = KL_SEMI_AXES
+    return np.array([2.0 * x[0] / a**2, 2.0 * x[1] / b**2, 2.0 * x[2] / c**2])
 
 
 def _refuse_unless_close(

@@ -16,7 +16,14 @@ from typing import Any, Self
 import numpy as np
 
 from celtstone import schema
-from celtstone.bodies.declaration import INTEGER, NUMBER, Entry, SweepName
+from celtstone.bodies.declaration import (
+    INTEGER,
+    KL_COM_OFFSET,
+    KL_SEMI_AXES,
+    NUMBER,
+    Entry,
+    SweepName,
+)
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import MAX_TERMS
@@ -114,8 +121,9 @@ class ImplicitPolynomial(ImplicitSurface):
     @classmethod
     def example(cls) -> Self:
         """Kane & Levinson's ellipsoid as the polynomial x²/a² + y²/b² + z²/c²."""
-        a, b, c, h = 0.20, 0.03, 0.02, 0.01
-        return cls(((1 / a**2, 2, 0, 0), (1 / b**2, 0, 2, 0), (1 / c**2, 0, 0, 2)), h)
+        a, b, c = KL_SEMI_AXES
+        terms = ((1 / a**2, 2, 0, 0), (1 / b**2, 0, 2, 0), (1 / c**2, 0, 0, 2))
+        return cls(terms, KL_COM_OFFSET)
 
     def _evaluate(self, points: np.ndarray) -> np.ndarray:
         return evaluate(self.terms, points)

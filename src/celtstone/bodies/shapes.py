@@ -14,7 +14,13 @@ from dataclasses import dataclass
 from typing import Any, Self
 
 from celtstone import schema
-from celtstone.bodies.declaration import DeclaredShape, Entry, SweepName
+from celtstone.bodies.declaration import (
+    KL_COM_OFFSET,
+    KL_SEMI_AXES,
+    DeclaredShape,
+    Entry,
+    SweepName,
+)
 from celtstone.bodies.function import ImplicitFunction
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.bodies.polynomial import ImplicitPolynomial
@@ -23,6 +29,7 @@ from celtstone.kernels.layout import ShapeCode
 
 __all__ = [
     "SHAPES",
+    "STORED_SHAPES",
     "Ellipsoid",
     "ImplicitFunction",
     "ImplicitPolynomial",
@@ -41,9 +48,6 @@ _ABOUT_CENTRE_SWEEP = (
     SweepName("semi_axis_c", "semi_axes", "semi-axis c along body axis 3", 2),
     SweepName("com_offset", "com_offset", "G below the centre h"),
 )
-# the Kane & Levinson ellipsoid (references.md): semi-axes [m], G below the centre [m]
-_KL_SEMI_AXES = (0.20, 0.03, 0.02)
-_KL_COM_OFFSET = 0.01
 
 
 class _AboutCentre(DeclaredShape):
@@ -118,7 +122,7 @@ class Ellipsoid(_AboutCentre):
     @classmethod
     def example(cls) -> Self:
         """Kane & Levinson's ellipsoid."""
-        return cls(_KL_SEMI_AXES, _KL_COM_OFFSET)
+        return cls(KL_SEMI_AXES, KL_COM_OFFSET)
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:
@@ -172,8 +176,8 @@ class Paraboloid(DeclaredShape):
     @classmethod
     def example(cls) -> Self:
         """The cap of Kane & Levinson's ellipsoid at its rest contact (a²/c, b²/c, c - h)."""
-        a, b, c = _KL_SEMI_AXES
-        return cls((a * a / c, b * b / c), c - _KL_COM_OFFSET)
+        a, b, c = KL_SEMI_AXES
+        return cls((a * a / c, b * b / c), c - KL_COM_OFFSET)
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
         """(ρ1, ρ2, l, 0) [m], the shape numbers a run records (``body_shape_parameters``)."""
@@ -254,7 +258,7 @@ class Superellipsoid(_AboutCentre):
     def example(cls) -> Self:
         """Kane & Levinson's ellipsoid as a superellipsoid of exponent 2 (p > 2 is flat at
         the rest contact, where a run stops: docs/decisions.md §13)."""
-        return cls(_KL_SEMI_AXES, _KL_COM_OFFSET, 2.0)
+        return cls(KL_SEMI_AXES, KL_COM_OFFSET, 2.0)
 
     def kernel_fields(self) -> dict[str, Any]:
         """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
@@ -276,3 +280,6 @@ SHAPES: dict[str, type[Shape]] = {
     for cls in (Ellipsoid, Paraboloid, Superellipsoid, ImplicitPolynomial, ImplicitFunction)
 }
 """Every shape, by kind: the one list the loader, sweeps, the viewer and the tests read."""
+
+STORED_SHAPES: tuple[str, ...] = tuple(kind for kind, cls in SHAPES.items() if cls.stored)
+"""Kinds of the shapes given as numbers: in body files, run files and sweeps."""

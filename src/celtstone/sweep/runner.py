@@ -23,7 +23,7 @@ import numpy as np
 import xarray as xr
 
 from celtstone import schema, solvers
-from celtstone.bodies import SHAPES, Body, load_body
+from celtstone.bodies import STORED_SHAPES, Body, load_body
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.integrate import version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
@@ -206,11 +206,10 @@ class Sweep:
                 )
         self.base_body = body if isinstance(body, Body) else load_body(body)
         if not self.base_body.shape.stored:
-            stored = ", ".join(kind for kind, cls in SHAPES.items() if cls.stored)
             raise ParameterError(
                 "body",
                 self.base_body.name,
-                f"a body whose shape is data ({stored})",
+                f"a body whose shape is data ({', '.join(STORED_SHAPES)})",
                 "a Python function's compiled callback lives in this process only; "
                 "give the shape as an implicit polynomial to sweep it",
             )

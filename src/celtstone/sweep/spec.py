@@ -92,6 +92,9 @@ def _setting_description(name: str) -> str:
     return f"{quantity.description} ({quantity.symbol})"
 
 
+# the names of numbers of some shape (each shape refuses the others' in ``replaced``)
+_SHAPE_NAMES = frozenset(sweep.name for cls in SHAPES.values() for sweep in cls.sweep_names)
+
 PARAMETERS: dict[str, SweepParameter] = {
     p.name: p
     for p in [
@@ -300,8 +303,7 @@ def build_body(base: Body, values: Mapping[str, float]) -> Body:
         if not -math.pi / 4 < angle < math.pi / 4:
             raise ParameterError("misalignment_angle", angle, "a number in (-0.785, 0.785) rad")
         inertia = _rotated_inertia(inertia, angle)
-    shape_names = {sweep.name for cls in SHAPES.values() for sweep in cls.sweep_names}
-    shape = base.shape.replaced({k: v for k, v in values.items() if k in shape_names})
+    shape = base.shape.replaced({k: v for k, v in values.items() if k in _SHAPE_NAMES})
     return replace(
         base,
         mass=values.get("mass", base.mass),

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from celtstone.bodies import SHAPES, Shape, shape_from_table
+from celtstone.bodies import SHAPES, STORED_SHAPES, Shape, shape_from_table
 from celtstone.errors import ParameterError
 from celtstone.kernels.geometry import contact as contact_kernel
 from celtstone.kernels.layout import parameter_record
@@ -181,9 +181,8 @@ def body_geometry(dataset: xr.Dataset) -> BodyGeometry:
     """
     attrs = dict(dataset.attrs)
     kind = str(attrs.get("body_shape", ""))
-    stored = [name for name, cls in SHAPES.items() if cls.stored]
     if kind not in SHAPES:
-        raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(stored))
+        raise ParameterError("run", kind, "a run of a body of shape " + ", ".join(STORED_SHAPES))
     if not SHAPES[kind].stored:
         raise ParameterError(
             "run",
