@@ -15,9 +15,9 @@ def test_no_arguments_lists_every_command(capsys: pytest.CaptureFixture[str]) ->
     out, err = capsys.readouterr()
     assert status == 2
     assert out == ""
-    for name, module in SUBCOMMANDS.items():
+    for name, command in SUBCOMMANDS.items():
         assert name in err
-        assert module.HELP.split()[0] in err
+        assert command.help.split()[0] in err
     assert "Traceback" not in err
 
 

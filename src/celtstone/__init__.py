@@ -9,19 +9,10 @@ influence of sliding on the Celt rattleback motion" (see README).
 >>> run.dataset["spin"]  # doctest: +SKIP
 """
 
-from typing import Any
+from typing import TYPE_CHECKING
 
-from celtstone.analysis import SpinStability as SpinStability
-from celtstone.analysis import reversal_times as reversal_times
-from celtstone.analysis import spin_stability as spin_stability
-from celtstone.bodies import Body as Body
-from celtstone.bodies import Ellipsoid as Ellipsoid
-from celtstone.bodies import ImplicitFunction as ImplicitFunction
-from celtstone.bodies import ImplicitPolynomial as ImplicitPolynomial
-from celtstone.bodies import Paraboloid as Paraboloid
-from celtstone.bodies import Superellipsoid as Superellipsoid
-from celtstone.bodies import list_bodies as list_bodies
-from celtstone.bodies import load_body as load_body
+from celtstone._about import version as version
+from celtstone._lazy import lazy_attributes
 from celtstone.errors import CeltstoneError as CeltstoneError
 from celtstone.errors import CeltstoneWarning as CeltstoneWarning
 from celtstone.errors import FrictionBoundWarning as FrictionBoundWarning
@@ -30,15 +21,29 @@ from celtstone.errors import IntegrationError as IntegrationError
 from celtstone.errors import LiftOffError as LiftOffError
 from celtstone.errors import ParameterError as ParameterError
 from celtstone.errors import PlausibilityWarning as PlausibilityWarning
-from celtstone.integrate import simulate as simulate
-from celtstone.integrate import version as version
-from celtstone.models import MODELS as MODELS
-from celtstone.models import HybridModel as HybridModel
-from celtstone.models import InitialState as InitialState
-from celtstone.models import RollingModel as RollingModel
-from celtstone.models import SlidingModel as SlidingModel
-from celtstone.models import model_from_name as model_from_name
-from celtstone.trajectory import Trajectory as Trajectory
+
+if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
+    from celtstone.analysis.stability import SpinStability as SpinStability
+    from celtstone.analysis.stability import spin_stability as spin_stability
+    from celtstone.bodies import Body as Body
+    from celtstone.bodies import Ellipsoid as Ellipsoid
+    from celtstone.bodies import ImplicitFunction as ImplicitFunction
+    from celtstone.bodies import ImplicitPolynomial as ImplicitPolynomial
+    from celtstone.bodies import Paraboloid as Paraboloid
+    from celtstone.bodies import Superellipsoid as Superellipsoid
+    from celtstone.bodies import list_bodies as list_bodies
+    from celtstone.bodies import load_body as load_body
+    from celtstone.integrate import simulate as simulate
+    from celtstone.models import MODELS as MODELS
+    from celtstone.models import HybridModel as HybridModel
+    from celtstone.models import InitialState as InitialState
+    from celtstone.models import RollingModel as RollingModel
+    from celtstone.models import SlidingModel as SlidingModel
+    from celtstone.models import model_from_name as model_from_name
+    from celtstone.reversals import reversal_times as reversal_times
+    from celtstone.sweep import Sweep as Sweep
+    from celtstone.sweep import open_sweep as open_sweep
+    from celtstone.trajectory import Trajectory as Trajectory
 
 __all__ = [
     "MODELS",
@@ -73,12 +78,30 @@ __all__ = [
     "version",
 ]
 
+# name -> module: imported on first use, so that `import celtstone` stays light (no numba,
+# SciPy, xarray, Zarr or Dask until the engine, a dataset or a sweep is asked for)
+_LAZY = {
+    "SpinStability": "celtstone.analysis.stability",
+    "reversal_times": "celtstone.reversals",
+    "spin_stability": "celtstone.analysis.stability",
+    "Body": "celtstone.bodies",
+    "Ellipsoid": "celtstone.bodies",
+    "ImplicitFunction": "celtstone.bodies",
+    "ImplicitPolynomial": "celtstone.bodies",
+    "Paraboloid": "celtstone.bodies",
+    "Superellipsoid": "celtstone.bodies",
+    "list_bodies": "celtstone.bodies",
+    "load_body": "celtstone.bodies",
+    "simulate": "celtstone.integrate",
+    "MODELS": "celtstone.models",
+    "HybridModel": "celtstone.models",
+    "InitialState": "celtstone.models",
+    "RollingModel": "celtstone.models",
+    "SlidingModel": "celtstone.models",
+    "model_from_name": "celtstone.models",
+    "Trajectory": "celtstone.trajectory",
+    "Sweep": "celtstone.sweep",
+    "open_sweep": "celtstone.sweep",
+}
 
-def __getattr__(name: str) -> Any:
-    """``Sweep`` and ``open_sweep`` on first use, so ``import celtstone`` stays light
-    (no Zarr or Dask until a sweep is asked for)."""
-    if name in ("Sweep", "open_sweep"):
-        from celtstone import sweep
-
-        return getattr(sweep, name)
-    raise AttributeError(f"module 'celtstone' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, __all__)

@@ -27,13 +27,14 @@ import stat
 import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Any
-
-import pandas as pd
-import xarray as xr
+from typing import TYPE_CHECKING, Any
 
 from celtstone.errors import OutputError, ParameterError
 from celtstone.schema import current_attributes
+
+if TYPE_CHECKING:  # imported where used: a JSON-only command needs neither
+    import pandas as pd
+    import xarray as xr
 
 __all__ = [
     "FORMATS",
@@ -392,6 +393,8 @@ def read_table(path: str | Path) -> tuple[pd.DataFrame, dict[str, str]]:
                 break
             key, _, value = line[2:].rstrip("\n").partition(": ")
             provenance[key] = value
+    import pandas as pd
+
     return pd.read_csv(path, skiprows=len(provenance)), provenance
 
 
@@ -421,6 +424,8 @@ def read_run(path: str | Path) -> xr.Dataset:
         raise ParameterError("run", str(path), _RUN_ALLOWED, "the path is empty")
     if not source.is_file():
         raise ParameterError("run", str(path), _RUN_ALLOWED)
+    import xarray as xr
+
     try:
         with xr.open_dataset(source, engine="netcdf4") as opened:
             dataset = opened.load()

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
-from importlib import metadata
 
 import numpy as np
 
 from celtstone import hybrid, plausibility, schema, solvers
+from celtstone._about import version as version
 from celtstone.bodies import Body
 from celtstone.errors import (
     CeltstoneWarning,
@@ -26,7 +26,7 @@ from celtstone.models import (
     kernel_parameters,
 )
 from celtstone.models import InitialState as InitialState
-from celtstone.trajectory import Trajectory, build_dataset
+from celtstone.trajectory import Trajectory, sample_run
 
 __all__ = [
     "DEFAULT_ATOL",
@@ -43,14 +43,6 @@ SAMPLES_PER_SECOND = 200  # default output density [1/s]
 
 # solver status code -> its label in results and the CLI (``solvers.Status``)
 STATUS_NAMES = {int(status): status.label for status in solvers.Status}
-
-
-def version() -> str:
-    """The installed celtstone version."""
-    try:
-        return metadata.version("celtstone")
-    except metadata.PackageNotFoundError:  # pragma: no cover - running from a bare tree
-        return "unknown"
 
 
 def _method_name(model: Model, method: str | None) -> str:
@@ -226,11 +218,11 @@ def simulate(
         names = ", ".join(dict.fromkeys(concern.parameter for concern in concerns))
         message += f"; look first at the implausible {names} (warned before the run)"
     attrs.update(status=status, message=message)
-    dataset = build_dataset(
+    run_samples = sample_run(
         model.code, params, sample_times_out, samples, crossings, attrs, **phase_data
     )
     trajectory = Trajectory(
-        dataset=dataset,
+        samples=run_samples,
         status=status,
         message=message,
         t_stop=t_stop,
@@ -245,7 +237,7 @@ def _warn_friction_bound(trajectory: Trajectory) -> None:
     """One ``FrictionBoundWarning`` when a static-load run's friction exceeded f N for the
     true N (issue 13 item 6; ``Trajectory.max_friction_bound_ratio``)."""
     ratio = trajectory.max_friction_bound_ratio
-    if trajectory.dataset.attrs.get("friction_load") == "static" and ratio is not None:
+    if trajectory.samples.attrs.get("friction_load") == "static" and ratio is not None:
         if ratio > 1.0:
             warnings.warn(
                 f"the friction force reached {ratio:.3g} f N for the true normal force N, "

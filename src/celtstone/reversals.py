@@ -10,10 +10,14 @@ spin leaves the band.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
 
 from celtstone.errors import ParameterError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "REVERSAL_BAND_FLOOR",

@@ -246,7 +246,7 @@ class Variable:
     HTML viewer); plots show ``plot_unit`` = stored value × ``plot_scale``.
 
     ``source`` makes it a time series of every run's Dataset, read from the sampled
-    states (``trajectory.build_dataset``): ``"derived"`` is the derived column of the
+    states (``trajectory.sample_run``): ``"derived"`` is the derived column of the
     same name (``kernels.system.DERIVED``), ``"derived:a,b"`` the consecutive derived
     columns a to b, ``"state:block"`` a block of the state (``kernels.system.STATE_BLOCKS``).
     ``axis`` names the second dimension of a vector (after ``time``). Without a source
@@ -357,7 +357,7 @@ VARIABLES: dict[str, Variable] = {
         source="derived:contact_x,contact_y",
         axis="plane_axis",
     ),
-    # a run's events and phases (trajectory.build_dataset)
+    # a run's events and phases (trajectory.sample_run)
     "spin_crossings": Variable("s", "times at which the spin changes sign"),
     "phase": Variable("1", "contact phase of the hybrid contact: 0 slip, 1 stick"),
     "phase_kind": Variable("1", "kind of each contact phase: 0 slip, 1 stick"),

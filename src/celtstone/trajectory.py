@@ -1,13 +1,19 @@
-"""Trajectory: the sampled run as an ``xarray.Dataset`` plus its summary."""
+"""Trajectory: the sampled run as an ``xarray.Dataset`` plus its summary.
+
+The samples are kept as NumPy arrays (:class:`RunSamples`); the dataset is built on first
+use, so that a run asked only for its summary (``celtstone run --json``) never imports
+xarray.
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from celtstone.errors import (
     CeltstoneError,
@@ -21,7 +27,10 @@ from celtstone.reversals import reversal_bands, reversal_times
 from celtstone.schema import VARIABLES, Variable
 from celtstone.solvers.codes import Status
 
-__all__ = ["SUMMARY_KEYS", "Trajectory", "build_dataset"]
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["SUMMARY_KEYS", "RunSamples", "Trajectory", "sample_run"]
 
 SUMMARY_KEYS = (
     "model",
@@ -69,10 +78,6 @@ _ERRORS: dict[str, type[CeltstoneError]] = {
 }
 
 
-def _variable(name: str, dims: tuple[str, ...], values: np.ndarray) -> xr.Variable:
-    return xr.Variable(dims, values, attrs=VARIABLES[name].attributes)
-
-
 def _columns(name: str, variable: Variable) -> tuple[bool, int | slice]:
     """Where the time series ``name`` is read from, by its ``source``: (whether from the
     derived columns, else the states; the column index or slice).
@@ -103,7 +108,42 @@ _TIME_SERIES: dict[str, tuple[bool, int | slice, tuple[str, ...]]] = {
 }
 
 
-def build_dataset(
+@dataclass(frozen=True)
+class RunSamples:
+    """A run's samples as NumPy arrays: ``variables`` maps each name of ``schema.VARIABLES``
+    to its (dimensions, values), ``attrs`` holds the run's attributes."""
+
+    variables: Mapping[str, tuple[tuple[str, ...], np.ndarray]]
+    attrs: dict[str, Any]
+
+    def values(self, name: str) -> np.ndarray:
+        """The values of the variable ``name`` (its unit in ``schema.VARIABLES``)."""
+        return self.variables[name][1]
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.variables
+
+    def to_dataset(self) -> xr.Dataset:
+        """The samples as a dataset, each variable with its ``schema.VARIABLES`` attributes."""
+        import xarray as xr
+
+        # fastpath: the values are NumPy arrays already; without it xarray asks whether
+        # each is a Dask array and imports Dask to find out (0.5 s)
+        variables = {
+            name: xr.Variable(dims, values, VARIABLES[name].attributes, fastpath=True)
+            for name, (dims, values) in self.variables.items()
+        }
+        coords = {"time": variables.pop("time")}
+        for name, values, long_name in (
+            ("axis", np.array([1, 2, 3]), "body axis"),
+            ("component", np.array(["w", "x", "y", "z"]), "quaternion"),
+            ("plane_axis", np.array(["x", "y"]), "space axis"),
+        ):
+            coords[name] = xr.Variable((name,), values, {"long_name": long_name}, fastpath=True)
+        return xr.Dataset(variables, coords=coords, attrs=self.attrs)
+
+
+def sample_run(
     model_code: int,
     params: np.record,
     times: np.ndarray,
@@ -112,8 +152,8 @@ def build_dataset(
     attrs: dict[str, Any],
     phase: np.ndarray | None = None,
     **phase_table: np.ndarray,
-) -> xr.Dataset:
-    """Dataset of a run from its sampled states (rows of the kernel state layout).
+) -> RunSamples:
+    """Samples of a run from its sampled states (rows of the kernel state layout).
 
     A hybrid-contact run also gives ``phase`` (per sample: 0 slip, 1 stick; stick
     rows get the stick diagnostics) and its table of phases ``phase_kind``,
@@ -131,26 +171,21 @@ def build_dataset(
         derived[stick] = stick_derived
     time = ("time",)
     variables = {
-        name: _variable(name, dims, derived[:, columns] if is_derived else states[:, columns])
+        name: (dims, derived[:, columns] if is_derived else states[:, columns])
         for name, (is_derived, columns, dims) in _TIME_SERIES.items()
     }
-    variables["spin_crossings"] = _variable("spin_crossings", ("crossing",), crossings)
+    variables["time"] = (time, times)
+    variables["spin_crossings"] = (("crossing",), crossings)
     if phase is not None:
-        variables["phase"] = _variable("phase", time, np.asarray(phase, dtype=np.int8))
+        variables["phase"] = (time, np.asarray(phase, dtype=np.int8))
     for name, values in phase_table.items():
-        variables[name] = _variable(name, ("contact_phase",), values)
-    coords = {
-        "time": _variable("time", time, times),
-        "axis": ("axis", np.array([1, 2, 3]), {"long_name": "body axis"}),
-        "component": ("component", np.array(["w", "x", "y", "z"]), {"long_name": "quaternion"}),
-        "plane_axis": ("plane_axis", np.array(["x", "y"]), {"long_name": "space axis"}),
-    }
-    return xr.Dataset(variables, coords=coords, attrs=attrs)
+        variables[name] = (("contact_phase",), values)
+    return RunSamples(variables, attrs)
 
 
-def _phase_summary(ds: xr.Dataset) -> dict[str, Any]:
+def _phase_summary(ds: RunSamples) -> dict[str, Any]:
     """Stick and slip phases of a hybrid-contact run, and its options, for the summary."""
-    kinds = ds["phase_kind"].values
+    kinds = ds.values("phase_kind")
     phases = [
         {
             "kind": "stick" if kind == 1 else "slip",
@@ -160,13 +195,13 @@ def _phase_summary(ds: xr.Dataset) -> dict[str, Any]:
         }
         for kind, start, end, jump in zip(
             kinds,
-            ds["phase_start"].values,
-            ds["phase_end"].values,
-            ds["phase_energy_jump"].values,
+            ds.values("phase_start"),
+            ds.values("phase_end"),
+            ds.values("phase_energy_jump"),
             strict=True,
         )
     ]
-    jumps = ds["phase_energy_jump"].values
+    jumps = ds.values("phase_energy_jump")
     return {
         "stick_phases": int(np.sum(kinds == 1)),
         "slip_phases": int(np.sum(kinds == 0)),
@@ -192,12 +227,18 @@ class Trajectory:
     ``"step_too_small"``, ``"not_finite"``); the samples reach ``t_stop``.
     """
 
-    dataset: xr.Dataset
+    samples: RunSamples
     status: str
     message: str
     t_stop: float
     min_normal_force: float
     statistics: dict[str, int] = field(default_factory=dict)
+
+    @cached_property
+    def dataset(self) -> xr.Dataset:
+        """The samples as an ``xarray.Dataset`` (time series, spin crossings, phases, and the
+        run's attributes), built on first use."""
+        return self.samples.to_dataset()
 
     @property
     def ok(self) -> bool:
@@ -213,7 +254,7 @@ class Trajectory:
     @property
     def spin_crossings(self) -> np.ndarray:
         """Times at which the spin ω · n changes sign [s]."""
-        return np.asarray(self.dataset["spin_crossings"].values)
+        return np.asarray(self.samples.values("spin_crossings"))
 
     @property
     def first_sign_change_time(self) -> float | None:
@@ -227,14 +268,14 @@ class Trajectory:
         """Default half-width of the reversal's hysteresis band [rad/s]: 4 % of the initial
         |spin|, at least 0.01 rad/s (``celtstone.reversals.reversal_bands``), as in sweeps and
         the reproduction."""
-        return float(reversal_bands(np.array([self.dataset["spin"].values[0]]))[0])
+        return float(reversal_bands(np.array([self.samples.values("spin")[0]]))[0])
 
     def reversal_times(self, band: float | None = None) -> np.ndarray:
         """Times of the reversals of the sense of spin [s]: changes of sign held beyond the
         hysteresis band ``band`` [rad/s] (default :attr:`reversal_band`)."""
-        ds = self.dataset
+        ds = self.samples
         threshold = self.reversal_band if band is None else band
-        return reversal_times(ds["time"].values, ds["spin"].values, threshold, self.spin_crossings)
+        return reversal_times(ds.values("time"), ds.values("spin"), threshold, self.spin_crossings)
 
     @property
     def first_reversal_time(self) -> float | None:
@@ -249,28 +290,28 @@ class Trajectory:
         above 1 the friction exceeds Coulomb's bound, as the paper's first approximation
         (``friction_load`` static, the law loaded with m g) allows. None for rolling (no
         friction law), f = 0 or no sample with N > 0."""
-        ds = self.dataset
+        ds = self.samples
         coefficient = ds.attrs.get("friction_coefficient")
         if ds.attrs["model"] == "rolling" or not isinstance(coefficient, (int, float)):
             return None
-        normal = ds["normal_force"].values
+        normal = ds.values("normal_force")
         loaded = normal > 0.0
         if not coefficient > 0.0 or not np.any(loaded):
             return None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # f N may underflow
-            ratios = ds["friction_force"].values[loaded] / (coefficient * normal[loaded])
+            ratios = ds.values("friction_force")[loaded] / (coefficient * normal[loaded])
         return _finite_or_none(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
 
     def summary(self) -> dict[str, Any]:
         """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
-        ds = self.dataset
+        ds = self.samples
         attrs = ds.attrs
-        energy = ds["energy"].values
+        energy = ds.values("energy")
         energy0 = float(energy[0])
         drift = None
         if attrs["model"] == "rolling" and attrs["damping"] == 0.0:
             drift = float(np.max(np.abs(energy - energy0)) / abs(energy0))
-        balance = float(np.max(np.abs(energy + ds["dissipated_work"].values - energy0)))
+        balance = float(np.max(np.abs(energy + ds.values("dissipated_work") - energy0)))
         summary = {
             "model": attrs["model"],
             "body": attrs["body"],
@@ -282,18 +323,18 @@ class Trajectory:
             "reversal_band": self.reversal_band,
             "first_sign_change_time": self.first_sign_change_time,
             "spin_zero_crossings": [float(t) for t in self.spin_crossings],
-            "spin_initial": float(ds["spin"].values[0]),
-            "spin_final": float(ds["spin"].values[-1]),
+            "spin_initial": float(ds.values("spin")[0]),
+            "spin_final": float(ds.values("spin")[-1]),
             "energy_initial": energy0,
             "energy_final": float(energy[-1]),
-            "dissipated_work": float(ds["dissipated_work"].values[-1]),
+            "dissipated_work": float(ds.values("dissipated_work")[-1]),
             "max_relative_energy_drift": drift,
             "max_energy_balance_error": balance,
-            "max_tilt_deg": float(np.degrees(np.max(ds["tilt"].values))),
+            "max_tilt_deg": float(np.degrees(np.max(ds.values("tilt")))),
             "min_normal_force": _finite_or_none(
-                float(np.fmin(self.min_normal_force, np.nanmin(ds["normal_force"].values)))
+                float(np.fmin(self.min_normal_force, np.nanmin(ds.values("normal_force"))))
             ),
-            "max_slip_speed": float(np.max(ds["slip_speed"].values)),
+            "max_slip_speed": float(np.max(ds.values("slip_speed"))),
             "max_friction_bound_ratio": self.max_friction_bound_ratio,
             "status": self.status,
             "message": self.message,

@@ -24,10 +24,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from celtstone import schema
 from celtstone.bodies import Body
@@ -35,6 +34,10 @@ from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
 from celtstone.models import RollingModel, kernel_parameters
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = [
     "MAX_SPIN_COUNT",
@@ -306,6 +309,8 @@ class SpinStability:
 
     def to_dataset(self) -> xr.Dataset:
         """The result as an ``xarray.Dataset`` over ``spin``; options as attributes."""
+        import xarray as xr
+
         variables = {}
         for name, (unit, values) in self.table().items():
             if name != "spin":

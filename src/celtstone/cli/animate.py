@@ -8,8 +8,6 @@ from celtstone import ParameterError
 from celtstone.visual import VIDEO_FPS_LIMITS, VIDEO_FRAME_LIMITS, animate, load_run
 from celtstone.visual.animation import check_video_target
 
-HELP = "animate a saved run in 3-D (mp4 or gif)"
-
 
 def _size(text: str) -> tuple[int, int]:
     try:

@@ -7,8 +7,6 @@ import json
 
 from celtstone import list_bodies, load_body
 
-HELP = "list the shipped bodies with their sources"
-
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone bodies``."""

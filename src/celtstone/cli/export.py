@@ -7,8 +7,6 @@ import argparse
 from celtstone.errors import ParameterError
 from celtstone.export import check_target, output_beside, read_run, write
 
-HELP = "convert a saved run (RUN.nc) to CSV"
-
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone export``."""

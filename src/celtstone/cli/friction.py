@@ -22,8 +22,6 @@ from celtstone.errors import require_choice
 from celtstone.export import atomic_path, check_target
 from celtstone.schema import PARAMETERS
 
-HELP = "force F/(f N) and pivoting moment M/(f N eps) of a friction law against u"
-
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 
 

@@ -3,39 +3,57 @@
 from __future__ import annotations
 
 import argparse
+import importlib
 import re
 import signal
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass
+from types import ModuleType
 from typing import Any
 
-from celtstone import CeltstoneError, CeltstoneWarning, version
-from celtstone.cli import (
-    animate,
-    bodies,
-    export,
-    friction,
-    plot,
-    reproduce,
-    run,
-    stability,
-    sweep,
-    view,
-)
+from celtstone._about import version
+from celtstone.errors import CeltstoneError, CeltstoneWarning
+
+
+@dataclass(frozen=True)
+class Command:
+    """A subcommand: its one-line help and the module (``celtstone.cli.<name>``) with its
+    ``add_args(parser)`` and ``handle(args) -> int``, imported only when the command runs
+    or its help is asked for, so that ``celtstone --help`` starts in a blink."""
+
+    name: str
+    help: str
+
+    def module(self) -> ModuleType:
+        return importlib.import_module(f"celtstone.cli.{self.name}")
+
 
 SUBCOMMANDS = {
-    "run": run,
-    "bodies": bodies,
-    "reproduce": reproduce,
-    "plot": plot,
-    "export": export,
-    "animate": animate,
-    "view": view,
-    "stability": stability,
-    "sweep": sweep,
-    "friction": friction,
+    command.name: command
+    for command in (
+        Command("run", "simulate one run of a body"),
+        Command("bodies", "list the shipped bodies with their sources"),
+        Command(
+            "reproduce",
+            "reproduce the paper: fig2, fig3, threshold or all (figures, data, report.md)",
+        ),
+        Command("plot", "plot a saved run (RUN.nc) to PNG or SVG"),
+        Command("export", "convert a saved run (RUN.nc) to CSV"),
+        Command("animate", "animate a saved run in 3-D (mp4 or gif)"),
+        Command(
+            "view", "write an interactive page (3-D body, slider, linked plots) of a saved run"
+        ),
+        Command(
+            "stability", "linear stability of steady spin (rolling model): eigenvalues against spin"
+        ),
+        Command("sweep", "run a parameter sweep (grid or list of points) into a Zarr store"),
+        Command(
+            "friction", "force F/(f N) and pivoting moment M/(f N eps) of a friction law against u"
+        ),
+    )
 }
 
 EXIT_OK = 0
@@ -119,8 +137,9 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter):
         return text + " (default: %(default)s)"
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full argument parser."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser: every command's options, or with ``only`` those of that command
+    alone (the others are listed with their help but their modules are not imported)."""
     parser = _Parser(
         prog="celtstone",
         description="Simulate the Celt stone (rattleback): rolling, or rolling with sliding.",
@@ -130,13 +149,21 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(
         dest="command", required=True, parser_class=_Parser, metavar="COMMAND", title="commands"
     )
-    for name, module in SUBCOMMANDS.items():
+    for name, command in SUBCOMMANDS.items():
         sub = commands.add_parser(
-            name, help=module.HELP, description=module.HELP, formatter_class=HelpFormatter
+            name, help=command.help, description=command.help, formatter_class=HelpFormatter
         )
-        module.add_args(sub)
-        sub.set_defaults(handler=module.handle)
+        if only is None or name == only:
+            module = command.module()
+            module.add_args(sub)
+            sub.set_defaults(handler=module.handle)
     return parser
+
+
+def _command_named(arguments: Sequence[str]) -> str:
+    """The command among ``arguments``: the first that is not an option (the top level has
+    only ``--help`` and ``--version``, which take no value); "" if there is none."""
+    return next((a for a in arguments if not a.startswith("-")), "")
 
 
 def _show_warning(
@@ -164,8 +191,8 @@ def _one_line_warnings() -> Iterator[None]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
-    parser = build_parser()
     arguments = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(only=_command_named(arguments))
     if not arguments:
         parser.print_help(sys.stderr)
         return EXIT_USAGE

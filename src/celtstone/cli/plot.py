@@ -5,11 +5,8 @@ from __future__ import annotations
 import argparse
 
 from celtstone.export import output_beside, read_run
-from celtstone.plotting import plot_run, save_figure
 from celtstone.plotting.save import check_figure_target
 from celtstone.schema import check
-
-HELP = "plot a saved run (RUN.nc) to PNG or SVG"
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -31,6 +28,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Draw the run and write the figure."""
+    from celtstone.plotting import plot_run, save_figure
+
     out = args.out if args.out is not None else output_beside(args.run, ".png")
     target = check_figure_target(out, overwrite=args.overwrite)
     band = None if args.band is None else check("reversal_band", args.band)

@@ -6,9 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from celtstone.reproduce import STUDIES, TARGETS, reduced, reproduce, study_for
-
-HELP = "reproduce the paper: fig2, fig3, threshold or all (figures, data, report.md)"
+from celtstone.reproduce.study import STUDIES, TARGETS, reduced, study_for
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -39,6 +37,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Run the targets; print where the report is."""
+    from celtstone.reproduce.targets import reproduce
+
     studies = [study_for(name) for name in args.body] if args.body else list(STUDIES)
     for study in studies:
         study.load_body()  # an unknown body fails before any run

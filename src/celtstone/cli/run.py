@@ -20,7 +20,6 @@ from celtstone.export import check_target, write
 from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
 from celtstone.schema import PARAMETERS, RENAMED, check, renamed
 
-HELP = "simulate one run of a body"
 MAX_PHASE_LINES = 10  # stick/slip phases listed in the text summary
 
 

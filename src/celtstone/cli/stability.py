@@ -13,8 +13,6 @@ from celtstone.plotting.save import check_figure_target, save_figure
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.schema import PARAMETERS
 
-HELP = "linear stability of steady spin (rolling model): eigenvalues against spin"
-
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone stability``."""

@@ -30,8 +30,6 @@ from celtstone.sweep.runner import MAX_CHUNK_POINTS, MAX_WORKERS, check_run_opti
 from celtstone.sweep.spec import CHOICES, parse_axis_spec
 from celtstone.sweep.store import check_store_target
 
-HELP = "run a parameter sweep (grid or list of points) into a Zarr store"
-
 EPILOG = (
     "sweep parameters (NAME for --vary, --set and --points):\n"
     + "\n".join(

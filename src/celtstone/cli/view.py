@@ -7,8 +7,6 @@ import argparse
 from celtstone.visual import load_run, write_viewer
 from celtstone.visual.viewer import check_page_target
 
-HELP = "write an interactive page (3-D body, slider, linked plots) of a saved run"
-
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone view``."""

@@ -25,8 +25,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from scipy import integrate
-
 __all__ = ["PRESSURE_DENSITIES", "friction_integrals"]
 
 
@@ -57,6 +55,8 @@ def _ray_integrals(
     integrand, c h² sin t cos t p, is dropped: it would cancel to rounding error
     times u.
     """
+    from scipy.integrate import quad  # on first use: SciPy's quadrature is slow to import
+
     sine, cosine = math.sin(phi), math.cos(phi)
     half_chord2 = 1.0 - u * u * cosine * cosine
     if half_chord2 <= 0.0:
@@ -85,8 +85,8 @@ def _ray_integrals(
 
     options = {"epsabs": 1e-15 * (1.0 + u), "epsrel": rtol, "limit": 200}
     return (
-        integrate.quad(first, t_lower, 0.5 * math.pi, **options)[0],
-        integrate.quad(second, t_lower, 0.5 * math.pi, **options)[0],
+        quad(first, t_lower, 0.5 * math.pi, **options)[0],
+        quad(second, t_lower, 0.5 * math.pi, **options)[0],
     )
 
 
@@ -106,6 +106,8 @@ def friction_integrals(
     force : |F| / (f N) [1]
     moment : |M| / (f N ε) [1]
     """
+    from scipy.integrate import quad  # on first use: SciPy's quadrature is slow to import
+
     density = PRESSURE_DENSITIES[pressure]
     if u <= 1.0:
         start, stop = 0.0, 2.0 * math.pi
@@ -125,6 +127,6 @@ def friction_integrals(
         return _ray_integrals(phi, u, density, rtol)[1]
 
     return (
-        integrate.quad(force, start, stop, **options)[0],
-        integrate.quad(moment, start, stop, **options)[0],
+        quad(force, start, stop, **options)[0],
+        quad(moment, start, stop, **options)[0],
     )

@@ -183,7 +183,7 @@ def energy(model, y, params) -> float:
 
 # The derived columns that ``diagnostics`` fills, by name; the order is the column index.
 # A column is a run's Dataset variable when a ``schema.VARIABLES`` row names it as its
-# source (``trajectory.build_dataset``).
+# source (``trajectory.sample_run``).
 DERIVED = (
     "spin",  # ω · n [rad/s]
     "energy",  # total energy [J]

@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
-from matplotlib.figure import Figure
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_label
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
+
 
 __all__ = ["plot_energy_budget", "plot_spin_comparison"]
 
@@ -29,6 +33,8 @@ def plot_spin_comparison(
     (band ``threshold`` [rad/s], default from its initial spin) are dotted lines
     in its own colour.
     """
+    from matplotlib.figure import Figure
+
     rows = -(-len(panels) // columns)
     figure = Figure(figsize=(5.5 * columns, 3.2 * rows + 0.6), layout="constrained")
     grid = np.atleast_1d(figure.subplots(rows, columns, sharey=True, squeeze=False)).ravel()
@@ -66,6 +72,8 @@ def plot_energy_budget(runs: Sequence[xr.Dataset], title: str) -> Figure:
     The third panel is the budget's residual |E(0) − E(t) − W(t)| [J] on a log
     scale: it shows the integrator's error, not physics.
     """
+    from matplotlib.figure import Figure
+
     figure = Figure(figsize=(15.0, 4.2), layout="constrained")
     energy_axes, budget_axes, residual_axes = figure.subplots(1, 3)
     for dataset in runs:

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from celtstone.schema import VARIABLES, current_attributes
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = ["axis_label", "run_label", "run_title"]
 

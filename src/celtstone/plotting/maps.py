@@ -3,13 +3,16 @@ one, a scatter over a list of points."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
-from matplotlib.figure import Figure
 
 from celtstone.schema import VARIABLES
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
+
 
 __all__ = ["plot_field_map"]
 
@@ -27,6 +30,8 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
     The field is labelled, and drawn in its plot unit, as its ``schema.VARIABLES`` row
     says; the varied parameters by their ``units`` attribute.
     """
+    from matplotlib.figure import Figure
+
     declared = VARIABLES[name]
     variable = dataset[name]
     title = name

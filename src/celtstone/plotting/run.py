@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
-from matplotlib.axes import Axes
-from matplotlib.figure import Figure
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_title
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
 
 __all__ = ["mark_reversals", "plot_run"]
 
@@ -41,6 +45,8 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
     sliding), slip speed and normal force against time, and the contact point's
     track on the plane.
     """
+    from matplotlib.figure import Figure
+
     figure = Figure(figsize=(11.0, 10.0), layout="constrained")
     grid = figure.subplots(3, 2)
     time = dataset["time"].values

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from pathlib import Path
-
-from matplotlib.figure import Figure
+from typing import TYPE_CHECKING
 
 from celtstone.export import atomic_path, check_target
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 
 __all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure", "save_figure_formats"]
 

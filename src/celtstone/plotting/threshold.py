@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.figure import Figure
 
 from celtstone.plotting.labels import axis_label
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
 
 __all__ = ["plot_threshold"]
 
@@ -21,6 +25,8 @@ def plot_threshold(table: pd.DataFrame, title: str, boundaries: Sequence[float] 
     ``boundaries`` are the bisected f where reversal appears or disappears, drawn
     as vertical lines.
     """
+    from matplotlib.figure import Figure
+
     figure = Figure(figsize=(11.0, 4.4), layout="constrained")
     time_axes, energy_axes = figure.subplots(1, 2, sharex=True)
     f = table["friction_coefficient"].to_numpy(dtype=float)

@@ -12,28 +12,21 @@ target's numbers carry the identity of the run that made them (``run``: id, time
 celtstone version, targets), which the report shows.
 """
 
-from __future__ import annotations
-
-import contextlib
-import os
-import secrets
-import shutil
-import signal
-import threading
-from collections.abc import Iterator, Sequence
-from datetime import UTC, datetime
-from pathlib import Path
-from typing import Any
-
-from celtstone.errors import OutputError, ParameterError
-from celtstone.export import make_temporary_directory, output_error, write_json
-from celtstone.integrate import version
-from celtstone.reproduce.figure2 import figure2, figure2_models
-from celtstone.reproduce.figure3 import figure3
-from celtstone.reproduce.progress import Progress, progress_bar
-from celtstone.reproduce.report import render_report, write_report
-from celtstone.reproduce.study import STUDIES, TARGETS, Study, reduced, study_for
-from celtstone.reproduce.threshold import threshold
+# every module here is light to import (matplotlib, pandas and xarray are imported where a
+# figure or table is made), so the names are imported eagerly: a lazy ``figure2`` would be
+# replaced by the submodule of that name as soon as the submodule is imported
+from celtstone.reproduce.figure2 import figure2 as figure2
+from celtstone.reproduce.figure3 import figure3 as figure3
+from celtstone.reproduce.report import render_report as render_report
+from celtstone.reproduce.report import write_report as write_report
+from celtstone.reproduce.study import STUDIES as STUDIES
+from celtstone.reproduce.study import TARGETS as TARGETS
+from celtstone.reproduce.study import Study as Study
+from celtstone.reproduce.study import reduced as reduced
+from celtstone.reproduce.study import study_for as study_for
+from celtstone.reproduce.targets import reproduce as reproduce
+from celtstone.reproduce.targets import run_identity as run_identity
+from celtstone.reproduce.threshold import threshold as threshold
 
 __all__ = [
     "STUDIES",
@@ -49,136 +42,3 @@ __all__ = [
     "threshold",
     "write_report",
 ]
-
-_RUNNERS = {"fig2": figure2, "fig3": figure3, "threshold": threshold}
-_STAGING = "reproduce"  # staging directories out/.reproduce.<pid>.<random>.part
-
-
-def _targets(names: Sequence[str]) -> list[str]:
-    chosen: list[str] = []
-    for name in names:
-        if name == "all":
-            chosen.extend(TARGETS)
-        elif name in TARGETS:
-            chosen.append(name)
-        else:
-            raise ParameterError("target", name, "one of: " + ", ".join((*TARGETS, "all")))
-    return list(dict.fromkeys(chosen))
-
-
-def _runs(study: Study, target: str) -> int:
-    if target == "fig2":
-        return len(figure2_models(study))
-    if target == "fig3":
-        return 2
-    return len(study.friction_grid())
-
-
-def _utc_now() -> str:
-    return datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
-
-
-def run_identity(targets: Sequence[str], studies: Sequence[Study]) -> dict[str, Any]:
-    """What identifies one ``reproduce`` call in each target's numbers: a unique ``id``,
-    the UTC start time, the celtstone version, the targets and bodies asked for."""
-    started = _utc_now()
-    return {
-        "id": f"{started.replace('-', '').replace(':', '')}-{secrets.token_hex(3)}",
-        "started_utc": started,
-        "celtstone_version": version(),
-        "targets": list(targets),
-        "bodies": [study.body for study in studies],
-        "quick": any(study.reduced for study in studies),
-    }
-
-
-@contextlib.contextmanager
-def _signals_deferred() -> Iterator[None]:
-    """SIGINT and SIGTERM wait until the block is done (a few renames), then act as they
-    would have. Only the main thread can hold them; elsewhere nothing changes."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    pending: list[signal.Signals] = []
-
-    def note(signum: int, frame: object) -> None:
-        pending.append(signal.Signals(signum))
-
-    previous = {number: signal.signal(number, note) for number in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, signal.SIG_DFL if handler is None else handler)
-    if pending:
-        handler = previous[pending[0]]
-        if callable(handler):
-            handler(pending[0], None)
-        elif handler == signal.SIG_DFL:
-            signal.raise_signal(pending[0])
-
-
-def _move_files(staging: Path, out: Path, last: Path) -> None:
-    """Every file of ``staging`` to the same place in ``out``, ``last`` last."""
-    files = [*sorted(p for p in staging.rglob("*") if p.is_file() and p != last), last]
-    with _signals_deferred():
-        for source in files:
-            destination = out / source.relative_to(staging)
-            try:
-                destination.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(source, destination)
-            except OSError as error:
-                raise output_error(destination, error) from error
-
-
-def _run_target(
-    target: str, study: Study, out: Path, progress: Progress, identity: dict[str, Any]
-) -> None:
-    """One target of one study, staged: its files reach ``out`` only once it is done."""
-    staging = make_temporary_directory(out / _STAGING)
-    try:
-        result = _RUNNERS[target](study, staging, progress)
-        numbers = staging / "data" / f"{result['target']}_{result['body']}.json"
-        stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
-        write_json(stamped, numbers, overwrite=True)
-        _move_files(staging, out, numbers)
-    except OutputError as error:  # name the file where it was going, not the staging area
-        path = Path(error.path)
-        if path.is_relative_to(staging):
-            raise OutputError(
-                str(out / path.relative_to(staging)), error.cause, error.errno
-            ) from error
-        raise
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
-
-
-def reproduce(
-    targets: Sequence[str],
-    out: str | Path = "results",
-    studies: Sequence[Study] = STUDIES,
-    progress: bool = True,
-) -> Path:
-    """Run ``targets`` (``fig2``, ``fig3``, ``threshold`` or ``all``) for each study.
-
-    Writes figures, tables and NetCDF runs into ``out`` and rebuilds
-    ``out/report.md`` from every target's numbers found there; returns its path.
-    Each target reaches ``out`` whole or not at all (see the module docstring): an
-    interrupted run leaves the finished targets and nothing of the others. A
-    target's files from an earlier run are replaced by the new ones.
-    """
-    chosen = _targets(targets)
-    directory = Path(out)
-    if directory.exists() and not directory.is_dir():
-        raise ParameterError("out", str(out), "a directory")
-    directory.mkdir(parents=True, exist_ok=True)
-    identity = run_identity(chosen, studies)
-    total = sum(_runs(study, target) for study in studies for target in chosen)
-    bar = progress_bar(total, "reproduce", progress)
-    try:
-        for target in chosen:
-            for study in studies:
-                _run_target(target, study, directory, bar, identity)
-    finally:
-        bar.close()
-    return write_report(directory)

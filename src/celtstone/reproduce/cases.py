@@ -5,11 +5,9 @@ from __future__ import annotations
 import math
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
-import xarray as xr
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.bodies import Body
@@ -19,6 +17,10 @@ from celtstone.integrate import simulate, version
 from celtstone.models import Model
 from celtstone.reproduce.study import Study
 from celtstone.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = [
     "ENERGY_MONOTONE_TOLERANCE",
@@ -130,6 +132,8 @@ def save_results(
     **extra: Any,
 ) -> dict[str, Any]:
     """Write the cases' table (CSV with provenance) and numbers (JSON); return the numbers."""
+    import pandas as pd
+
     stem = f"{target}_{body.name}"
     table = pd.DataFrame(
         [

@@ -8,9 +8,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from celtstone._about import version
 from celtstone.bodies import load_body
 from celtstone.export import atomic_path
-from celtstone.integrate import version
 from celtstone.reproduce.findings import (
     FINDINGS,
     PAPER_THRESHOLD,

@@ -11,10 +11,9 @@ from __future__ import annotations
 import itertools
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 
 from celtstone.bodies import Body
 from celtstone.export import write_json, write_table
@@ -22,6 +21,10 @@ from celtstone.plotting import plot_threshold, save_figure_formats
 from celtstone.reproduce.cases import provenance, run_case, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
+
+if TYPE_CHECKING:
+    pass
+
 
 __all__ = ["bisection_steps", "threshold"]
 
@@ -98,6 +101,8 @@ def _bisect(
 
 def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """Run the f grid and the bisections; write CSV, figure and numbers."""
+    import pandas as pd
+
     body = study.load_body()
     stem = f"threshold_{body.name}"
     data = out / "data"

@@ -2,7 +2,7 @@
 
 Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, 2nd ed.,
 sec. II.10 (code DOP853). The coefficient tables are SciPy's
-(``scipy.integrate._ivp.dop853_coefficients``), read once at import, and the
+(``scipy.integrate._ivp.dop853_coefficients``, kept in ``solvers/tableaux.json``), and the
 step-size controller is SciPy's ``DOP853``, so both take the same steps.
 
 The module follows the method contract of ``solvers._methods``: ``workspace``,
@@ -15,12 +15,12 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _coefficients
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._step_control import smallest_step
+from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,
     STAT_REJECTED,
@@ -28,14 +28,15 @@ from celtstone.solvers.codes import (
     STATUS_SUCCESS,
 )
 
-N_STAGES = int(_coefficients.N_STAGES)  # 12
-N_STAGES_EXTENDED = int(_coefficients.N_STAGES_EXTENDED)  # 16
-A = np.ascontiguousarray(_coefficients.A, dtype=np.float64)
-B = np.ascontiguousarray(_coefficients.B, dtype=np.float64)
-C = np.ascontiguousarray(_coefficients.C, dtype=np.float64)
-E3 = np.ascontiguousarray(_coefficients.E3, dtype=np.float64)
-E5 = np.ascontiguousarray(_coefficients.E5, dtype=np.float64)
-D = np.ascontiguousarray(_coefficients.D, dtype=np.float64)
+_TABLE = table("dop853")
+N_STAGES = int(_TABLE["N_STAGES"])  # 12
+N_STAGES_EXTENDED = int(_TABLE["N_STAGES_EXTENDED"])  # 16
+A = _TABLE["A"]
+B = _TABLE["B"]
+C = _TABLE["C"]
+E3 = _TABLE["E3"]
+E5 = _TABLE["E5"]
+D = _TABLE["D"]
 ORDER = 8  # of the method: global error O(h^8)
 ERROR_ORDER = 7  # of its local error estimate (the 5th- and 3rd-order embedded pair, combined)
 DENSE_ROWS = 7

@@ -6,7 +6,7 @@ Hairer & Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., sec. IV.
 linear system, solved by simplified Newton iterations that reuse the Jacobian and
 its LU factors while Newton converges well; the collocation polynomial gives the
 dense output and Newton's starting guess. Step-size control and Newton tolerances
-follow SciPy's ``Radau`` (whose constants are read once at import).
+follow SciPy's ``Radau`` (its constants are kept in ``solvers/tableaux.json``).
 
 The module follows the method contract of ``solvers._methods``. What one step leaves
 for the next (Jacobian, LU factors, the last collocation polynomial, the controller's
@@ -20,13 +20,13 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy.integrate._ivp import radau as _radau
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._linalg import lu_factor, lu_solve
 from celtstone.solvers._step_control import rms_scaled, smallest_step
+from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,
     STAT_NJEV,
@@ -36,13 +36,14 @@ from celtstone.solvers.codes import (
     STATUS_SUCCESS,
 )
 
-C = np.ascontiguousarray(_radau.C, dtype=np.float64)
-E = np.ascontiguousarray(_radau.E, dtype=np.float64)
-MU_REAL = float(_radau.MU_REAL)
-MU_COMPLEX = complex(_radau.MU_COMPLEX)
-T = np.ascontiguousarray(_radau.T, dtype=np.float64)
-TI = np.ascontiguousarray(_radau.TI, dtype=np.float64)
-P = np.ascontiguousarray(_radau.P, dtype=np.float64)
+_TABLE = table("radau")
+C = _TABLE["C"]
+E = _TABLE["E"]
+MU_REAL = float(_TABLE["MU_REAL"])
+MU_COMPLEX = complex(_TABLE["MU_COMPLEX"])
+T = _TABLE["T"]
+TI = _TABLE["TI"]
+P = _TABLE["P"]
 NEWTON_MAXITER = 6
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0

@@ -9,13 +9,16 @@ title says which). A list of points gives a scatter over its first two parameter
 from __future__ import annotations
 
 from pathlib import Path
-
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from celtstone.errors import ParameterError
 from celtstone.plotting.maps import plot_field_map
 from celtstone.plotting.save import check_figure_target, save_figure
 from celtstone.sweep.store import RESULT_FIELDS
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = ["MAPPED_FIELDS", "map_paths", "write_maps"]
 

@@ -17,10 +17,9 @@ import queue
 import threading
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from celtstone import schema, solvers
 from celtstone.bodies import STORED_SHAPES, Body, load_body
@@ -33,6 +32,10 @@ from celtstone.solvers import batch
 from celtstone.sweep import budget
 from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder, parse_axis_spec
 from celtstone.sweep.store import FORMAT, RESULT_FIELDS, Layout, SweepStore, open_sweep
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = [
     "DEFAULT_ATOL",
@@ -503,6 +506,8 @@ class Sweep:
     def _dataset(
         self, layout: Layout, memory: Mapping[str, np.ndarray], attrs: Mapping[str, Any]
     ) -> xr.Dataset:
+        import xarray as xr
+
         variables = {}
         for name, (dtype, _, _, _) in RESULT_FIELDS.items():
             values = memory[name].reshape(layout.shape)

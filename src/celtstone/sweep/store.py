@@ -35,16 +35,19 @@ import shutil
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
-import zarr
 
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.export import make_temporary_directory, output_error
 from celtstone.schema import VARIABLES
 from celtstone.solvers import batch
+
+if TYPE_CHECKING:
+    import xarray as xr
+    import zarr
+
 
 __all__ = [
     "RESULT_FIELDS",
@@ -179,6 +182,8 @@ def _encode_results(results: Mapping[str, np.ndarray], shape: tuple[int, ...]) -
 
 
 def _array(group: zarr.Group, name: str) -> zarr.Array:
+    import zarr
+
     array = group[name]
     if not isinstance(array, zarr.Array):
         raise CeltstoneError(f"{name} in the sweep store is not an array")
@@ -192,6 +197,8 @@ def _build(
     attrs: Mapping[str, Any],
 ) -> None:
     """The empty store's arrays and attributes in ``directory``."""
+    import zarr
+
     group = zarr.open_group(directory, mode="w", zarr_format=3)
     for name, (dims, values, var_attrs) in coords.items():
         array = group.create_array(
@@ -291,6 +298,8 @@ class SweepStore:
     @classmethod
     def open(cls, path: str | Path, expected_spec: str | None = None) -> SweepStore:
         """Open an existing store for writing; ``expected_spec`` must equal its spec."""
+        import zarr
+
         target = Path(path)
         if not is_sweep_store(target):  # never opened for writing unless it is ours
             what = "does not exist" if not os.path.lexists(target) else "is not one"
@@ -361,6 +370,8 @@ def open_sweep(path: str | Path, *, allow_incomplete: bool = False) -> xr.Datase
         if the store is incomplete (a sweep that was stopped) unless
         ``allow_incomplete``: then points not computed hold the fill values (NaN, -1, "").
     """
+    import xarray as xr
+
     store = SweepStore.open(path)
     if not store.complete and not allow_incomplete:
         done = int(np.asarray(_array(store.group, MASK)[...]).sum())

@@ -20,10 +20,9 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from celtstone.errors import OutputError, ParameterError
 from celtstone.export import atomic_path, check_target
@@ -37,6 +36,10 @@ from celtstone.visual.frames import (
     plan_frames,
 )
 from celtstone.visual.runs import check_run, default_label
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = [
     "VIDEO_FORMATS",

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-
-import xarray as xr
+from typing import TYPE_CHECKING
 
 from celtstone.errors import ParameterError
 from celtstone.export import MIN_SAMPLES, read_run
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = ["REQUIRED_VARIABLES", "check_run", "default_label", "load_run"]
 

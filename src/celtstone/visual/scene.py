@@ -22,14 +22,18 @@ import ast
 import json
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from celtstone.bodies import SHAPES, STORED_SHAPES, Shape, shape_from_table
 from celtstone.errors import ParameterError
 from celtstone.kernels.geometry import contact as contact_kernel
 from celtstone.kernels.layout import parameter_record
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = [
     "BodyGeometry",

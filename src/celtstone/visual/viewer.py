@@ -13,16 +13,19 @@ import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from celtstone.export import atomic_path, check_target
 from celtstone.schema import VARIABLES
 from celtstone.visual import scene
 from celtstone.visual.frames import FPS_MAX, PAGE_FRAME_LIMIT, PLOT_BUCKETS, envelope, plan_frames
 from celtstone.visual.runs import check_run, default_label
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 __all__ = ["PAGE_SIZE_LIMIT", "PageInfo", "check_page_target", "page_data", "write_viewer"]
 
