@@ -37,6 +37,15 @@ def kernel(function: F) -> F:
     return compiled
 
 
+def inlined_kernel(function: F) -> F:
+    """``kernel`` whose body numba inlines at every compiled call site (a thin wrapper
+    called once per stage, where the call's reference counting costs more than its body)."""
+    compiled: F = njit(  # type: ignore[assignment]
+        cache=True, nogil=True, error_model="numpy", inline="always"
+    )(function)
+    return compiled
+
+
 @intrinsic
 def call_level_function(typingctx, address, x0, x1, x2):
     """(F, ∇F, H) at (x0, x1, x2) from the C callback at ``address`` (an int64)."""

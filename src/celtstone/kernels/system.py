@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from celtstone.kernels._jit import kernel
+from celtstone.kernels._jit import inlined_kernel, kernel
 from celtstone.kernels.dynamics import (
     inertia_tensor,
     rolling_acceleration,
@@ -153,7 +153,7 @@ def rolling_resistance_power(model, n: Vec, omega: Vec, normal_force: float, par
     return params.rolling_resistance * load * dot(direction, omega)
 
 
-@kernel
+@inlined_kernel
 def rhs(model, t, y, params, dy):
     """Right-hand side of the state equation; returns the status code."""
     status, _, _, _ = evaluate(model, y, params, dy)

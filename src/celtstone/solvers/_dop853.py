@@ -52,12 +52,22 @@ class Workspace(NamedTuple):
     stages: np.ndarray  # (N_STAGES_EXTENDED, n): k_s = f(t + c_s h, ...), row 12 = f(t + h, y_new)
     dense: np.ndarray  # (DENSE_ROWS, n): interpolant coefficients of the last accepted step
     scratch: np.ndarray  # (n,)
+    error_terms: np.ndarray  # (2, n): the 5th- and 3rd-order error estimates of the trial step
 
 
 @kernel
 def workspace(n):
     """A zeroed workspace for states of length n."""
-    return Workspace(np.zeros((N_STAGES_EXTENDED, n)), np.zeros((DENSE_ROWS, n)), np.empty(n))
+    return Workspace(
+        np.zeros((N_STAGES_EXTENDED, n)), np.zeros((DENSE_ROWS, n)), np.empty(n), np.empty((2, n))
+    )
+
+
+# The linear combinations below run their loop over the state's components innermost: the
+# sums of different components are independent, so they pipeline (and vectorise), where a
+# sum over the stages for one component at a time waits on its own additions. Each
+# component's sum still adds its terms in the same order, so the results are the same to
+# the last bit.
 
 
 @kernel
@@ -69,16 +79,19 @@ def start(model, params, t, y, f, controls, work, stats):
 @kernel
 def evaluate_stage(model, params, s, t, y, h, stages, scratch):
     """Stage s: stages[s] = f(t + c_s h, y + h Σ_k a_sk stages[k])."""
-    for j in range(y.shape[0]):
-        total = 0.0
-        for k in range(s):
-            total += A[s, k] * stages[k, j]
-        scratch[j] = y[j] + h * total
+    n = y.shape[0]
+    scratch[:] = 0.0
+    for k in range(s):
+        weight = A[s, k]
+        for j in range(n):
+            scratch[j] += weight * stages[k, j]
+    for j in range(n):
+        scratch[j] = y[j] + h * scratch[j]
     rhs(model, t + C[s] * h, scratch, params, stages[s])
 
 
 @kernel
-def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
+def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error_terms):
     """One trial step of size h from (t, y), ``stages[0]`` = f(t, y) on entry.
 
     Fills ``y_new`` and ``stages[12]`` = f(t + h, y_new); returns the scaled error norm.
@@ -86,23 +99,27 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch):
     n = y.shape[0]
     for s in range(1, N_STAGES):
         evaluate_stage(model, params, s, t, y, h, stages, scratch)
+    y_new[:] = 0.0
+    for k in range(N_STAGES):
+        weight = B[k]
+        for j in range(n):
+            y_new[j] += weight * stages[k, j]
     for j in range(n):
-        total = 0.0
-        for k in range(N_STAGES):
-            total += B[k] * stages[k, j]
-        y_new[j] = y[j] + h * total
+        y_new[j] = y[j] + h * y_new[j]
     rhs(model, t + h, y_new, params, stages[N_STAGES])
+    error_terms[:, :] = 0.0
+    for k in range(N_STAGES + 1):
+        weight5 = E5[k]
+        weight3 = E3[k]
+        for j in range(n):
+            error_terms[0, j] += weight5 * stages[k, j]
+            error_terms[1, j] += weight3 * stages[k, j]
     error5 = 0.0
     error3 = 0.0
     for j in range(n):
         scale = atol + max(abs(y[j]), abs(y_new[j])) * rtol
-        e5 = 0.0
-        e3 = 0.0
-        for k in range(N_STAGES + 1):
-            e5 += E5[k] * stages[k, j]
-            e3 += E3[k] * stages[k, j]
-        error5 += (e5 / scale) ** 2
-        error3 += (e3 / scale) ** 2
+        error5 += (error_terms[0, j] / scale) ** 2
+        error3 += (error_terms[1, j] / scale) ** 2
     if error5 == 0.0 and error3 == 0.0:
         return 0.0
     return abs(h) * error5 / math.sqrt((error5 + 0.01 * error3) * n)
@@ -129,7 +146,17 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         h_try = min(h, t_end - t)
         stages[0, :] = f
         error = trial_step(
-            model, params, t, y, h_try, controls.rtol, controls.atol, stages, y_new, work.scratch
+            model,
+            params,
+            t,
+            y,
+            h_try,
+            controls.rtol,
+            controls.atol,
+            stages,
+            y_new,
+            work.scratch,
+            work.error_terms,
         )
         stats[STAT_NFEV] += N_STAGES
         if not controls.adaptive:
@@ -171,11 +198,15 @@ def dense(model, params, t, y, y_new, h, work, stats):
         dense[0, j] = delta
         dense[1, j] = h * stages[0, j] - delta
         dense[2, j] = 2.0 * delta - h * (stages[N_STAGES, j] + stages[0, j])
-        for i in range(4):
-            total = 0.0
-            for k in range(N_STAGES_EXTENDED):
-                total += D[i, k] * stages[k, j]
-            dense[3 + i, j] = h * total
+    for i in range(4):
+        row = dense[3 + i]
+        row[:] = 0.0
+        for k in range(N_STAGES_EXTENDED):
+            weight = D[i, k]
+            for j in range(n):
+                row[j] += weight * stages[k, j]
+        for j in range(n):
+            row[j] = h * row[j]
 
 
 @inlined
@@ -183,12 +214,10 @@ def interpolate(dense, y_old, x, out):
     """State at the fraction x in [0, 1] of the last accepted step, which began at y_old,
     from its interpolant's coefficients ``dense`` (``work.dense``)."""
     n = y_old.shape[0]
+    out[:] = 0.0
+    for i in range(DENSE_ROWS):
+        factor = x if i % 2 == 0 else 1.0 - x
+        for j in range(n):
+            out[j] = (out[j] + dense[DENSE_ROWS - 1 - i, j]) * factor
     for j in range(n):
-        value = 0.0
-        for i in range(DENSE_ROWS):
-            value += dense[DENSE_ROWS - 1 - i, j]
-            if i % 2 == 0:
-                value *= x
-            else:
-                value *= 1.0 - x
-        out[j] = value + y_old[j]
+        out[j] = out[j] + y_old[j]
