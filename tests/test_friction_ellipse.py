@@ -13,6 +13,7 @@ symmetries; Hertz's relations with K and E (Johnson, *Contact Mechanics*, 1985,
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -399,6 +400,23 @@ def test_friction_ellipse_text_output_and_axis_slip() -> None:
     assert float(line[3]) == pytest.approx(297 * math.pi / 2048, abs=1e-10)
 
 
+def test_friction_ellipse_pade_is_the_kernel_a_run_uses() -> None:
+    """``--law pade`` prints the fast form: its closed-form limits (zero slip: (3/8)E(e);
+    pure slip: |F| = fN opposite the slip) and, in between, the Padé law's shape."""
+    from scipy.special import ellipe
+
+    options = ["--law", "pade", "--u", "0,1,1e9", "--json", "--direction", "30"]
+    result = Result(["friction", "--ellipse", "3e-3,1e-3", *options])
+    assert result.status == 0, result.err
+    data = json.loads(result.out)
+    assert data["law"] == "pade"
+    assert data["moment"][0] == pytest.approx(0.375 * ellipe(1 - (1 / 3) ** 2), rel=1e-13)
+    assert data["force"][0] == 0.0 and data["force_direction"][0] == 0.0
+    assert data["force"][2] == pytest.approx(1.0, abs=1e-8)
+    assert data["force_direction"][2] == pytest.approx(210.0, abs=1e-6)
+    assert 0.0 < data["force"][1] < 1.0 and 0.0 < data["moment"][1] < data["moment"][0]
+
+
 @pytest.mark.parametrize(
     ("argv", "words"),
     [
@@ -408,7 +426,7 @@ def test_friction_ellipse_text_output_and_axis_slip() -> None:
         (["--ellipse", "1e-3"], ["ellipse", "A,B"]),
         (["--ellipse", "3e-3,1e-3,1e-3"], ["ellipse", "A,B"]),
         (["--ellipse", "inf,1e-3"], ["ellipse"]),
-        (["--ellipse", "3e-3,1e-3", "--law", "pade"], ["friction_law", "not built yet"]),
+        (["--ellipse", "3e-3,3e-5", "--law", "pade"], ["ellipse", "B/A >= 0.02"]),
         (["--ellipse", "3e-3,1e-3", "--pressure", "uniform"], ["contact_pressure", "hertz"]),
         (["--ellipse", "3e-3,1e-3", "--direction", "north"], ["direction", "deg"]),
         (["--ellipse", "3e-3,1e-3", "--direction", "nan"], ["direction"]),

@@ -17,9 +17,11 @@ from celtstone import plausibility, schema
 from celtstone.bodies import Body
 from celtstone.contact import (
     CONTACT_PRESSURES,
+    CONTACT_SHAPES,
     FRICTION_LAWS,
     LAW_WORDS,
     PRESSURE_WORDS,
+    SHAPE_WORDS,
     choice_words,
     effective_modulus,
 )
@@ -30,6 +32,7 @@ from celtstone.kernels.layout import FrictionLoad, ModelCode, parameter_record
 __all__ = [
     "CONTACTS",
     "CONTACT_PRESSURES",
+    "CONTACT_SHAPES",
     "FRICTION_LAWS",
     "FRICTION_LOAD_OPTIONS",
     "MODELS",
@@ -122,6 +125,12 @@ SETTINGS: dict[str, Setting] = {
             CONTACT_PRESSURES,
             choice_words(PRESSURE_WORDS),
             record="contact_pressure",
+        ),
+        Setting(
+            "contact_shape",
+            CONTACT_SHAPES,
+            choice_words(SHAPE_WORDS),
+            record="contact_shape",
         ),
         Setting(  # the record holds E* (effective_modulus)
             "elastic_modulus",
@@ -236,6 +245,12 @@ class SlidingModel:
         (the Coulomb–Contensou integrals of paper section 2, in closed form)
     contact_pressure : "hertz" (paper eq. 2) or "uniform" pressure on the disk;
         for "pade" it selects the Padé constants (b, a, M0) of that pressure
+    contact_shape : "circle" (the paper's disk of radius ε) or "ellipse" (the Hertz
+        ellipse of the two principal radii of curvature at the current contact point,
+        semi-axes A >= B from N and E*; needs ``elastic_modulus`` and the Hertz
+        pressure; the friction law is the disk's law of radius A corrected by the
+        tabulated ratios of the exact elliptic to the exact circular law,
+        docs/decisions.md §29)
     elastic_modulus : E, Young's modulus of body and plane [Pa], > 0, or None.
         Given, ε is the Hertz radius (3 N R_eq / (4 E*))^(1/3) for the normal
         force of the friction law (m g, or the dynamic N) and the equivalent
@@ -253,6 +268,7 @@ class SlidingModel:
     regularisation_speed: float = 1e-6
     friction_law: str = "pade"
     contact_pressure: str = "hertz"
+    contact_shape: str = "circle"
     elastic_modulus: float | None = None
     poisson_ratio: float | None = None
     rolling_resistance: float = 0.0
@@ -266,6 +282,7 @@ class SlidingModel:
     def __post_init__(self) -> None:
         _check_settings(self)
         _check_elastic(self.elastic_modulus, self.poisson_ratio)
+        _check_ellipse(self)
 
     @property
     def is_hertz_radius(self) -> bool:
@@ -303,6 +320,34 @@ def _check_elastic(elastic_modulus: float | None, poisson_ratio: float | None) -
         if given is not None and value is None:
             allowed = schema.PARAMETERS[missing].allowed
             raise ParameterError(missing, None, allowed, "E and nu are given together")
+
+
+def _check_ellipse(model: SlidingModel) -> None:
+    """The elliptic contact needs the Hertz pressure and E, ν to size the ellipse."""
+    if model.contact_shape != "ellipse":
+        return
+    if model.elastic_modulus is None:
+        raise ParameterError(
+            "contact_shape",
+            "ellipse",
+            "circle, or ellipse with elastic_modulus and poisson_ratio",
+            "the Hertz ellipse's size follows from E and nu: give --elastic-modulus and "
+            "--poisson-ratio",
+        )
+    if model.contact_pressure != "hertz":
+        raise ParameterError(
+            "contact_pressure",
+            model.contact_pressure,
+            "hertz with contact_shape ellipse",
+            "the ellipse is Hertz's, with Hertz's pressure",
+        )
+    if model.contact == "hybrid":
+        raise ParameterError(
+            "contact_shape",
+            "ellipse",
+            "circle with the hybrid contact",
+            "the ellipse's stick limit set is not built yet: use the sliding contact",
+        )
 
 
 @dataclass(frozen=True)

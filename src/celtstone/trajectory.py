@@ -65,6 +65,7 @@ MODEL_OPTION_KEYS = (
     "friction_load",
     "regularisation_speed",
     "contact_pressure",
+    "contact_shape",
     "contact_radius_model",
     "elastic_modulus",
     "poisson_ratio",

@@ -128,15 +128,13 @@ def _degrees(text: str | None) -> float:
 
 
 def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
-    """``--ellipse A,B``: |F|/(fN), its direction [deg] and M/(fNA) at each u (exact law)."""
+    """``--ellipse A,B``: |F|/(fN), its direction [deg] and M/(fNA) at each u: the exact
+    law by quadrature (``contact.ellipse``) or the fast form a run uses (``--law pade``:
+    ``contact.ellipse_table.fast_friction_functions``)."""
     from celtstone.contact.ellipse import elliptic_friction_functions
+    from celtstone.contact.ellipse_table import ASPECT_MIN, fast_friction_functions
 
     semi_major, semi_minor = _semi_axes(args.ellipse)
-    if args.law != "exact":
-        raise ParameterError(
-            "friction_law", args.law, "exact with --ellipse",
-            "the fast form of the elliptic law is not built yet",
-        )  # fmt: skip
     if args.pressure != "hertz":
         raise ParameterError(
             "contact_pressure", args.pressure, "hertz with --ellipse",
@@ -148,12 +146,22 @@ def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
         )
     direction = _degrees(args.direction)
     aspect = semi_minor / semi_major
+    if args.law == "pade" and aspect < ASPECT_MIN:
+        raise ParameterError(
+            "ellipse", args.ellipse, f"B/A >= {ASPECT_MIN:g} with --law pade",
+            "the fast form's table starts there; --law exact has no such limit",
+        )  # fmt: skip
     force, force_direction, moment = [], [], []
     for u in ratios:  # spin Ω_n > 0; M reported as it opposes the spin, as for the disk
-        vector, pivot = elliptic_friction_functions(u, math.radians(direction), aspect)
-        force.append(math.hypot(vector[0], vector[1]))
-        # within 1e-9 deg, so that rounding does not flip 0 to 360
-        force_direction.append(round(math.degrees(math.atan2(vector[1], vector[0])), 9) % 360.0)
+        if args.law == "exact":
+            vector, pivot = elliptic_friction_functions(u, math.radians(direction), aspect)
+        else:  # the kernel a run uses
+            vector, pivot = fast_friction_functions(u, math.radians(direction), aspect)
+        magnitude = math.hypot(vector[0], vector[1])
+        force.append(magnitude)
+        # within 1e-9 deg, so that rounding does not flip 0 to 360; 0 for no force
+        angle = math.atan2(vector[1], vector[0]) if magnitude > 0.0 else 0.0
+        force_direction.append(round(math.degrees(angle), 9) % 360.0)
         moment.append(-pivot)
     if args.json:
         print(

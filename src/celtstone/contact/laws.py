@@ -10,13 +10,15 @@ import numpy as np
 
 from celtstone.errors import ParameterError, require_choice
 from celtstone.kernels.friction import contact_friction
-from celtstone.kernels.layout import ContactPressure, FrictionLaw
+from celtstone.kernels.layout import ContactPressure, ContactShape, FrictionLaw
 
 __all__ = [
     "CONTACT_PRESSURES",
+    "CONTACT_SHAPES",
     "FRICTION_LAWS",
     "LAW_WORDS",
     "PRESSURE_WORDS",
+    "SHAPE_WORDS",
     "choice_words",
     "friction_functions",
 ]
@@ -24,6 +26,7 @@ __all__ = [
 # names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
 FRICTION_LAWS = {law.name.lower(): law.value for law in FrictionLaw}
 CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
+CONTACT_SHAPES = {shape.name.lower(): shape.value for shape in ContactShape}
 
 # what each law and pressure is, in words (help texts; a test requires one per member)
 LAW_WORDS = {
@@ -33,6 +36,11 @@ LAW_WORDS = {
 PRESSURE_WORDS = {
     ContactPressure.HERTZ: "Hertz, paper eq. 2",
     ContactPressure.UNIFORM: "uniform on the disk",
+}
+SHAPE_WORDS = {
+    ContactShape.CIRCLE: "a disk of radius epsilon, the paper's",
+    ContactShape.ELLIPSE: "the Hertz ellipse of the two principal curvatures; needs "
+    "elastic_modulus and poisson_ratio",
 }
 
 

@@ -10,8 +10,10 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction import contact_friction
+from celtstone.kernels.friction_ellipse import elliptic_contact_friction
 from celtstone.kernels.hertz import equivalent_radius, hertz_contact_radius
-from celtstone.kernels.layout import FrictionLoad
+from celtstone.kernels.hertz_ellipse import hertz_ellipse_axes, principal_radii
+from celtstone.kernels.layout import ContactShape, FrictionLoad
 from celtstone.kernels.vector import (
     NAN3,
     Mat,
@@ -164,17 +166,52 @@ def contact_radius(n: Vec, normal_force: float, params) -> float:
 
 @kernel
 def friction_per_unit_load(
-    slip_velocity: Vec, spin_rate: float, radius: float, params
+    n: Vec, slip_velocity: Vec, spin_rate: float, load: float, params
 ) -> tuple[Vec, float]:
-    """Friction force and moment per unit f N for the law and pressure in ``params``."""
-    return contact_friction(
-        slip_velocity,
-        spin_rate,
-        radius,
-        params.regularisation_speed,
-        params.friction_law,
-        params.contact_pressure,
-    )
+    """Friction force [1] and moment [m] per unit f N for the contact in ``params``.
+
+    Parameters
+    ----------
+    n : upward vertical in body axes [1]
+    slip_velocity : V1 [m/s]; spin_rate : Ω_n = ω · n [rad/s]
+    load : N_f, the normal force of the friction law (sizes a Hertz contact) [N]
+
+    Notes
+    -----
+    ``contact_shape`` circle: the law and pressure of ``params`` on the disk of radius
+    ``contact_radius`` (fixed or Hertz's). Ellipse: the Hertz ellipse of the principal
+    radii of curvature at the contact point of n (``hertz_ellipse.principal_radii``,
+    ``hertz_ellipse_axes``, N_f clamped below at ``MIN_LOAD_FRACTION`` m g) and the law
+    of ``params`` (Padé or exact) of the disk of radius A corrected to it
+    (``friction_ellipse.elliptic_contact_friction``). An unknown shape code gives NaN.
+    """
+    shape = params.contact_shape
+    if shape == ContactShape.CIRCLE:
+        return contact_friction(
+            slip_velocity,
+            spin_rate,
+            contact_radius(n, load, params),
+            params.regularisation_speed,
+            params.friction_law,
+            params.contact_pressure,
+        )
+    if shape == ContactShape.ELLIPSE:
+        radius_major, radius_minor, major_axis = principal_radii(n, params)
+        clamped = max(load, MIN_LOAD_FRACTION * params.mass * params.gravity)
+        semi_major, semi_minor = hertz_ellipse_axes(
+            radius_major, radius_minor, clamped, params.effective_modulus
+        )
+        return elliptic_contact_friction(
+            slip_velocity,
+            spin_rate,
+            n,
+            major_axis,
+            semi_major,
+            semi_minor,
+            params.regularisation_speed,
+            params.friction_law,
+        )
+    return NAN3, math.nan
 
 
 @kernel
@@ -202,8 +239,8 @@ def sliding_acceleration(
     solved exactly. The rolling-resistance moment −λ N_f ĥ
     (``rolling_resistance_direction``) is loaded like the friction: k gains −λ ĥ
     in the dynamic case, the torque −λ m g ĥ in the static one; λ = 0 skips it.
-    With a Hertz radius ε(N_f) (``contact_radius``) φ and ψ depend on N in the
-    dynamic case: N is then found by fixed-point iteration.
+    With a Hertz contact (radius ε(N_f) or the ellipse's A, B of N_f) φ and ψ depend on
+    N in the dynamic case: N is then found by fixed-point iteration.
     Slip: W1 = F/m + P(ω̇ × r + ω × ṙ + ω × (ω × r)), P = E - n⊗n, V̇1 = W1 - ω × V1.
     An unknown friction-load option gives NaN.
     """
@@ -221,9 +258,8 @@ def sliding_acceleration(
     if params.friction_load == FrictionLoad.DYNAMIC:
         normal_force = normal_free
         for _ in range(MAX_NORMAL_FORCE_ITERATIONS):
-            radius = contact_radius(n, normal_force, params)
             force_unit, moment_unit = friction_per_unit_load(
-                slip_velocity, spin_rate, radius, params
+                n, slip_velocity, spin_rate, normal_force, params
             )
             friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
             coupling = add(lever, scale(friction_coefficient, friction_torque_unit))
@@ -240,8 +276,9 @@ def sliding_acceleration(
         friction_normal = normal_force
     elif params.friction_load == FrictionLoad.STATIC:
         friction_normal = mass * gravity
-        radius = contact_radius(n, friction_normal, params)
-        force_unit, moment_unit = friction_per_unit_load(slip_velocity, spin_rate, radius, params)
+        force_unit, moment_unit = friction_per_unit_load(
+            n, slip_velocity, spin_rate, friction_normal, params
+        )
         friction_torque_unit = add(cross(r, force_unit), scale(moment_unit, n))
         torque = add(torque, scale(normal_free, lever))
         torque = add(torque, scale(friction_coefficient * friction_normal, friction_torque_unit))

@@ -43,6 +43,7 @@ __all__ = [
     "PARAMETERS",
     "PARAMETER_FIELDS",
     "ContactPressure",
+    "ContactShape",
     "FrictionLaw",
     "FrictionLoad",
     "ModelCode",
@@ -90,6 +91,13 @@ class ContactPressure(enum.IntEnum):
 
     HERTZ = 0  # sigma ∝ sqrt(eps² − r²), paper eq. (2)
     UNIFORM = 1  # sigma = N / (pi eps²)
+
+
+class ContactShape(enum.IntEnum):
+    """Shape of the contact patch that the sliding model's friction acts over."""
+
+    CIRCLE = 0  # a disk of radius epsilon (fixed, or Hertz's for R_eq), paper eq. (2)
+    ELLIPSE = 1  # the Hertz ellipse of the two principal curvatures (docs/decisions.md §29)
 
 
 # plain-int model codes for Python callers that pass one as a kernel argument
@@ -195,6 +203,7 @@ PARAMETER_FIELDS: tuple[ParameterField, ...] = (
     ),
     _field("friction_law", "", "friction-law code", kind="i8", codes=FrictionLaw),
     _field("contact_pressure", "", "contact-pressure code", kind="i8", codes=ContactPressure),
+    _field("contact_shape", "", "contact-patch shape code", kind="i8", codes=ContactShape),
     _field(
         "rolling_resistance",
         "m",
