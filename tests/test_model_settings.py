@@ -69,6 +69,6 @@ def test_a_sliding_model_reaches_the_record_and_the_attributes(law: str, pressur
 
 
 def test_hybrid_defaults_differ_where_declared() -> None:
-    assert setting_defaults("regularisation_speed") == {"sliding": 1e-6, "hybrid": 1e-12}
+    assert setting_defaults("regularisation_speed") == {"sliding": 1e-10, "hybrid": 1e-12}
     assert set(setting_defaults("capture_speed")) == {"hybrid"}
     assert set(setting_defaults("damping")) == set(MODEL_KINDS)

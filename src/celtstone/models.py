@@ -265,7 +265,7 @@ class SlidingModel:
     contact_radius: float = 1e-3
     friction_load: str = "static"
     damping: float = 0.0
-    regularisation_speed: float = 1e-6
+    regularisation_speed: float = 1e-10
     friction_law: str = "pade"
     contact_pressure: str = "hertz"
     contact_shape: str = "circle"
