@@ -515,7 +515,7 @@ def contact_settings(model: Model) -> plausibility.ContactSettings:
     """What the plausibility checks read of ``model`` (``celtstone.plausibility``)."""
     if isinstance(model, SlidingModel):
         return plausibility.ContactSettings(
-            model.damping, model.contact_radius, model.effective_modulus
+            model.damping, model.contact_radius, model.effective_modulus, model.contact_shape
         )
     return plausibility.ContactSettings(model.damping)
 

@@ -62,11 +62,13 @@ class ContactSettings:
     damping : σ, viscous torque coefficient [N m s]
     contact_radius : ε [m] of a sliding contact, None for rolling
     effective_modulus : E* [Pa] when ε is the Hertz radius, else 0
+    contact_shape : "circle" or "ellipse" (the Hertz ellipse, sized by E*)
     """
 
     damping: float = 0.0
     contact_radius: float | None = None
     effective_modulus: float = 0.0
+    contact_shape: str = "circle"
 
 
 @dataclass(frozen=True)
@@ -148,6 +150,27 @@ def require_runnable(body: Body, settings: ContactSettings) -> None:
         )
     if settings.contact_radius is not None:
         _require_contact_radius(body, settings.contact_radius, settings.effective_modulus, min(rho))
+    if settings.contact_shape == "ellipse":
+        _require_ellipse_in_range(body, settings.effective_modulus)
+
+
+def _require_ellipse_in_range(body: Body, effective_modulus: float) -> None:
+    """The Hertz ellipse at rest must lie in the range of the elliptic law's table."""
+    from celtstone.contact.ellipse import hertz_ellipse  # SciPy: only for this check
+    from celtstone.contact.ellipse_table import ASPECT_MIN
+
+    first, second = (float(r) for r in body.shape.radii_of_curvature)
+    radii = (first, second)
+    ellipse = hertz_ellipse(radii, body.mass * body.gravity, effective_modulus)
+    aspect = ellipse.semi_minor_axis / ellipse.semi_major_axis
+    if aspect < ASPECT_MIN:
+        raise ParameterError(
+            "contact_shape",
+            "ellipse",
+            f"a body whose Hertz ellipse at rest has B/A >= {ASPECT_MIN:g}",
+            f"this body's has B/A = {aspect:.3g} (radii of curvature {radii} m): the "
+            "elliptic law is tabulated down to that ratio; use contact_shape circle",
+        )
 
 
 def _require_contact_radius(

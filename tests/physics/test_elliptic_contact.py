@@ -216,3 +216,40 @@ def test_a_sweep_takes_the_ellipse(kane_levinson: cs.Body) -> None:
         assert results["final_spin"].values[index] == pytest.approx(
             run.summary()["spin_final"], rel=1e-9
         )
+
+
+THIN = cs.Body(
+    name="thin_cap",
+    mass=0.2,
+    inertia=[[1e-5, 0.0, 0.0], [0.0, 1e-4, 0.0], [0.0, 0.0, 1e-4]],
+    shape=cs.Paraboloid(radii_of_curvature=(10.0, 0.01), com_height=0.005),
+)
+
+
+def test_a_contact_beyond_the_tables_range_is_refused_before_the_run() -> None:
+    """R1/R2 = 1000 gives B/A < 0.02 at rest: one error naming the setting and the ratio."""
+    with pytest.raises(cs.ParameterError) as caught:
+        cs.simulate(ELLIPSE, THIN, STATE, 0.1)
+    assert caught.value.name == "contact_shape"
+    assert "B/A" in str(caught.value) and "circle" in str(caught.value)
+    circle = cs.simulate(cs.SlidingModel(friction_coefficient=0.35), THIN, STATE, 0.01)
+    assert circle.ok
+
+
+def test_leaving_the_range_during_a_run_is_a_status_not_a_nan() -> None:
+    """The right-hand side reports ``RHS_CONTACT_RANGE`` where the ellipse's law has no
+    value, and the driver turns it into the ``contact_range`` status with its message."""
+    from celtstone.kernels.layout import MODEL_SLIDING, RHS_CONTACT_RANGE, parameter_record
+    from celtstone.kernels.system import rhs
+    from celtstone.models import initial_vector
+    from celtstone.solvers.codes import Status
+    from celtstone.solvers.driver import rhs_failure
+
+    params = kernel_parameters(cs.SlidingModel(friction_coefficient=0.35), THIN)
+    fields = {name: params[name] for name in params.dtype.names}
+    fields.update(contact_shape=1, effective_modulus=ELLIPSE.effective_modulus)
+    thin = parameter_record(**fields)
+    y = initial_vector(STATE)
+    assert rhs(MODEL_SLIDING, 0.0, y, thin, np.zeros_like(y)) == RHS_CONTACT_RANGE
+    status = Status(rhs_failure(RHS_CONTACT_RANGE))
+    assert status.label == "contact_range" and "B/A < 0.02" in status.message

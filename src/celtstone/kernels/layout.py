@@ -270,4 +270,5 @@ RHS_OK = 0
 RHS_SINGULAR = 1  # the linear system for the angular acceleration is singular
 RHS_OFF_SHAPE = 2  # the contact point left the shape's domain (paraboloid n3 <= 0)
 RHS_NON_CONVEX = 3  # implicit shape: no contact point found, or the surface is not convex there
+RHS_CONTACT_RANGE = 5  # the elliptic contact left its law's range (B/A < 0.02, flat or saddle)
 RHS_UNKNOWN_CODE = 4  # a model, shape, friction-load, friction-law or pressure code no branch has

@@ -18,6 +18,7 @@ from celtstone.kernels.dynamics import (
 )
 from celtstone.kernels.geometry import contact, contact_status
 from celtstone.kernels.layout import (
+    RHS_CONTACT_RANGE,
     RHS_OK,
     RHS_SINGULAR,
     RHS_UNKNOWN_CODE,
@@ -28,6 +29,7 @@ from celtstone.kernels.layout import (
     Y_SLIP,
     Y_WORK,
     ContactPressure,
+    ContactShape,
     FrictionLaw,
     FrictionLoad,
     ModelCode,
@@ -45,6 +47,7 @@ N_SHAPES = len(ShapeCode)
 N_FRICTION_LOADS = len(FrictionLoad)
 N_FRICTION_LAWS = len(FrictionLaw)
 N_PRESSURES = len(ContactPressure)
+N_CONTACT_SHAPES = len(ContactShape)
 
 
 @kernel
@@ -57,6 +60,7 @@ def code_status(model, params) -> int:
         and 0 <= params.friction_load < N_FRICTION_LOADS
         and 0 <= params.friction_law < N_FRICTION_LAWS
         and 0 <= params.contact_pressure < N_PRESSURES
+        and 0 <= params.contact_shape < N_CONTACT_SHAPES
     )
     return RHS_OK if known else RHS_UNKNOWN_CODE
 
@@ -110,6 +114,8 @@ def evaluate(model, y, params, dy):
         omega_rate, slip_rate, normal_force, force, moment, determinant = sliding_acceleration(
             n, omega, slip, r, r_rate, params
         )
+        if status == RHS_OK and math.isnan(moment) and params.contact_shape == ContactShape.ELLIPSE:
+            status = RHS_CONTACT_RANGE  # the ellipse's law has no value here (friction_ellipse)
         friction_power = dot(force, slip) + moment * dot(omega, n)
         friction_force = math.sqrt(dot(force, force))
         velocity = sub(slip, cross(omega, r))  # v_G = V1 - ω × r

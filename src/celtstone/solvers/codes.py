@@ -92,6 +92,13 @@ class Status(enum.IntEnum):
         "right-hand-side status code that no compiled branch handles (a bug in the caller: "
         "please report it)",
     )
+    CONTACT_RANGE = (
+        11,
+        "contact_range",
+        "the elliptic contact left the range of its law: the Hertz ellipse became more "
+        "than 50 times longer than wide (B/A < 0.02), or the surface is flat or "
+        "saddle-shaped at the contact; use contact_shape circle",
+    )
     MAX_PHASES = (
         10,
         "max_phases",
@@ -113,6 +120,7 @@ STATUS_PHASE_CHANGE = int(Status.PHASE_CHANGE)
 STATUS_NON_CONVEX = int(Status.NON_CONVEX)
 STATUS_UNKNOWN_CODE = int(Status.UNKNOWN_CODE)
 STATUS_MAX_PHASES = int(Status.MAX_PHASES)
+STATUS_CONTACT_RANGE = int(Status.CONTACT_RANGE)
 
 UNDECLARED_STATUS = "failed"  # the label of a code that no member declares (never returned)
 

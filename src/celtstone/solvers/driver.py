@@ -17,6 +17,7 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import (
+    RHS_CONTACT_RANGE,
     RHS_NON_CONVEX,
     RHS_OFF_SHAPE,
     RHS_OK,
@@ -32,6 +33,7 @@ from celtstone.solvers.codes import (
     STAT_ACCEPTED,
     STAT_NFEV,
     STAT_SAMPLES_WRITTEN,
+    STATUS_CONTACT_RANGE,
     STATUS_LIFT_OFF,
     STATUS_MAX_STEPS,
     STATUS_NON_CONVEX,
@@ -52,6 +54,8 @@ def rhs_failure(code):
         return STATUS_OFF_SHAPE
     if code == RHS_NON_CONVEX:
         return STATUS_NON_CONVEX
+    if code == RHS_CONTACT_RANGE:
+        return STATUS_CONTACT_RANGE
     # RHS_UNKNOWN_CODE, and an rhs status this function does not know, which is one too
     return STATUS_UNKNOWN_CODE
 
