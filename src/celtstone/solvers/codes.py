@@ -92,19 +92,19 @@ class Status(enum.IntEnum):
         "right-hand-side status code that no compiled branch handles (a bug in the caller: "
         "please report it)",
     )
-    CONTACT_RANGE = (
-        11,
-        "contact_range",
-        "the elliptic contact left the range of its law: the Hertz ellipse became more "
-        "than 50 times longer than wide (B/A < 0.02), or the surface is flat or "
-        "saddle-shaped at the contact; use contact_shape circle",
-    )
     MAX_PHASES = (
         10,
         "max_phases",
         "more stick-slip phases than the phase log holds (max_phases, "
         f"{DEFAULT_MAX_PHASES} unless given): shorten t_end, or raise max_phases "
         "(hybrid.solve_phases, solvers.batch.run_batch)",
+    )
+    CONTACT_RANGE = (
+        11,
+        "contact_range",
+        "the elliptic contact left the range of its law: the Hertz ellipse became more "
+        "than 50 times longer than wide (B/A < 0.02), or the surface is flat or "
+        "saddle-shaped at the contact; use contact_shape circle",
     )
 
 
