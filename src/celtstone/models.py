@@ -341,13 +341,6 @@ def _check_ellipse(model: SlidingModel) -> None:
             "hertz with contact_shape ellipse",
             "the ellipse is Hertz's, with Hertz's pressure",
         )
-    if model.contact == "hybrid":
-        raise ParameterError(
-            "contact_shape",
-            "ellipse",
-            "circle with the hybrid contact",
-            "the ellipse's stick limit set is not built yet: use the sliding contact",
-        )
 
 
 @dataclass(frozen=True)

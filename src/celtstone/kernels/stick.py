@@ -13,6 +13,7 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.dynamics import (
+    MIN_LOAD_FRACTION,
     contact_inertia,
     contact_radius,
     inertia_tensor,
@@ -28,14 +29,17 @@ from celtstone.kernels.friction import (
 )
 from celtstone.kernels.friction_exact import exact_friction_functions
 from celtstone.kernels.geometry import contact
+from celtstone.kernels.hertz_ellipse import hertz_ellipse_axes, principal_radii
 from celtstone.kernels.layout import (
     Y_N,
     Y_OMEGA,
     Y_SLIP,
     ContactPressure,
+    ContactShape,
     FrictionLaw,
     FrictionLoad,
 )
+from celtstone.kernels.stick_ellipse import elliptic_stick_margin
 from celtstone.kernels.vector import Vec, add, cross, dot, scale, solve3, sub
 
 # ab - 1 of the Padé boundary μ = (1 - φ)/(1 + (ab - 1)φ): 5/2 - 1 for the Hertz
@@ -197,8 +201,9 @@ def pade_stick_margin(
 @kernel
 def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
     """``stick_margin_of`` the friction that stick needs in this state, for the run's law,
-    pressure, friction load and contact radius (fixed or Hertz) [1]; NaN for an
-    unknown friction-load option."""
+    pressure, friction load and contact radius (fixed or Hertz) [1], or with the elliptic
+    contact ``stick_ellipse.elliptic_stick_margin`` for the Hertz ellipse at n and the
+    friction's load; NaN for an unknown friction-load option."""
     _, normal_force, friction_force, pivot_moment, _ = stick_acceleration(
         n, omega, r, r_rate, params
     )
@@ -209,6 +214,22 @@ def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
         friction_normal = normal_force
     else:
         return math.nan
+    if params.contact_shape == ContactShape.ELLIPSE:
+        radius_major, radius_minor, major_axis = principal_radii(n, params)
+        load = max(friction_normal, MIN_LOAD_FRACTION * params.mass * params.gravity)
+        semi_major, semi_minor = hertz_ellipse_axes(
+            radius_major, radius_minor, load, params.effective_modulus
+        )
+        return elliptic_stick_margin(
+            friction_force,
+            pivot_moment,
+            n,
+            major_axis,
+            semi_major,
+            semi_minor,
+            params.friction_coefficient * friction_normal,
+            params.friction_law,
+        )
     return stick_margin_of(
         math.sqrt(dot(friction_force, friction_force)),
         abs(pivot_moment),
