@@ -27,8 +27,8 @@ from celtstone.kernels.hertz_ellipse import (
     hertz_ellipse_axes,
     principal_radii,
     radius_of_curvature_tensor,
-    tangent_basis,
 )
+from celtstone.kernels.vector import tangent_basis
 from celtstone.models import kernel_parameters
 
 AXES, OFFSET = (0.20, 0.03, 0.02), 0.01  # Kane & Levinson (references.md)

@@ -165,6 +165,19 @@ def contact_radius(n: Vec, normal_force: float, params) -> float:
 
 
 @kernel
+def contact_ellipse(n: Vec, load: float, params) -> tuple[float, float, Vec]:
+    """(A, B, a): semi-axes A >= B [m] and unit major-axis direction [1] (body axes) of the
+    Hertz ellipse at the contact point of n under the normal force ``load`` [N], clamped
+    below at ``MIN_LOAD_FRACTION`` m g; NaN where the surface has no ellipse (flat, saddle)."""
+    radius_major, radius_minor, major_axis = principal_radii(n, params)
+    clamped = max(load, MIN_LOAD_FRACTION * params.mass * params.gravity)
+    semi_major, semi_minor = hertz_ellipse_axes(
+        radius_major, radius_minor, clamped, params.effective_modulus
+    )
+    return semi_major, semi_minor, major_axis
+
+
+@kernel
 def friction_per_unit_load(
     n: Vec, slip_velocity: Vec, spin_rate: float, load: float, params
 ) -> tuple[Vec, float]:
@@ -180,8 +193,7 @@ def friction_per_unit_load(
     -----
     ``contact_shape`` circle: the law and pressure of ``params`` on the disk of radius
     ``contact_radius`` (fixed or Hertz's). Ellipse: the Hertz ellipse of the principal
-    radii of curvature at the contact point of n (``hertz_ellipse.principal_radii``,
-    ``hertz_ellipse_axes``, N_f clamped below at ``MIN_LOAD_FRACTION`` m g) and the law
+    radii of curvature at the contact point of n (:func:`contact_ellipse`) and the law
     of ``params`` (Padé or exact) of the disk of radius A corrected to it
     (``friction_ellipse.elliptic_contact_friction``). An unknown shape code gives NaN.
     """
@@ -196,11 +208,7 @@ def friction_per_unit_load(
             params.contact_pressure,
         )
     if shape == ContactShape.ELLIPSE:
-        radius_major, radius_minor, major_axis = principal_radii(n, params)
-        clamped = max(load, MIN_LOAD_FRACTION * params.mass * params.gravity)
-        semi_major, semi_minor = hertz_ellipse_axes(
-            radius_major, radius_minor, clamped, params.effective_modulus
-        )
+        semi_major, semi_minor, major_axis = contact_ellipse(n, load, params)
         return elliptic_contact_friction(
             slip_velocity,
             spin_rate,

@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 
 from celtstone.kernels._jit import call_level_function, kernel
-from celtstone.kernels.vector import NAN3, Mat, Vec, cross, dot, matvec, solve3
+from celtstone.kernels.vector import NAN3, Mat, Vec, dot, matvec, solve3, tangent_basis
 
 MAX_ITERATIONS = 50  # Newton iterations before the solve counts as failed
 MAX_HALVINGS = 12  # backtracking halvings of one Newton step
@@ -146,18 +146,7 @@ def bordered_solve(
 @kernel
 def tangent_hessian(hessian: Mat, n: Vec) -> tuple[float, float, float]:
     """(T11, T12, T22), H projected on an orthonormal basis t1, t2 of the plane ⊥ n [1/m²]."""
-    norm = math.sqrt(dot(n, n))
-    u = (n[0] / norm, n[1] / norm, n[2] / norm)
-    k = 0
-    if abs(u[1]) < abs(u[k]):
-        k = 1
-    if abs(u[2]) < abs(u[k]):
-        k = 2
-    axis = (1.0 if k == 0 else 0.0, 1.0 if k == 1 else 0.0, 1.0 if k == 2 else 0.0)
-    t1 = cross(u, axis)
-    length = math.sqrt(dot(t1, t1))
-    t1 = (t1[0] / length, t1[1] / length, t1[2] / length)
-    t2 = cross(u, t1)
+    _, t1, t2 = tangent_basis(n)
     h1 = matvec(hessian, t1)
     h2 = matvec(hessian, t2)
     return dot(t1, h1), dot(t1, h2), dot(t2, h2)

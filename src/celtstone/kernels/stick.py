@@ -13,7 +13,7 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.dynamics import (
-    MIN_LOAD_FRACTION,
+    contact_ellipse,
     contact_inertia,
     contact_radius,
     inertia_tensor,
@@ -29,7 +29,6 @@ from celtstone.kernels.friction import (
 )
 from celtstone.kernels.friction_exact import exact_friction_functions
 from celtstone.kernels.geometry import contact
-from celtstone.kernels.hertz_ellipse import hertz_ellipse_axes, principal_radii
 from celtstone.kernels.layout import (
     Y_N,
     Y_OMEGA,
@@ -215,11 +214,7 @@ def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
     else:
         return math.nan
     if params.contact_shape == ContactShape.ELLIPSE:
-        radius_major, radius_minor, major_axis = principal_radii(n, params)
-        load = max(friction_normal, MIN_LOAD_FRACTION * params.mass * params.gravity)
-        semi_major, semi_minor = hertz_ellipse_axes(
-            radius_major, radius_minor, load, params.effective_modulus
-        )
+        semi_major, semi_minor, major_axis = contact_ellipse(n, friction_normal, params)
         return elliptic_stick_margin(
             friction_force,
             pivot_moment,

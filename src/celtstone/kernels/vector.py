@@ -110,3 +110,24 @@ def rotate(q: tuple[float, float, float, float], v: Vec) -> Vec:
         v[1] + w * ty + (z * tx - x * tz),
         v[2] + w * tz + (x * ty - y * tx),
     )
+
+
+@kernel
+def tangent_basis(n: Vec) -> tuple[Vec, Vec, Vec]:
+    """(u, t1, t2): u = n/|n| and an orthonormal basis t1, t2 of the plane ⊥ n, t1 × t2 = u.
+
+    t1 = u × e_k / |u × e_k|, e_k the body axis of the smallest |u_k| (the first on a tie);
+    t2 = u × t1. At n = e3: t1 = e2, t2 = −e1.
+    """
+    norm = math.sqrt(dot(n, n))
+    u = (n[0] / norm, n[1] / norm, n[2] / norm)
+    k = 0
+    if abs(u[1]) < abs(u[k]):
+        k = 1
+    if abs(u[2]) < abs(u[k]):
+        k = 2
+    axis = (1.0 if k == 0 else 0.0, 1.0 if k == 1 else 0.0, 1.0 if k == 2 else 0.0)
+    t1 = cross(u, axis)
+    length = math.sqrt(dot(t1, t1))
+    t1 = (t1[0] / length, t1[1] / length, t1[2] / length)
+    return u, t1, cross(u, t1)
