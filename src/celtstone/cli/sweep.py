@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -226,6 +227,10 @@ def handle(args: argparse.Namespace) -> int:
             on_start=on_start,
         )
     except KeyboardInterrupt:
+        # Zarr's writes pending in its event loop are abandoned (the store records only
+        # finished blocks); asyncio would report each as "Task was destroyed but it is
+        # pending!" when the interpreter exits, after our one line
+        logging.getLogger("asyncio").setLevel(logging.CRITICAL)
         if progress_bar is not None:
             progress_bar.close()
         print(
