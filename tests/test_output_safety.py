@@ -614,6 +614,65 @@ def test_interrupted_reproduce_leaves_the_old_files_and_no_staging(
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([old.name, live.name])
 
 
+_ENDLESS = """
+import importlib, sys
+from celtstone.cli.main import main
+from celtstone.models import RollingModel
+
+module = importlib.import_module(sys.argv[1])  # where the command finds simulate
+simulate = module.simulate
+
+def endless(model, body, state, t_end, **settings):
+    print("simulating", flush=True)
+    settings["n_samples"] = 1001
+    return simulate(RollingModel(), body, state, 1e6, **settings)  # about an hour
+
+module.simulate = endless
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize(
+    ("module", "command"),
+    [
+        ("celtstone.reproduce.cases", ["reproduce", "threshold", "--quick", "--contact", "paper"]),
+        ("celtstone.cli.run", ["run", "--t-end", "1e6", "--out", "run.nc"]),
+    ],
+    ids=["reproduce", "run"],
+)
+def test_a_signal_stops_a_command_inside_a_compiled_run(
+    tmp_path: Path, sig: signal.Signals, module: str, command: list[str]
+) -> None:
+    """The signal does not wait for the compiled loop to return (a rolling run of 1e6 s
+    here, about an hour): the command stops within seconds, in one line, with the
+    signal's exit status, and writes nothing."""
+    argv = [*command, "--no-progress", "--body", KL]
+    if command[0] == "reproduce":
+        argv += ["--out", "results"]
+    process = subprocess.Popen(
+        [sys.executable, "-c", _ENDLESS, module, *argv],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert process.stdout is not None
+        assert process.stdout.readline() == "simulating\n"
+        time.sleep(1.0)  # inside the compiled loop
+        signalled = time.monotonic()
+        process.send_signal(sig)
+        _, err = process.communicate(timeout=30)
+    finally:
+        process.kill()
+    assert time.monotonic() - signalled < 10.0
+    assert process.returncode == 128 + sig, err
+    assert "Traceback" not in err and len(err.splitlines()) == 1, err
+    assert [p.name for p in tmp_path.iterdir() if p.name != "results"] == []
+    assert _staging(tmp_path / "results") == [] and not (tmp_path / "results" / "data").exists()
+
+
 # ---------------------------------------------------------------------------------------
 # Runs with too few samples
 # ---------------------------------------------------------------------------------------

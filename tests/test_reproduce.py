@@ -34,8 +34,12 @@ KL = Study(body="kane_levinson_1982")
 
 
 def _quick_kl(out: Path) -> list[str]:
-    """CLI options of a quick, silent reproduction of the K&L body into ``out``."""
-    return ["--quick", "--no-progress", "--out", str(out), "--body", "kane_levinson_1982"]
+    """CLI options of a quick, silent reproduction of the K&L body (the paper's contact)
+    into ``out``."""
+    return [
+        *("--quick", "--no-progress", "--out", str(out)),
+        *("--body", "kane_levinson_1982", "--contact", "paper"),
+    ]
 
 
 def _quiet(total: int = 0):

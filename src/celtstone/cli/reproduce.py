@@ -4,9 +4,26 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
-from celtstone.reproduce.study import STUDIES, TARGETS, reduced, study_for
+from celtstone.reproduce.study import (
+    STUDIES,
+    TARGETS,
+    Study,
+    realistic_study_for,
+    reduced,
+    study_for,
+)
+
+CONTACTS: dict[str, tuple[str, Callable[[str], Study]]] = {
+    "paper": ("the paper's idealisation: a disk of radius 1 mm, Padé law", study_for),
+    "realistic": (
+        "the elliptic Hertz contact, exact law, rolling resistance",
+        realistic_study_for,
+    ),
+}
+"""The contacts a reproduction can run: words for the help, and the study of a body."""
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -28,6 +45,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         + ") — shipped name or .toml path",
     )
     parser.add_argument(
+        "--contact",
+        choices=(*CONTACTS, "all"),
+        default="all",
+        help="contact of the runs: "
+        + "; ".join(f"{name}: {words}" for name, (words, _) in CONTACTS.items())
+        + "; all: both, side by side in the report (default: all)",
+    )
+    parser.add_argument(
         "--quick",
         action="store_true",
         help="shortened runs and a 6-point f grid: a smoke test, not the reproduction",
@@ -39,7 +64,9 @@ def handle(args: argparse.Namespace) -> int:
     """Run the targets; print where the report is."""
     from celtstone.reproduce.targets import reproduce
 
-    studies = [study_for(name) for name in args.body] if args.body else list(STUDIES)
+    bodies = args.body or [study.body for study in STUDIES]
+    contacts = list(CONTACTS) if args.contact == "all" else [args.contact]
+    studies = [CONTACTS[contact][1](name) for contact in contacts for name in bodies]
     for study in studies:
         study.load_body()  # an unknown body fails before any run
     if args.quick:

@@ -134,12 +134,18 @@ def _add_renamed(parser: argparse.ArgumentParser) -> None:
             parser.add_argument(_option(old), dest=f"renamed_{old}", help=argparse.SUPPRESS)
 
 
+def _silent(time: float) -> None:
+    """A progress callback that shows nothing (see :func:`_progress_bar`)."""
+
+
 @contextmanager
-def _progress_bar(t_end: float, enabled: bool) -> Iterator[Callable[[float], None] | None]:
+def _progress_bar(t_end: float, enabled: bool) -> Iterator[Callable[[float], None]]:
     """A progress callback drawing a bar of simulated time on standard error, shown only on
-    a terminal and only once the run has lasted a second; None when not shown."""
+    a terminal and only once the run has lasted a second; a silent one when not shown.
+    Either way the compiled loop runs in a worker thread, so Ctrl-C and SIGTERM stop the
+    command at once, not when the run ends."""
     if not enabled or not sys.stderr.isatty():
-        yield None
+        yield _silent
         return
     from tqdm import tqdm
 

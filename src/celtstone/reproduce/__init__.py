@@ -5,7 +5,8 @@
 
 Each target (one study's fig2, fig3 or threshold) is written into a staging directory
 ``out/.reproduce.<pid>.<random>.part`` and its files are moved into ``out`` only when
-the target has finished, its numbers (``data/TARGET_BODY.json``) last. An interrupted
+the target has finished, its numbers (``data/TARGET_KEY.json``, KEY the study's key:
+the body, or ``BODY+VARIANT`` for another contact) last. An interrupted
 target (Ctrl-C, SIGTERM, an error) leaves nothing of its own and no staging directory;
 one left by a killed process is removed by the next reproduction into ``out``. Every
 target's numbers carry the identity of the run that made them (``run``: id, time,
@@ -19,9 +20,11 @@ from celtstone.reproduce.figure2 import figure2 as figure2
 from celtstone.reproduce.figure3 import figure3 as figure3
 from celtstone.reproduce.report import render_report as render_report
 from celtstone.reproduce.report import write_report as write_report
+from celtstone.reproduce.study import REALISTIC_STUDIES as REALISTIC_STUDIES
 from celtstone.reproduce.study import STUDIES as STUDIES
 from celtstone.reproduce.study import TARGETS as TARGETS
 from celtstone.reproduce.study import Study as Study
+from celtstone.reproduce.study import realistic_study_for as realistic_study_for
 from celtstone.reproduce.study import reduced as reduced
 from celtstone.reproduce.study import study_for as study_for
 from celtstone.reproduce.targets import reproduce as reproduce
@@ -29,11 +32,13 @@ from celtstone.reproduce.targets import run_identity as run_identity
 from celtstone.reproduce.threshold import threshold as threshold
 
 __all__ = [
+    "REALISTIC_STUDIES",
     "STUDIES",
     "TARGETS",
     "Study",
     "figure2",
     "figure3",
+    "realistic_study_for",
     "reduced",
     "render_report",
     "reproduce",

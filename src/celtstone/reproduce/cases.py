@@ -28,6 +28,7 @@ __all__ = [
     "provenance",
     "run_case",
     "save_results",
+    "study_identity",
     "summarise",
 ]
 
@@ -53,8 +54,7 @@ def provenance(study: Study, body: Body, **extra: Any) -> dict[str, Any]:
         "initial_state": (
             f"omega {list(study.omega)} rad/s, Euler angles {list(study.euler_angles)} deg"
         ),
-        "contact_radius_m": study.contact_radius,
-        "friction_law": "zhuravlev_pade (paper eq. 10, 12)",
+        **study.contact_settings(),
         "rtol": study.rtol,
         "atol": study.atol,
         "reversal_band_rad_per_s": study.band,
@@ -62,20 +62,44 @@ def provenance(study: Study, body: Body, **extra: Any) -> dict[str, Any]:
     }
 
 
+def study_identity(study: Study) -> dict[str, Any]:
+    """What names a study in its numbers: ``key`` (file names, report column) and, for
+    a contact other than the paper's, ``variant`` and ``contact`` (its settings). The
+    paper's contact writes neither ``variant`` nor ``contact``, as before variants."""
+    if study.is_paper_contact:
+        return {"key": study.key}
+    return {"key": study.key, "variant": study.variant, "contact": study.contact_settings()}
+
+
 def run_case(study: Study, body: Body, model: Model, t_end: float, path: Path | None) -> Trajectory:
     """Simulate ``model`` from the study's start to ``t_end`` [s]; write ``path`` (.nc).
 
     The static friction load exceeding Coulomb's bound is the paper's own approximation,
     which the reproduction follows on purpose: not warned here, but recorded in the
-    case's summary (``max_friction_bound_ratio``)."""
+    case's summary (``max_friction_bound_ratio``).
+
+    The compiled loop runs in a worker thread (a progress callback makes ``simulate`` do
+    so) so that Ctrl-C and SIGTERM stop a reproduction within a tenth of a second, not
+    when the run in progress ends."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", FrictionBoundWarning)
         trajectory = simulate(
-            model, body, study.initial_state, t_end, rtol=study.rtol, atol=study.atol
+            model,
+            body,
+            study.initial_state,
+            t_end,
+            rtol=study.rtol,
+            atol=study.atol,
+            progress=_keep_signals_live,
         )
     if path is not None:
         write(trajectory.dataset, path)
     return trajectory
+
+
+def _keep_signals_live(time: float) -> None:
+    """Progress callback of :func:`run_case`: reports nothing; its presence keeps the
+    main thread free to take signals while the compiled loop runs."""
 
 
 def _float_or_none(value: float) -> float | None:
@@ -134,7 +158,7 @@ def save_results(
     """Write the cases' table (CSV with provenance) and numbers (JSON); return the numbers."""
     import pandas as pd
 
-    stem = f"{target}_{body.name}"
+    stem = f"{target}_{study.key}"
     table = pd.DataFrame(
         [
             {**case, "reversal_times": " ".join(f"{t:.6g}" for t in case["reversal_times"])}
@@ -146,6 +170,7 @@ def save_results(
         "target": target,
         "study": study.describe(),
         "body": body.name,
+        **study_identity(study),
         "t_end": t_end,
         "band": study.band,
         "contact_radius": study.contact_radius,

@@ -1,8 +1,9 @@
 """Figure 2 analogue: spin against time, rolling and sliding at f = 0.35, 0.25, 0.15.
 
-Sliding runs use ε = 1 mm with N = m g (the paper's first approximation) and
-with the dynamic normal force, same body and start (paper section 4). A video shows
-the rolling stone beside the sliding one at the largest f, in real time.
+Sliding runs use the study's contact (the paper's: ε = 1 mm) with N = m g (the paper's
+first approximation) and with the dynamic normal force, same body and start (paper
+section 4). A video shows the rolling stone beside the sliding one at the largest f, in
+real time.
 """
 
 from __future__ import annotations
@@ -23,17 +24,17 @@ FRICTION_LOADS = tuple(FRICTION_LOAD_OPTIONS)  # static (N = m g), then dynamic
 
 
 def figure2_models(study: Study) -> list[Model]:
-    """Rolling, then sliding at each f with each friction load."""
+    """Rolling, then sliding at each f with each friction load of the study."""
     models: list[Model] = [study.rolling()]
     for friction in study.frictions:
-        models.extend(study.sliding(friction, load) for load in FRICTION_LOADS)
+        models.extend(study.sliding(friction, load) for load in study.fig2_loads)
     return models
 
 
 def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """Run, write data, figures and table of Figure 2 for ``study``; return the numbers."""
     body = study.load_body()
-    stem = f"fig2_{body.name}"
+    stem = f"fig2_{study.key}"
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
     datasets = {}
@@ -53,17 +54,14 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         )
         progress.update(1)
     panels = [[datasets["rolling"]]] + [
-        [datasets[case_name(study.sliding(f, load))] for load in FRICTION_LOADS]
+        [datasets[case_name(study.sliding(f, load))] for load in study.fig2_loads]
         for f in study.frictions
     ]
-    title = (
-        f"Figure 2 analogue, {body.name}: spin against time (ε = {study.contact_radius * 1e3:g} mm)"
-    )
+    title = f"Figure 2 analogue, {study.key}: spin against time ({study.contact_words()})"
     figure = plot_spin_comparison(panels, title, threshold=study.band)
     energy = plot_energy_budget(
-        [datasets["rolling"]]
-        + [datasets[case_name(study.sliding(f, "static"))] for f in study.frictions],
-        f"{body.name}: energy and energy budget, sliding with N = m g",
+        [datasets["rolling"]] + [datasets[case_name(study.sliding(f))] for f in study.frictions],
+        f"{study.key}: energy and energy budget, sliding with N = m g",
     )
     figures = save_figure_formats(figure, out, stem)
     figures += save_figure_formats(energy, out, f"{stem}_energy")
@@ -85,7 +83,7 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
 def _animate(study: Study, datasets: dict[str, Any], path: Path) -> Path:
     """Rolling beside sliding at the largest f (N = m g), side by side in real time."""
     friction = max(study.frictions)
-    sliding = case_name(study.sliding(friction, "static"))
+    sliding = case_name(study.sliding(friction))
     animate_comparison(
         [datasets["rolling"], datasets[sliding]],
         ["rolling without sliding", f"rolling with sliding, f = {friction:g}"],

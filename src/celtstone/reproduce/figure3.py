@@ -20,12 +20,12 @@ __all__ = ["figure3"]
 def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """Run, write data, figures and table of Figure 3 for ``study``; return the numbers."""
     body = study.load_body()
-    stem = f"fig3_{body.name}"
+    stem = f"fig3_{study.key}"
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
     datasets = []
     cases = []
-    for model in (study.rolling(), study.sliding(study.fig3_friction, "static")):
+    for model in (study.rolling(), study.sliding(study.fig3_friction)):
         name = case_name(model)
         progress.set_description(f"{stem}: {name}")
         path = data / f"{stem}_{name}.nc"
@@ -40,10 +40,10 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         )
         progress.update(1)
     title = (
-        f"Figure 3 analogue, {body.name}: long run, rolling and sliding f = {study.fig3_friction:g}"
+        f"Figure 3 analogue, {study.key}: long run, rolling and sliding f = {study.fig3_friction:g}"
     )
     figure = plot_spin_comparison([[d] for d in datasets], title, threshold=study.band, columns=1)
-    energy = plot_energy_budget(datasets, f"{body.name}: energy over the long run")
+    energy = plot_energy_budget(datasets, f"{study.key}: energy over the long run")
     figures = save_figure_formats(figure, out, stem)
     figures += save_figure_formats(energy, out, f"{stem}_energy")
     return save_results(

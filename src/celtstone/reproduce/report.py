@@ -26,15 +26,19 @@ __all__ = ["collect", "render_report", "write_report"]
 
 
 def collect(out: Path) -> dict[str, dict[str, dict[str, Any]]]:
-    """The numbers written by earlier targets in ``out/data``: target -> body -> result
-    (a case written before the rename of ``normal_force`` reads as ``friction_load``)."""
+    """The numbers written by earlier targets in ``out/data``: target -> study key ->
+    result. The key is the body's name for the paper's contact, ``BODY+VARIANT`` for a
+    variant (``Study.key``); numbers written before variants have no ``key`` and are
+    keyed by their body, and a case written before the rename of ``normal_force`` reads
+    as ``friction_load``."""
     results: dict[str, dict[str, dict[str, Any]]] = {}
     for path in sorted((out / "data").glob("*.json")):
         result = json.loads(path.read_text(encoding="utf-8"))
         for case in result.get("cases", []):
             if "normal_force" in case and "friction_load" not in case:
                 case["friction_load"] = case.pop("normal_force")
-        results.setdefault(result["target"], {})[result["body"]] = result
+        result.setdefault("key", result["body"])
+        results.setdefault(result["target"], {})[result["key"]] = result
     return results
 
 
@@ -57,7 +61,7 @@ def _section(
     results: dict[str, dict[str, Any]],
     judge: Callable[[dict[str, Any]], Verdict],
     figures: Callable[[dict[str, Any]], list[str]],
-    variants: tuple[tuple[str, Callable[[dict[str, Any]], Verdict]], ...] = (),
+    variants: tuple[tuple[str, Judge], ...] = (),
 ) -> list[str]:
     lines = [f"## {title}", ""]
     if not results:
@@ -67,7 +71,9 @@ def _section(
         where = f"{result['study']}; {result['target']} runs of {result['t_end']:g} s"
         rows.append((where, "", judge(result)))
         for label, variant in variants:
-            rows.append((where, f" ({label})", variant(result)))
+            verdict = variant(result)
+            if verdict is not None:
+                rows.append((where, f" ({label})", verdict))
     lines += _table(rows, FINDINGS[key])
     lines.append("")
     for result in results.values():
@@ -128,23 +134,23 @@ def _provenance(results: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
     table = [
         "## Where each result comes from",
         "",
-        "| target | body | finished (UTC) | celtstone | run (targets asked for) |",
+        "| target | study | finished (UTC) | celtstone | run (targets asked for) |",
         "|---|---|---|---|---|",
     ]
     runs: set[str] = set()
     versions: set[str] = set()
-    for result in sorted(results, key=lambda r: (r["target"], r["body"])):
+    for result in sorted(results, key=lambda r: (r["target"], r["key"])):
         run = result.get("run")
         if not isinstance(run, dict):
             runs.add(_UNKNOWN_RUN)
             table.append(
-                f"| {result['target']} | {result['body']} | unknown | unknown | {_UNKNOWN_RUN} |"
+                f"| {result['target']} | {result['key']} | unknown | unknown | {_UNKNOWN_RUN} |"
             )
             continue
         runs.add(str(run["id"]))
         versions.add(str(run["celtstone_version"]))
         table.append(
-            f"| {result['target']} | {result['body']} | {run['finished_utc']} | "
+            f"| {result['target']} | {result['key']} | {run['finished_utc']} | "
             f"{run['celtstone_version']} | `{run['id']}` ({', '.join(run['targets'])}) |"
         )
     table.append("")
@@ -165,14 +171,17 @@ def _provenance(results: list[dict[str, Any]]) -> tuple[list[str], list[str]]:
 
 
 def _braking_table(fig2: dict[str, dict[str, Any]]) -> str:
-    """Pivot braking time C|ω0|/M0 at f = 0.35 against the rolling reversal time."""
+    """Pivot braking time C|ω0|/M0 at f = 0.35 against the rolling reversal time, for
+    the paper's contact (the disk's M0; a variant's contact has its own)."""
     lines = [
         "| body | M0 at f = 0.35 [N m] | C ω0 (magnitude) [N m s] | braking time [s] "
         "| rolling reversal [s] |",
         "|---|---|---|---|---|",
     ]
     for name, result in fig2.items():
-        body = load_body(name)
+        if "variant" in result:
+            continue
+        body = load_body(result["body"])
         spin = abs(float(result["cases"][0]["spin_initial"]))
         moment = 3.0 * math.pi * BRAKING_FRICTION * body.mass * body.gravity * 1e-3 / 16.0
         moment *= result["contact_radius"] / 1e-3
@@ -186,24 +195,151 @@ def _braking_table(fig2: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+Judge = Callable[[dict[str, Any]], Verdict | None]
+
+_SUMMARY: tuple[tuple[str, str, Judge], ...] = (
+    ("period grows as f falls", "fig2", judge_period_growth),
+    ("energy falls with f", "fig2", judge_energy_order),
+    ("energy falls in sliding", "fig2", lambda r: judge_energy_decrease([r])),
+    (f"no reversal below f ≈ {PAPER_THRESHOLD:g}", "threshold", judge_threshold),
+    ("long run: sliding changes sign faster", "fig3", judge_long_run),
+)
+"""One row of the summary table per finding: its label, the target judged, the judge."""
+
+
+def _with_load(judge: Callable[[dict[str, Any], str], Verdict], load: str) -> Judge:
+    """``judge`` on the Figure 2 runs with friction load ``load``; ``None`` (not run)
+    where the study ran no such runs (a variant's Figure 2 may run one load only)."""
+
+    def judged(result: dict[str, Any]) -> Verdict | None:
+        if not any(c.get("friction_load") == load for c in result["cases"]):
+            return None
+        return judge(result, load)
+
+    return judged
+
+
+_DYNAMIC: tuple[tuple[str, str, Judge], ...] = (
+    ("period grows as f falls (dynamic N)", "fig2", _with_load(judge_period_growth, "dynamic")),
+    ("energy falls with f (dynamic N)", "fig2", _with_load(judge_energy_order, "dynamic")),
+)
+"""The Figure 2 findings judged on the dynamic-load runs too (the comparison's table)."""
+
+
+def _cell(verdict: Verdict | None, short: bool = False) -> str:
+    """A verdict in a table's cell (``short``: the word alone); "not run" for none."""
+    if verdict is None:
+        return "not run"
+    if short:
+        return verdict.reproduced
+    why = f" ({verdict.why})" if verdict.why else ""
+    return f"**{verdict.reproduced}**{why}: {verdict.ours}"
+
+
+_VARIANT_WHY = """The realistic contact changes four things against the paper's idealisation (each
+study's settings are in its rows above and in each table's header): the disk of fixed
+radius ε becomes the Hertz ellipse at the current contact point of a polymer stone on a
+polymer plate (E = 3 GPa, ν = 0.35, chosen so that Kane & Levinson's *circular* Hertz
+radius is 1.09 mm, the paper's ε: the contact changes its shape, not its size), Zhuravlev's
+Padé law becomes the exact Coulomb–Contensou law, a rolling-friction length λ (Coulomb's
+law of rolling friction) resists the rocking, and the contact sticks when the friction
+it needs lies inside the Coulomb–Contensou limit set (the stick–slip contact) instead of
+creeping under a regularised law. What each does:
+
+* **the ellipse pivots harder.** A rattleback's contact ellipse is long and thin (Kane &
+  Levinson at rest: 3.14 mm × 0.28 mm); its pivoting moment at zero slip,
+  (3/8) E(e) f N A, is 1.86 times the disk's of the same E, ν (docs/decisions.md §24, §29).
+  The spin about the vertical is braked harder, so a stone whose rocking instability
+  grows slowly against that braking (the heavy Kane & Levinson body, table "pivot
+  braking" below) can lose its spin before it reverses; a light stone with a small
+  contact (the toy's is 0.14 mm) is braked far less;
+* **the exact law slides harder than Padé's** near the crossover of slip and pivoting
+  (at u = 1 the disk's |F| is 0.88 f N exact, 0.54 f N Padé; decisions §29);
+* **rolling resistance takes energy from the rocking**, at the rate λ N |ω_t|, and none
+  from the spin about the vertical (ω_t = 0 there, decisions §25). With λ = 1e-5 m a
+  rocking Kane & Levinson stone alone would stop in about 93 s (1e-4 m: 9 s).
+  λ = 1e-5 m is an order-of-magnitude estimate for a hard polymer pair (Cross 2016 gives
+  1e-6 m to 1e-3 m from hard to soft floors), not a measurement. Where a stone comes to
+  rest within a run at every f (E − m g l of round-off size, as the toy's sliding runs
+  here), its final energies cannot order f, and "energy falls with f" is judged on the
+  reversed spin alone;
+* **the stone sticks.** Once the spin has died, the stick–slip contact holds the
+  contact point still and the stone rocks, rolling, until rolling resistance and the
+  friction of each short slip have taken its energy; the regularised contact would
+  creep instead, and at rest it is so stiff that one Kane & Levinson run of 20 s did
+  not end within 150 s (decisions §30).
+
+Every verdict is the same judge's (`celtstone.reproduce.findings`) on the numbers of the
+runs with that contact; a finding that holds for the paper's idealisation and not here
+rests on the idealisation.
+"""
+
+
+def _comparison(results: dict[str, dict[str, dict[str, Any]]]) -> list[str]:
+    """Per contact variant: each finding for each body, the paper's contact beside it."""
+    variants = sorted(
+        {r["variant"] for by_key in results.values() for r in by_key.values() if "variant" in r}
+    )
+    if not variants:
+        return []
+    lines = []
+    for variant in variants:
+        ran = {  # (body, target) -> the variant's result
+            (r["body"], target): r
+            for target, by_key in results.items()
+            for r in by_key.values()
+            if r.get("variant") == variant
+        }
+        bodies = sorted({body for body, _ in ran})
+        lines += [
+            f"## 6. The paper's idealisation beside the {variant} contact",
+            "",
+            "| finding | body | paper's idealisation (disk ε = 1 mm, Padé law, no rolling "
+            f"resistance) | {variant} contact |",
+            "|---|---|---|---|",
+        ]
+        changes = []
+        for label, target, judge in (*_SUMMARY, *_DYNAMIC):
+            for body in bodies:
+                paper = results.get(target, {}).get(body)
+                ours = ran.get((body, target))
+                before = judge(paper) if paper is not None else None
+                after = judge(ours) if ours is not None else None
+                lines.append(f"| {label} | {body} | {_cell(before)} | {_cell(after)} |")
+                if before is not None and after is not None:
+                    if before.reproduced != after.reproduced:
+                        changes.append(f"{label}, {body}: {before.reproduced} → {after.reproduced}")
+        lines += [
+            "",
+            "Verdicts that change with the contact: "
+            + ("; ".join(changes) if changes else "none")
+            + ".",
+            "",
+            _VARIANT_WHY,
+        ]
+    return lines
+
+
 def render_report(out: Path) -> str:
     """The report's Markdown from the numbers in ``out/data``."""
     results = collect(out)
     fig2 = results.get("fig2", {})
     fig3 = results.get("fig3", {})
     threshold = results.get("threshold", {})
+    keys = sorted({*fig2, *fig3, *threshold})
     lines = [
         "# celtstone reproduction of *On the influence of sliding on the Celt rattleback motion*",
         "",
         f"Generated by celtstone {version()} (`celtstone reproduce`); every number below is read "
         "from the data files beside this report. Model: rolling (paper eq. 3–5) and rolling "
         "with sliding (eq. 6–12) with Zhuravlev's Padé friction law, ε = 1 mm, N = m g unless "
-        "said otherwise; integrator tolerances in each file's header.",
+        "said otherwise; integrator tolerances in each file's header. A column `BODY+VARIANT` "
+        "is the same body with another contact (its settings in its rows below; section 6 "
+        "sets it beside the paper's).",
         "",
-        "| finding | " + " | ".join(sorted({*fig2, *fig3, *threshold})) + " |",
-        "|---|" + "---|" * len({*fig2, *fig3, *threshold}),
+        "| finding | " + " | ".join(keys) + " |",
+        "|---|" + "---|" * len(keys),
     ]
-    bodies = sorted({*fig2, *fig3, *threshold})
     everything = [r for target in results.values() for r in target.values()]
     warning, provenance = _provenance(everything)
     lines[3:3] = warning
@@ -213,15 +349,9 @@ def render_report(out: Path) -> str:
             "the reproduction. Run `celtstone reproduce all` for the real one.**",
             "",
         ]
-    summary = [
-        ("period grows as f falls", fig2, judge_period_growth),
-        ("energy falls with f", fig2, judge_energy_order),
-        ("energy falls in sliding", fig2, lambda r: judge_energy_decrease([r])),
-        (f"no reversal below f ≈ {PAPER_THRESHOLD:g}", threshold, judge_threshold),
-        ("long run: sliding changes sign faster", fig3, judge_long_run),
-    ]
-    for label, source, judge in summary:
-        cells = [judge(source[b]).reproduced if b in source else "not run" for b in bodies]
+    for label, target, judge in _SUMMARY:
+        source = results.get(target, {})
+        cells = [_cell(judge(source[k]) if k in source else None, short=True) for k in keys]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     lines.append("")
     lines += provenance
@@ -235,7 +365,7 @@ def render_report(out: Path) -> str:
         fig2,
         judge_period_growth,
         figs,
-        (("dynamic normal force", lambda r: judge_period_growth(r, "dynamic")),),
+        (("dynamic normal force", _with_load(judge_period_growth, "dynamic")),),
     )
     lines += _section(
         "2. The energy against f (Figure 2)",
@@ -243,7 +373,7 @@ def render_report(out: Path) -> str:
         fig2,
         judge_energy_order,
         lambda r: [],
-        (("dynamic normal force", lambda r: judge_energy_order(r, "dynamic")),),
+        (("dynamic normal force", _with_load(judge_energy_order, "dynamic")),),
     )
     lines += _section(
         "3. Energy and the energy budget",
@@ -266,6 +396,7 @@ def render_report(out: Path) -> str:
         judge_long_run,
         lambda r: [f for f in r["figures"] if "_energy" not in f],
     )
+    lines += _comparison(results)
     lines.append(_WHY.format(braking=_braking_table(fig2) if fig2 else "(run fig2 for the table)"))
     return "\n".join(lines)
 

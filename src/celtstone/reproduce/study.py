@@ -4,12 +4,20 @@ The paper gives no body parameters; each :class:`Study` names a shipped body
 (``docs/bodies.md``) and carries every setting of the three targets, so the
 report can state exactly what was run. :func:`reduced` shortens a study for
 tests (fewer and shorter runs, same physics).
+
+A study carries its contact too: the paper's idealisation (a disk of fixed radius
+ε = 1 mm, Zhuravlev's Padé law, no rolling resistance; :data:`STUDIES`) or a variant
+such as the realistic contact of :data:`REALISTIC_STUDIES` (the elliptic Hertz
+contact, the exact law, a rolling-friction length). :attr:`Study.key` names a study's
+files and its column of the report: the body's name for the paper's contact,
+``BODY+VARIANT`` otherwise.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -17,9 +25,18 @@ from celtstone.analysis import reversal_band
 from celtstone.bodies import Body, load_body
 from celtstone.errors import ParameterError
 from celtstone.integrate import DEFAULT_ATOL, DEFAULT_RTOL
-from celtstone.models import InitialState, RollingModel, SlidingModel
+from celtstone.models import CONTACTS, InitialState, RollingModel, SlidingModel
 
-__all__ = ["PAPER_FRICTIONS", "STUDIES", "TARGETS", "Study", "reduced", "study_for"]
+__all__ = [
+    "PAPER_FRICTIONS",
+    "REALISTIC_STUDIES",
+    "STUDIES",
+    "TARGETS",
+    "Study",
+    "realistic_study_for",
+    "reduced",
+    "study_for",
+]
 
 TARGETS = ("fig2", "fig3", "threshold")
 PAPER_FRICTIONS = (0.35, 0.25, 0.15)  # the paper's Figure 2
@@ -45,6 +62,21 @@ class Study:
     bisection_tolerance : width of the final f bracket [1]
     rtol, atol : integrator tolerances
     reduced : True for the shortened form made by :func:`reduced` (tests, ``--quick``)
+    variant : name of the contact variant, "" for the paper's idealisation (the
+        disk of radius ε, Padé law, N = m g); it suffixes :attr:`key`
+    contact_shape : "circle" (the paper's disk) or "ellipse" (the Hertz ellipse at
+        the current contact point, docs/decisions.md §29)
+    elastic_modulus : E of stone and plane [Pa], or None for the fixed ε
+    poisson_ratio : ν of stone and plane [1], or None (given with E)
+    friction_law : "pade" (paper eq. 10, 12) or "exact"
+    friction_load : the normal force of the friction law in the threshold and
+        Figure 3 runs: "static" (N = m g, the paper's) or "dynamic"; Figure 2 runs both
+    rolling_resistance : λ, rolling-friction length [m] of both models (0: none)
+    fig2_loads : the friction loads of the Figure 2 runs (the paper's: both), which
+        include ``friction_load``
+    targets : the targets this study runs (the paper's: all of :data:`TARGETS`)
+    contact : "sliding" (the paper's regularised sliding contact) or "hybrid" (the
+        stick–slip contact, ``celtstone.hybrid``)
     """
 
     body: str
@@ -61,6 +93,16 @@ class Study:
     rtol: float = DEFAULT_RTOL
     atol: float = DEFAULT_ATOL
     reduced: bool = False
+    variant: str = ""
+    contact_shape: str = "circle"
+    elastic_modulus: float | None = None
+    poisson_ratio: float | None = None
+    friction_law: str = "pade"
+    friction_load: str = "static"
+    rolling_resistance: float = 0.0
+    fig2_loads: tuple[str, ...] = ("static", "dynamic")
+    targets: tuple[str, ...] = TARGETS
+    contact: str = "sliding"
 
     def __post_init__(self) -> None:
         start, stop, count = self.threshold_grid
@@ -72,6 +114,32 @@ class Study:
             )
         if not self.bisection_tolerance > 0.0:
             raise ParameterError("bisection_tolerance", self.bisection_tolerance, "a number > 0")
+        if not all(c.isalnum() or c in "_-" for c in self.variant):
+            raise ParameterError("variant", self.variant, "letters, digits, _ and - (file names)")
+        self.sliding(max(self.frictions, default=0.35))  # every contact setting checked once
+        if self.friction_load not in self.fig2_loads:
+            raise ParameterError(
+                "fig2_loads",
+                self.fig2_loads,
+                f"loads that include friction_load {self.friction_load}",
+            )
+
+    @property
+    def body_name(self) -> str:
+        """The body's name as :func:`~celtstone.bodies.load_body` gives it (a file's stem)."""
+        text = self.body
+        return Path(text).stem if text.endswith(".toml") or Path(text).is_file() else text
+
+    @property
+    def key(self) -> str:
+        """Names the study's files and report column: the body, ``BODY+VARIANT`` for a
+        contact other than the paper's."""
+        return f"{self.body_name}+{self.variant}" if self.variant else self.body_name
+
+    @property
+    def is_paper_contact(self) -> bool:
+        """Whether the study uses the paper's idealised contact (no variant)."""
+        return not self.variant
 
     @property
     def initial_state(self) -> InitialState:
@@ -92,24 +160,75 @@ class Study:
         start, stop, count = self.threshold_grid
         return np.linspace(start, stop, int(count))
 
-    def sliding(self, friction: float, friction_load: str = "static") -> SlidingModel:
-        """The paper's sliding model at friction coefficient ``friction``."""
-        return SlidingModel(
+    def sliding(self, friction: float, friction_load: str | None = None) -> SlidingModel:
+        """The study's sliding model at friction coefficient ``friction`` with the
+        friction load ``friction_load`` (default: the study's)."""
+        if self.contact not in CONTACTS:
+            raise ParameterError("contact", self.contact, " or ".join(CONTACTS))
+        return CONTACTS[self.contact](
             friction_coefficient=friction,
             contact_radius=self.contact_radius,
-            friction_load=friction_load,
+            friction_load=self.friction_load if friction_load is None else friction_load,
+            friction_law=self.friction_law,
+            contact_shape=self.contact_shape,
+            elastic_modulus=self.elastic_modulus,
+            poisson_ratio=self.poisson_ratio,
+            rolling_resistance=self.rolling_resistance,
         )
 
-    @staticmethod
-    def rolling() -> RollingModel:
-        """The rolling model without damping."""
-        return RollingModel()
+    def rolling(self) -> RollingModel:
+        """The rolling model without damping, with the study's rolling resistance."""
+        return RollingModel(rolling_resistance=self.rolling_resistance)
+
+    def contact_words(self) -> str:
+        """The contact in a few words (figure titles): "ε = 1 mm" for the paper's."""
+        if self.contact_shape == "circle" and self.elastic_modulus is None:
+            words = f"ε = {self.contact_radius * 1e3:g} mm"
+        else:
+            words = f"Hertz {self.contact_shape}, E = {self.elastic_modulus:g} Pa, ν = "
+            words += f"{self.poisson_ratio:g}"
+        if self.friction_law != "pade":
+            words += f", {self.friction_law} law"
+        if self.rolling_resistance:
+            words += f", λ = {self.rolling_resistance:g} m"
+        if self.contact == "hybrid":
+            words += ", stick–slip"
+        return words
+
+    def contact_settings(self) -> dict[str, str | float]:
+        """The contact's settings for table headers: ε and the law for the paper's,
+        every setting that differs from it for a variant."""
+        if self.is_paper_contact:
+            return {
+                "contact_radius_m": self.contact_radius,
+                "friction_law": "zhuravlev_pade (paper eq. 10, 12)",
+            }
+        model = self.sliding(max(self.frictions, default=0.35))
+        return {
+            "contact_variant": self.variant,
+            "contact_shape": self.contact_shape,
+            "contact_radius_m": "hertz" if model.is_hertz_radius else self.contact_radius,
+            "elastic_modulus_Pa": "none" if self.elastic_modulus is None else self.elastic_modulus,
+            "poisson_ratio": "none" if self.poisson_ratio is None else self.poisson_ratio,
+            "friction_law": self.friction_law,
+            "rolling_resistance_m": self.rolling_resistance,
+            "contact": self.contact,
+        }
 
     def describe(self) -> str:
-        """One line for reports: body, start, contact radius."""
-        return ("REDUCED (--quick) " if self.reduced else "") + (
+        """One line for reports: body, start, contact (and its variant's settings)."""
+        line = ("REDUCED (--quick) " if self.reduced else "") + (
             f"{self.body}, ω0 = {list(self.omega)} rad/s (body axes), Euler angles α, β = "
-            f"{list(self.euler_angles)} deg, ε = {self.contact_radius * 1e3:g} mm"
+            f"{list(self.euler_angles)} deg, "
+        )
+        if self.is_paper_contact:
+            return line + f"ε = {self.contact_radius * 1e3:g} mm"
+        start, stop, count = self.threshold_grid
+        load = "N = m g" if self.friction_load == "static" else "the dynamic N"
+        return line + (
+            f"contact {self.variant}: {self.contact_words()}, friction load {load} in the "
+            f"threshold and Figure 3 runs, threshold grid f = {start:g} … {stop:g} "
+            f"({int(count)} points)"
         )
 
 
@@ -118,6 +237,49 @@ STUDIES = (
     Study(body="toy_rattleback_10cm"),
 )
 
+REALISTIC_ELASTIC_MODULUS = 3e9  # Pa, docs/decisions.md §29: a polymer stone on a polymer plate
+REALISTIC_POISSON_RATIO = 0.35  # 1, with E: K&L's circular Hertz radius 1.09 mm ≈ the paper's ε
+REALISTIC_ROLLING_RESISTANCE = 1e-5  # λ [m]: Cross 2016, an order of magnitude (see _realistic)
+
+
+def _realistic(body: str) -> Study:
+    """The realistic contact for ``body``: what changes against the paper's idealisation.
+
+    * the elliptic Hertz contact at the current contact point (docs/decisions.md §29) of
+      a polymer stone on a polymer plate, E = 3 GPa and ν = 0.35, chosen so that
+      K&L's *circular* Hertz radius is 1.09 mm, the paper's ε: the comparison changes
+      the contact's shape (an ellipse 3.1 mm × 0.28 mm for K&L at rest), not its size;
+    * the exact Coulomb–Contensou law (the Padé law's own error is up to 0.39 f N,
+      decisions §29);
+    * a rolling-friction length λ = 1e-5 m for both bodies (docs/equations.md "Rolling
+      resistance"). Coulomb's law of rolling friction (Cross 2016) makes λ a length
+      independent of speed, of order 1e-6 m to 1e-3 m from hard to soft floors;
+      Awrejcewicz & Kudra (2019) relate it to the contact's size. 1e-5 m, 1 % of K&L's
+      Hertz radius (7 % of the toy's 0.14 mm), is an order-of-magnitude estimate for a
+      hard polymer pair, not a measurement of any stone; decisions §25 measures that
+      1e-5 m stops a rocking K&L in about 93 s and 1e-4 m in about 9 s;
+    * the stick–slip contact (``celtstone.hybrid``): a real contact sticks, without the
+      regularised law's creep. It is also what makes these runs affordable: once the
+      spin has died, the regularised elliptic contact at rest is stiff (one K&L 20 s run
+      at f = 0.15 did not end within 150 s), while in stick the stone rolls (1.7 s for
+      the same run; decisions §30).
+
+    Everything else (start, grids, run lengths, friction loads) is the paper study's.
+    """
+    return Study(
+        body=body,
+        variant="realistic",
+        contact="hybrid",
+        contact_shape="ellipse",
+        elastic_modulus=REALISTIC_ELASTIC_MODULUS,
+        poisson_ratio=REALISTIC_POISSON_RATIO,
+        friction_law="exact",
+        rolling_resistance=REALISTIC_ROLLING_RESISTANCE,
+    )
+
+
+REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES)
+
 
 def study_for(body: str) -> Study:
     """The shipped study of ``body``, or a default study for any other body."""
@@ -125,6 +287,11 @@ def study_for(body: str) -> Study:
         if study.body == body:
             return study
     return Study(body=body)
+
+
+def realistic_study_for(body: str) -> Study:
+    """The realistic contact of :data:`REALISTIC_STUDIES` for any ``body``."""
+    return _realistic(body)
 
 
 def reduced(study: Study, scale: float = 0.25, grid_count: int = 6) -> Study:

@@ -21,7 +21,7 @@ from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3
 from celtstone.reproduce.progress import Progress, progress_bar
 from celtstone.reproduce.report import write_report
-from celtstone.reproduce.study import STUDIES, TARGETS, Study
+from celtstone.reproduce.study import REALISTIC_STUDIES, STUDIES, TARGETS, Study
 from celtstone.reproduce.threshold import threshold
 
 _RUNNERS = {"fig2": figure2, "fig3": figure3, "threshold": threshold}
@@ -54,7 +54,8 @@ def _utc_now() -> str:
 
 def run_identity(targets: Sequence[str], studies: Sequence[Study]) -> dict[str, Any]:
     """What identifies one ``reproduce`` call in each target's numbers: a unique ``id``,
-    the UTC start time, the celtstone version, the targets and bodies asked for."""
+    the UTC start time, the celtstone version, the targets, bodies and studies (keys)
+    asked for."""
     started = _utc_now()
     return {
         "id": f"{started.replace('-', '').replace(':', '')}-{secrets.token_hex(3)}",
@@ -62,6 +63,7 @@ def run_identity(targets: Sequence[str], studies: Sequence[Study]) -> dict[str, 
         "celtstone_version": version(),
         "targets": list(targets),
         "bodies": [study.body for study in studies],
+        "studies": [study.key for study in studies],
         "quick": any(study.reduced for study in studies),
     }
 
@@ -112,7 +114,7 @@ def _run_target(
     staging = make_temporary_directory(out / _STAGING)
     try:
         result = _RUNNERS[target](study, staging, progress)
-        numbers = staging / "data" / f"{result['target']}_{result['body']}.json"
+        numbers = staging / "data" / f"{result['target']}_{study.key}.json"
         stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
         write_json(stamped, numbers, overwrite=True)
         _move_files(staging, out, numbers)
@@ -130,7 +132,7 @@ def _run_target(
 def reproduce(
     targets: Sequence[str],
     out: str | Path = "results",
-    studies: Sequence[Study] = STUDIES,
+    studies: Sequence[Study] = STUDIES + REALISTIC_STUDIES,
     progress: bool = True,
 ) -> Path:
     """Run ``targets`` (``fig2``, ``fig3``, ``threshold`` or ``all``) for each study.
@@ -147,12 +149,15 @@ def reproduce(
         raise ParameterError("out", str(out), "a directory")
     directory.mkdir(parents=True, exist_ok=True)
     identity = run_identity(chosen, studies)
-    total = sum(_runs(study, target) for study in studies for target in chosen)
+    total = sum(
+        _runs(study, target) for study in studies for target in chosen if target in study.targets
+    )
     bar = progress_bar(total, "reproduce", progress)
     try:
         for target in chosen:
             for study in studies:
-                _run_target(target, study, directory, bar, identity)
+                if target in study.targets:  # a study may run some targets only
+                    _run_target(target, study, directory, bar, identity)
     finally:
         bar.close()
     return write_report(directory)

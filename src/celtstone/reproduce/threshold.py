@@ -11,20 +11,16 @@ from __future__ import annotations
 import itertools
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from celtstone.bodies import Body
 from celtstone.export import write_json, write_table
 from celtstone.plotting import plot_threshold, save_figure_formats
-from celtstone.reproduce.cases import provenance, run_case, summarise
+from celtstone.reproduce.cases import provenance, run_case, study_identity, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
-
-if TYPE_CHECKING:
-    pass
-
 
 __all__ = ["bisection_steps", "threshold"]
 
@@ -41,6 +37,8 @@ _COLUMNS = (
     "max_budget_error",
     "status",
 )
+_LOAD_WORDS = {"static": "static (N = m g)", "dynamic": "dynamic (the consistent N)"}
+_LOAD_TITLES = {"static": "N = m g", "dynamic": "dynamic N"}
 
 
 def bisection_steps(width: float, tolerance: float) -> int:
@@ -104,7 +102,7 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     import pandas as pd
 
     body = study.load_body()
-    stem = f"threshold_{body.name}"
+    stem = f"threshold_{study.key}"
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
     rows: list[dict[str, Any]] = []
@@ -126,13 +124,13 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         body,
         target="threshold",
         t_end_s=study.threshold_t_end,
-        friction_load="static (N = m g)",
+        friction_load=_LOAD_WORDS[study.friction_load],
         bisection_tolerance=study.bisection_tolerance,
     )
     write_table(table, out / f"{stem}.csv", header)
     title = (
-        f"Threshold, {body.name}: sliding, ε = {study.contact_radius * 1e3:g} mm, N = m g, "
-        f"runs of {study.threshold_t_end:g} s"
+        f"Threshold, {study.key}: sliding, {study.contact_words()}, "
+        f"{_LOAD_TITLES[study.friction_load]}, runs of {study.threshold_t_end:g} s"
     )
     figure = plot_threshold(table, title, [b["estimate"] for b in boundaries])
     figures = save_figure_formats(figure, out, stem)
@@ -142,6 +140,7 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         "target": "threshold",
         "study": study.describe(),
         "body": body.name,
+        **study_identity(study),
         "t_end": study.threshold_t_end,
         "band": study.band,
         "grid": [float(f) for f in study.friction_grid()],
