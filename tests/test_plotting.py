@@ -119,3 +119,30 @@ def test_cli_plot_and_export(runs: dict[str, cs.Trajectory], tmp_path: Path) -> 
     assert main(["export", str(run_file), "--csv", "--out", str(tmp_path / "x.txt")]) == 2
     assert main(["plot", str(tmp_path / "missing.nc")]) == 2
     assert main(["plot", str(run_file), "--band", "0"]) == 2
+
+
+def test_trajectory_in_a_notebook(runs: dict[str, cs.Trajectory]) -> None:
+    """``Trajectory`` shows a short HTML table in Jupyter and ``plot()`` returns the run's
+    figure (issue 16, item 4)."""
+    run = runs["sliding"]
+    table = run._repr_html_()
+    first = run.first_reversal_time
+    assert first is not None
+    energy = run.dataset["energy"].values
+    for row in (
+        "<th style='text-align:left'>body</th><td style='text-align:left'>kane_levinson_1982</td>",
+        "sliding, f = 0.35, sliding contact",
+        "<td style='text-align:left'>4 s</td>",
+        "<td style='text-align:left'>success</td>",
+        f"<td style='text-align:left'>{first:.6g} s</td>",
+        f"<td style='text-align:left'>{energy[0] - energy[-1]:.6g} J</td>",
+    ):
+        assert row in table
+    rolling = runs["rolling"].first_reversal_time
+    words = "none" if rolling is None else f"{rolling:.6g} s"
+    assert (
+        f"first reversal</th><td style='text-align:left'>{words}<" in runs["rolling"]._repr_html_()
+    )
+    figure = run.plot()
+    assert figure.get_suptitle() == plot_run(run.dataset).get_suptitle()
+    assert len(figure.axes) == len(plot_run(run.dataset).axes)

@@ -116,7 +116,9 @@ def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float)
     summary, ds = run.summary(), run.dataset
     # the default band: 4 % of the initial |spin| (0.2 and 0.12 rad/s here)
     band = 0.04 * abs(spin)
-    reversals = cs.reversal_times(ds["time"].values, ds["spin"].values, band, run.spin_crossings)
+    reversals = cs.reversal_times(
+        ds["time"].values, ds["spin"].values, band, run.spin_crossings, run.reversal_window
+    )
     np.testing.assert_array_equal(reversals, dataset_reversal_times(ds))
     first = reversals[0] if reversals.size else np.nan
     np.testing.assert_array_equal(point["first_reversal_time"], first)

@@ -155,6 +155,7 @@ def simulate(
         "method": method_name,
         "rtol": rtol,
         "atol": atol,
+        "reversal_window": body.rocking_period,  # s, the spin's rocking average
         **model.attributes(),
     }
     phase_data: dict[str, np.ndarray] = {}

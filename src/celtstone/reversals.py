@@ -1,11 +1,16 @@
-"""Spin reversals defined with hysteresis.
+"""Spin reversals defined with hysteresis on the rocking average of the spin.
 
-Around a reversal the raw spin ω·n can cross zero several times within a few
-hundredths of a second (the rocking modulates it), and a sliding stone whose spin
-has died dithers around zero. A *reversal* here is a change of the sense of spin
-that is held: the spin leaves the band |ω·n| <= ``threshold`` on the opposite side
-from the one it last left it on. Its time is the last zero crossing before the
-spin leaves the band.
+Around a reversal the raw spin ω·n can cross zero several times within a second (the
+rocking modulates it, by more than any fixed band for a large or slow stone), and a
+sliding stone whose spin has died dithers around zero. A *reversal* here is a change of
+the sense of spin that is held, read from the spin with the rocking taken out: the
+centred running mean of ω·n over one rocking period of the body
+(``Body.rocking_period``, the *window*) leaves the band |⟨ω·n⟩| <= ``threshold`` on the
+opposite side from the one it last left it on. Its time is the averaged spin's last
+zero before it leaves the band. The definition is compiled once
+(``kernels.reversal``) and shared by runs, sweeps and the report (docs/decisions.md
+§8). A window of 0 gives the raw-spin definition used before (its times the exact
+zero crossings): files written before the window was recorded are read with it.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.errors import ParameterError
+from celtstone.kernels.reversal import count_reversals, rocking_average
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -22,6 +28,7 @@ if TYPE_CHECKING:
 __all__ = [
     "REVERSAL_BAND_FLOOR",
     "REVERSAL_BAND_FRACTION",
+    "averaged_spin",
     "dataset_reversal_times",
     "reversal_band",
     "reversal_bands",
@@ -29,11 +36,26 @@ __all__ = [
 ]
 
 
+def averaged_spin(time: np.ndarray, spin: np.ndarray, window: float) -> np.ndarray:
+    """The spin's centred running mean over ``window`` [s] (the rocking average), at the
+    sample times; ``window`` 0 returns the spin itself. Shape and units of ``spin``."""
+    time = np.ascontiguousarray(time, dtype=float)
+    spin = np.ascontiguousarray(spin, dtype=float)
+    if not (window >= 0.0 and np.isfinite(window)):
+        raise ParameterError("window", window, "a finite number >= 0 s")
+    if time.shape != spin.shape or time.ndim != 1:
+        raise ParameterError("spin", spin.shape, f"an array of the shape of time {time.shape}")
+    averaged = np.empty_like(spin)
+    rocking_average(time, spin, spin.size, float(window), averaged)
+    return averaged
+
+
 def reversal_times(
     time: np.ndarray,
     spin: np.ndarray,
     threshold: float,
     crossings: np.ndarray | None = None,
+    window: float = 0.0,
 ) -> np.ndarray:
     """Times [s] at which the sense of spin reverses, with hysteresis band ``threshold``.
 
@@ -42,45 +64,27 @@ def reversal_times(
     time : sample times [s], shape (k,), increasing
     spin : spin ω·n at those times [rad/s], shape (k,)
     threshold : half-width of the band around zero [rad/s], > 0
-    crossings : exact zero-crossing times [s] (``Trajectory.spin_crossings``); when
-        given, the reversal time is the last of them before the spin leaves the band,
-        otherwise the last sign change of the samples, linearly interpolated
+    crossings : exact zero-crossing times of the raw spin [s]
+        (``Trajectory.spin_crossings``); used for the times only when ``window`` is 0
+    window : width of the rocking average [s], >= 0: the body's rocking period
+        (``Body.rocking_period``, what runs, sweeps and the report use); 0 judges the
+        raw spin
 
     Returns
     -------
     numpy.ndarray
         reversal times [s], shape (r,)
     """
-    time = np.asarray(time, dtype=float)
-    spin = np.asarray(spin, dtype=float)
     if not threshold > 0.0:
         raise ParameterError("threshold", threshold, "a number > 0 rad/s")
-    if time.shape != spin.shape or time.ndim != 1:
-        raise ParameterError("spin", spin.shape, f"an array of the shape of time {time.shape}")
-    sense = 0
-    reversals = []
-    for index in np.flatnonzero(np.abs(spin) > threshold):
-        current = 1 if spin[index] > 0 else -1
-        if sense != 0 and current != sense:
-            reversals.append(_last_zero_before(time, spin, int(index), crossings))
-        sense = current
-    return np.array(reversals)
-
-
-def _last_zero_before(
-    time: np.ndarray, spin: np.ndarray, index: int, crossings: np.ndarray | None
-) -> float:
-    if crossings is not None:
-        earlier = crossings[crossings <= time[index]]
-        if earlier.size:
-            return float(earlier[-1])
-    signs = np.sign(spin[: index + 1])
-    changes = np.flatnonzero(signs[:-1] * signs[1:] <= 0)
-    k = changes[-1]
-    if spin[k] == spin[k + 1]:
-        return float(time[k])
-    fraction = spin[k] / (spin[k] - spin[k + 1])
-    return float(time[k] + fraction * (time[k + 1] - time[k]))
+    averaged = averaged_spin(time, spin, window)
+    time = np.ascontiguousarray(time, dtype=float)
+    exact = np.zeros(0) if crossings is None or window > 0.0 else np.asarray(crossings, float)
+    found = np.empty(averaged.size)
+    count = count_reversals(
+        time, averaged, averaged.size, float(threshold), exact, exact.size, found
+    )
+    return found[:count].copy()
 
 
 REVERSAL_BAND_FRACTION = 0.04
@@ -111,8 +115,10 @@ def reversal_bands(initial_spins: np.ndarray) -> np.ndarray:
 
 
 def dataset_reversal_times(dataset: xr.Dataset, threshold: float | None = None) -> np.ndarray:
-    """Reversal times [s] of a run's dataset; default band from its initial spin."""
+    """Reversal times [s] of a run's dataset; default band from its initial spin, window
+    from its attribute ``reversal_window`` (0 in files written before it was recorded)."""
     spin = dataset["spin"].values
     band = reversal_band(spin[0]) if threshold is None else threshold
     crossings = dataset["spin_crossings"].values if "spin_crossings" in dataset else None
-    return reversal_times(dataset["time"].values, spin, band, crossings)
+    window = float(dataset.attrs.get("reversal_window", 0.0))
+    return reversal_times(dataset["time"].values, spin, band, crossings, window)

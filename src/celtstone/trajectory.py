@@ -7,6 +7,7 @@ xarray.
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -29,6 +30,7 @@ from celtstone.solvers.codes import Status
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = ["SUMMARY_KEYS", "RunSamples", "Trajectory", "sample_run"]
 
@@ -39,6 +41,7 @@ SUMMARY_KEYS = (
     "first_reversal_time",
     "reversal_times",
     "reversal_band",
+    "reversal_window",
     "first_sign_change_time",
     "spin_zero_crossings",
     "spin_initial",
@@ -271,12 +274,26 @@ class Trajectory:
         the reproduction."""
         return float(reversal_bands(np.array([self.samples.values("spin")[0]]))[0])
 
+    @property
+    def reversal_window(self) -> float:
+        """Width of the rocking average of the spin that reversals are read from [s]: the
+        body's rocking period (``Body.rocking_period``); 0 (the raw spin) in files
+        written before it was recorded."""
+        return float(self.samples.attrs.get("reversal_window", 0.0))
+
     def reversal_times(self, band: float | None = None) -> np.ndarray:
-        """Times of the reversals of the sense of spin [s]: changes of sign held beyond the
-        hysteresis band ``band`` [rad/s] (default :attr:`reversal_band`)."""
+        """Times of the reversals of the sense of spin [s]: changes of sign of the spin's
+        rocking average (:attr:`reversal_window`) held beyond the hysteresis band
+        ``band`` [rad/s] (default :attr:`reversal_band`; ``celtstone.reversals``)."""
         ds = self.samples
         threshold = self.reversal_band if band is None else band
-        return reversal_times(ds.values("time"), ds.values("spin"), threshold, self.spin_crossings)
+        return reversal_times(
+            ds.values("time"),
+            ds.values("spin"),
+            threshold,
+            self.spin_crossings,
+            self.reversal_window,
+        )
 
     @property
     def first_reversal_time(self) -> float | None:
@@ -303,6 +320,38 @@ class Trajectory:
             ratios = ds.values("friction_force")[loaded] / (coefficient * normal[loaded])
         return _finite_or_none(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
 
+    def plot(self) -> Figure:
+        """The run's figure (``celtstone.plotting.plot_run``): spin with its reversals,
+        tilt, energy and its budget, slip, normal force and contact path against time."""
+        from celtstone.plotting.run import plot_run
+
+        return plot_run(self.dataset)
+
+    def _repr_html_(self) -> str:
+        """A short table for Jupyter: body, model and contact, duration, status, first
+        reversal and energy lost."""
+        attrs = self.samples.attrs
+        energy = self.samples.values("energy")
+        first = self.first_reversal_time
+        model = str(attrs["model"])
+        if model == "sliding":
+            model += f", f = {float(attrs['friction_coefficient']):g}"
+            model += f", {attrs.get('contact', 'sliding')} contact"
+        rows = {
+            "body": str(attrs["body"]),
+            "model": model,
+            "t_end": f"{float(attrs['t_end']):g} s",
+            "status": self.status if self.ok else f"{self.status} at {self.t_stop:.6g} s",
+            "first reversal": "none" if first is None else f"{first:.6g} s",
+            "energy lost": f"{float(energy[0] - energy[-1]):.6g} J",
+        }
+        cells = "".join(
+            f"<tr><th style='text-align:left'>{html.escape(name)}</th>"
+            f"<td style='text-align:left'>{html.escape(value)}</td></tr>"
+            for name, value in rows.items()
+        )
+        return f"<table><caption>celtstone Trajectory</caption>{cells}</table>"
+
     def summary(self) -> dict[str, Any]:
         """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
         ds = self.samples
@@ -322,6 +371,7 @@ class Trajectory:
             "first_reversal_time": self.first_reversal_time,
             "reversal_times": [float(t) for t in self.reversal_times()],
             "reversal_band": self.reversal_band,
+            "reversal_window": self.reversal_window,
             "first_sign_change_time": self.first_sign_change_time,
             "spin_zero_crossings": [float(t) for t in self.spin_crossings],
             "spin_initial": float(ds.values("spin")[0]),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -72,6 +73,37 @@ class Body:
     def inertia_array(self) -> np.ndarray:
         """Central inertia tensor as a (3, 3) array [kg m²]."""
         return np.array(self.inertia)
+
+    @property
+    def rocking_periods(self) -> tuple[float, float]:
+        """Periods of small rocking at rest without spin [s]: pitch (about body axis 2,
+        the long axis 1 tips) and roll (about axis 1).
+
+        A rigid body rolling on its rest contact, G at height l above it, the surface's
+        radius of curvature ρ along the rocking plane: 2π √((A_jj + m l²) / (m g (ρ − l))),
+        with A_jj the central moment about the rocking axis (products of inertia, which
+        couple the two, are left out: they shift the periods by a few per cent). ``inf``
+        where ρ <= l: the rest is not stable in that plane and the body does not rock.
+        """
+        height = self.shape.rest_height
+        first, second = (float(r) for r in self.shape.radii_of_curvature)
+        periods = []
+        for radius, moment in ((first, self.inertia[1][1]), (second, self.inertia[0][0])):
+            lever = radius - height
+            if not lever > 0.0:
+                periods.append(math.inf)
+                continue
+            ratio = (moment + self.mass * height**2) / (self.mass * self.gravity * lever)
+            periods.append(2.0 * math.pi * math.sqrt(ratio))
+        return periods[0], periods[1]
+
+    @property
+    def rocking_period(self) -> float:
+        """The longest finite period of :attr:`rocking_periods` [s], the window over which
+        a reversal averages the spin (``celtstone.reversals``); 0 (no averaging) if the
+        body rocks in neither plane."""
+        finite = [p for p in self.rocking_periods if math.isfinite(p)]
+        return max(finite) if finite else 0.0
 
     @property
     def misalignment_angle(self) -> float:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.analysis import dataset_reversal_times
-from celtstone.plotting.labels import axis_label, run_label
+from celtstone.plotting.labels import axis_label, run_label, wrapped_title
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -62,7 +62,7 @@ def plot_spin_comparison(
         axes.legend(loc="lower right", fontsize="x-small")
     for axes in grid[len(panels) :]:
         axes.set_visible(False)
-    figure.suptitle(title)
+    figure.suptitle(wrapped_title(title, figure.get_figwidth()))
     return figure
 
 
@@ -96,5 +96,5 @@ def plot_energy_budget(runs: Sequence[xr.Dataset], title: str) -> Figure:
         axes.set_xlabel(axis_label("time"))
         axes.grid(alpha=0.3)
         axes.legend(fontsize="x-small")
-    figure.suptitle(title)
+    figure.suptitle(wrapped_title(title, figure.get_figwidth()))
     return figure

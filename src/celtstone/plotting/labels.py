@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 from typing import TYPE_CHECKING
 
 from celtstone.schema import VARIABLES, current_attributes
@@ -10,7 +11,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
 
-__all__ = ["axis_label", "run_label", "run_title"]
+__all__ = ["axis_label", "run_label", "run_title", "wrapped_title"]
 
 
 def axis_label(name: str) -> str:
@@ -31,3 +32,20 @@ def run_title(dataset: xr.Dataset) -> str:
     """Title naming the body, the model and the start."""
     attrs = dataset.attrs
     return f"{attrs['body']}: {run_label(dataset)}; ω0 = {attrs['initial_omega']} rad/s"
+
+
+# width of an average glyph of the default sans-serif font (DejaVu Sans: about 0.55 em
+# for mixed text), with a margin for capitals and wide symbols
+_GLYPH_EM = 0.62
+
+
+def wrapped_title(text: str, width: float, size: str | float | None = None) -> str:
+    """``text`` broken into lines that fit ``width`` [inch] at font ``size`` (default:
+    the figure title's, ``rcParams["figure.titlesize"]``), at word boundaries; a title
+    longer than its figure is otherwise cut off at both edges."""
+    from matplotlib import rcParams
+    from matplotlib.font_manager import FontProperties
+
+    points = FontProperties(size=rcParams["figure.titlesize"] if size is None else size)
+    characters = max(20, int(width * 72.0 / (_GLYPH_EM * points.get_size_in_points())))
+    return "\n".join(textwrap.fill(line, characters) for line in text.splitlines())

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from celtstone.plotting.labels import wrapped_title
 from celtstone.schema import VARIABLES
 
 if TYPE_CHECKING:
@@ -77,5 +78,5 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
         colorbar = figure.colorbar(mesh, ax=axes, label=declared.axis_label())
         if ticks is not None:
             colorbar.set_ticks(range(len(ticks)), labels=ticks)
-    axes.set_title(title)
+    axes.set_title(wrapped_title(title, 0.8 * figure.get_figwidth(), "large"))
     return figure

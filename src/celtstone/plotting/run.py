@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.analysis import dataset_reversal_times
-from celtstone.plotting.labels import axis_label, run_title
+from celtstone.plotting.labels import axis_label, run_title, wrapped_title
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -85,5 +85,5 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
     track.grid(alpha=0.3)
     for axes in grid.flat:
         axes.legend(loc="upper right", fontsize="small")
-    figure.suptitle(run_title(dataset))
+    figure.suptitle(wrapped_title(run_title(dataset), figure.get_figwidth()))
     return figure

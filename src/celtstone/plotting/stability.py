@@ -8,6 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from celtstone.analysis.stability import SpinStability
+from celtstone.plotting.labels import wrapped_title
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -30,11 +31,12 @@ def growth_rate_figure(result: SpinStability) -> Figure:
     axes.set_xlabel("spin ω·n [rad/s]")
     axes.set_ylabel("growth rate Re λ [1/s]")
     direction = {1: "positive", -1: "negative", 0: "neither"}[result.preferred_direction]
-    axes.set_title(
+    title = (
         f"Linear stability of steady spin: {result.body.name}\n"
         f"rolling model, damping σ = {result.model.damping:g} N m s; "
         f"preferred sense: {direction}"
     )
+    axes.set_title(wrapped_title(title, 0.9 * figure.get_figwidth(), "large"))
     axes.legend()
     axes.grid(True, linewidth=0.4, alpha=0.5)
     return figure

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.plotting.labels import axis_label
+from celtstone.plotting.labels import axis_label, wrapped_title
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -61,5 +61,5 @@ def plot_threshold(table: pd.DataFrame, title: str, boundaries: Sequence[float] 
         axes.set_xlabel(axis_label("friction_coefficient"))
         axes.grid(alpha=0.3)
         axes.legend(fontsize="small")
-    figure.suptitle(title)
+    figure.suptitle(wrapped_title(title, figure.get_figwidth()))
     return figure

@@ -9,8 +9,9 @@ batches in parallel without Python per step.
 The result fields are declared once, in ``RESULT_FIELDS`` (name, stored type, fill
 value, column); their units and long names are ``schema.VARIABLES`` rows. ``_reduce``
 computes every column. The reduction is the one of ``simulate(...).summary()`` and
-``analysis.reversal_times(time, spin, band, crossings)`` on the same sample
-times, with each point's own band; the sweep tests check the two agree point for point.
+``reversals.reversal_times(time, spin, band, crossings, window)`` on the same sample
+times (the same compiled ``kernels.reversal``), with each point's own band and rocking
+window; the sweep tests check the two agree point for point.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA
+from celtstone.kernels.reversal import count_reversals, rocking_average
 from celtstone.kernels.system import energy, spin_and_normal_force
 from celtstone.solvers._events import event_table
 from celtstone.solvers._structures import Controls, HybridSettings, new_output, new_phase_log
@@ -83,56 +85,10 @@ F_STATUS = _COLUMNS["status"]  # solver status code (``codes.Status``)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _last_zero_before(times, spins, index, crossings, n_stored):
-    """Last spin zero at or before times[index]: a stored exact crossing, else the
-    linear interpolant of the samples (as ``analysis.reversals._last_zero_before``)."""
-    limit = times[index]
-    best = -1.0
-    found = False
-    for k in range(n_stored):
-        if crossings[k] <= limit:
-            best = crossings[k]
-            found = True
-        else:
-            break
-    if found:
-        return best
-    k = index - 1
-    while k >= 0:
-        a = math.copysign(1.0, spins[k]) if spins[k] != 0.0 else 0.0
-        b = math.copysign(1.0, spins[k + 1]) if spins[k + 1] != 0.0 else 0.0
-        if a * b <= 0.0:
-            break
-        k -= 1
-    if k < 0:
-        return times[0]
-    if spins[k] == spins[k + 1]:
-        return times[k]
-    fraction = spins[k] / (spins[k] - spins[k + 1])
-    return times[k] + fraction * (times[k + 1] - times[k])
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _reversals(sample_times, spins, n_samples, band, crossings, n_stored):
-    """(number of reversals, time of the first [s] or NaN) with the hysteresis band [rad/s]
-    (``analysis.reversals.reversal_times``)."""
-    sense = 0
-    n_reversals = 0
-    first = np.nan
-    for j in range(n_samples):
-        if abs(spins[j]) > band:
-            current = 1 if spins[j] > 0.0 else -1
-            if sense != 0 and current != sense:
-                if n_reversals == 0:
-                    first = _last_zero_before(sample_times, spins, j, crossings, n_stored)
-                n_reversals += 1
-            sense = current
-    return n_reversals, first
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _reduce(model, params, y0, end, sample_times, samples, crossings, band, spins, work, out):
-    """The result fields of one run (``end``, a ``RunEnd``, and its samples) into ``out``."""
+def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
+    """The result fields of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
+    ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
+    the first reversal time) (``kernels.reversal``)."""
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
@@ -146,7 +102,14 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, band, spin
         _, normal_force, _ = spin_and_normal_force(model, y, params, work)
         if normal_force < min_normal:  # fmin: a NaN sample does not win
             min_normal = normal_force
-    n_reversals, first = _reversals(sample_times, spins, n_samples, band, crossings, n_stored)
+    band, window, averaged, first_time = reversal
+    rocking_average(sample_times, spins, n_samples, window, averaged)
+    exact = n_stored if window <= 0.0 else 0  # the raw spin's crossings time a raw reversal
+    first_time[0] = np.nan
+    n_reversals = count_reversals(
+        sample_times, averaged, n_samples, band, crossings, exact, first_time
+    )
+    first = first_time[0]
     final_spin = np.nan
     energy_lost = np.nan
     if end.status == STATUS_SUCCESS and n_samples > 0:
@@ -168,6 +131,7 @@ class Points(NamedTuple):
     params: np.ndarray  # kernel parameter records, shape (k,)
     initial_states: np.ndarray  # shape (k, N_STATE)
     reversal_bands: np.ndarray  # hysteresis half-widths [rad/s], shape (k,)
+    reversal_windows: np.ndarray  # widths of the spin's rocking average [s], shape (k,)
     capture_speeds: np.ndarray  # v_c [m/s] > 0: the hybrid contact; 0: one model run
 
 
@@ -177,6 +141,8 @@ def _batch(model, methods, points, t_end, controls, output, log, results):
     the method of stick phases); a point with a capture speed runs the hybrid contact
     (``phases.run_phases``), as ``simulate`` with ``HybridModel``."""
     spins = np.zeros(output.sample_times.shape[0])
+    averaged = np.zeros(output.sample_times.shape[0])
+    first_time = np.zeros(1)
     work = np.zeros(N_STATE)
     table = event_table(model, 0.0)
     for i in range(points.params.shape[0]):
@@ -190,7 +156,7 @@ def _batch(model, methods, points, t_end, controls, output, log, results):
         else:
             end = integrate(model, methods[0], p, y0, t_end, controls, table, output)
             times = output.sample_times
-        band = points.reversal_bands[i]
+        reversal = (points.reversal_bands[i], points.reversal_windows[i], averaged, first_time)
         _reduce(
             model,
             p,
@@ -199,7 +165,7 @@ def _batch(model, methods, points, t_end, controls, output, log, results):
             times,
             output.samples,
             output.crossings,
-            band,
+            reversal,
             spins,
             work,
             results[i],
@@ -217,6 +183,7 @@ def run_batch(
     atol: float,
     sample_times: np.ndarray,
     reversal_bands: np.ndarray,
+    reversal_windows: np.ndarray | float = 0.0,
     max_steps: int = 20_000_000,
     max_crossings: int = 100_000,
     capture_speeds: np.ndarray | None = None,
@@ -239,6 +206,8 @@ def run_batch(
         to ``t_end``, increasing
     reversal_bands : half-width of each point's hysteresis band of the spin [rad/s],
         shape (k,)
+    reversal_windows : width of each point's rocking average of the spin [s] (its body's
+        ``rocking_period``), shape (k,) or one for all; 0: the raw spin
     max_steps : step limit of each run
     max_crossings : spin zero crossings stored per run for timing reversals
     capture_speeds : None for one run of ``model`` per point; for the hybrid
@@ -261,6 +230,7 @@ def run_batch(
         params,
         y0,
         np.ascontiguousarray(np.broadcast_to(reversal_bands, (n_points,)), dtype=np.float64),
+        np.ascontiguousarray(np.broadcast_to(reversal_windows, (n_points,)), dtype=np.float64),
         np.ascontiguousarray(np.broadcast_to(speeds, (n_points,)), dtype=np.float64),
     )
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)

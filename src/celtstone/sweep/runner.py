@@ -348,6 +348,8 @@ class Sweep:
                 "relative" if self.reversal_threshold is None else self.reversal_threshold
             ),
             "reversal_band_rule": self._band_rule(),
+            "reversal_window_rule": "the spin's running mean over each point's "
+            "Body.rocking_period [s] (celtstone.reversals)",
             "sweep_spec": self.spec(chunk_points),
         }
 
@@ -488,6 +490,7 @@ class Sweep:
                     y0,
                     self.t_end,
                     reversal_bands=bands,
+                    reversal_windows=self.builder.rocking_periods(range(start, stop)),
                     capture_speeds=captures if self.is_hybrid else None,
                     **settings,
                 )

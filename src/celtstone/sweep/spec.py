@@ -518,6 +518,14 @@ class PointBuilder:
             [self._capture_speeds[self._keys(int(index))[1]] for index in indices], dtype=float
         )
 
+    def rocking_periods(self, indices: Sequence[int] | np.ndarray) -> np.ndarray:
+        """Each point's body's rocking period [s] (``Body.rocking_period``), the window of
+        the rocking average its reversals are read from, shape (k,)."""
+        return np.array(
+            [self._body(self._keys(int(index))[0]).rocking_period for index in indices],
+            dtype=float,
+        )
+
     def arrays(self, indices: Sequence[int] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Kernel parameter records, shape (k,), and initial states (k, N_STATE) of
         ``indices``."""

@@ -1,0 +1,124 @@
+"""Every figure the package makes fits its canvas: no text is cut off (issue 16, item 5).
+
+The Figure 3 analogue's title of ``make run`` (``fig3_kane_levinson_1982+realistic.png``)
+was cut off at both edges. Each figure function is drawn here with the longest title it
+is given in practice, and every visible text artist's extent must lie inside the figure.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.text import Text
+from matplotlib.transforms import Bbox
+
+import celtstone as cs
+from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
+from celtstone.plotting.maps import plot_field_map
+from celtstone.plotting.stability import growth_rate_figure
+from celtstone.sweep import Sweep
+
+LONG_KEY = "kane_levinson_1982+realistic"  # the longest study key of the reproduction
+LONG_CONTACT = "Hertz ellipse, E = 3e+09 Pa, ν = 0.35, exact law, λ = 1e-05 m, stick–slip"
+
+
+@pytest.fixture(scope="module")
+def runs(kane_levinson: cs.Body) -> list[xr.Dataset]:
+    state = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
+    sliding = cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3)
+    return [
+        cs.simulate(cs.RollingModel(), kane_levinson, state, 3.0).dataset,
+        cs.simulate(sliding, kane_levinson, state, 3.0, rtol=1e-8, atol=1e-10).dataset,
+    ]
+
+
+def _outside(figure: Figure) -> list[str]:
+    """What is drawn outside the figure (1 pixel of slack): the figure's tight box (every
+    drawn artist, tick labels of the ticks in view included) against its frame, and by
+    name the titles, labels and legend texts that leave it."""
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    frame = figure.bbox
+    tick_labels = {
+        id(label)
+        for axes in figure.axes
+        for axis in (axes.xaxis, axes.yaxis)
+        for label in axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
+    }
+    cut = []
+    for text in figure.findobj(Text):
+        if id(text) in tick_labels or not text.get_visible() or not text.get_text().strip():
+            continue
+        box = text.get_window_extent(renderer)
+        if not _inside(box, frame):
+            cut.append(f"{text.get_text()!r} at {box.bounds}")
+    tight = figure.get_tightbbox(renderer).transformed(figure.dpi_scale_trans)
+    if not cut and not _inside(tight, frame):
+        cut.append(f"the drawn artists span {tight.bounds} beyond {frame.bounds}")
+    return cut
+
+
+def _inside(box: Bbox, frame: Bbox) -> bool:
+    return (
+        box.x0 >= frame.x0 - 1
+        and box.y0 >= frame.y0 - 1
+        and box.x1 <= frame.x1 + 1
+        and box.y1 <= frame.y1 + 1
+    )
+
+
+def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
+    table = pd.DataFrame(
+        {
+            "friction_coefficient": [0.1, 0.2, 0.3],
+            "first_reversal_time": [np.nan, 3.0, 2.0],
+            "energy_final": [0.099, 0.0985, 0.098],
+            "energy_rest": [0.0981] * 3,
+        }
+    )
+    sweep = Sweep(
+        {"friction_coefficient": [0.2, 0.35], "initial_spin": [-5.0, 5.0]},
+        model="sliding",
+        t_end=0.2,
+    ).run()
+    stability = cs.spin_stability(cs.load_body("kane_levinson_1982"), np.linspace(-10, 10, 21))
+    return {
+        "fig2": plot_spin_comparison(
+            [[runs[0]], [runs[1], runs[1]]],
+            f"Figure 2 analogue, {LONG_KEY}: spin against time ({LONG_CONTACT})",
+        ),
+        "fig3": plot_spin_comparison(
+            [[runs[0]], [runs[1]]],
+            f"Figure 3 analogue, {LONG_KEY}: long run, rolling and sliding f = 0.35",
+            columns=1,
+        ),
+        "energy": plot_energy_budget(
+            runs, f"{LONG_KEY}: energy and energy budget, sliding with N = m g"
+        ),
+        "threshold": plot_threshold(
+            table,
+            f"Threshold, {LONG_KEY}: sliding, {LONG_CONTACT}, N = m g, runs of 20 s",
+            [0.15],
+        ),
+        "run": plot_run(runs[1]),
+        "map": plot_field_map(sweep, "first_reversal_time"),
+        "stability": growth_rate_figure(stability),
+    }
+
+
+def test_no_text_is_cut_off(runs: list[xr.Dataset]) -> None:
+    for name, figure in _figures(runs).items():
+        assert _outside(figure) == [], name
+
+
+def test_the_check_finds_a_cut_title() -> None:
+    """The check itself: a title wider than its figure is found."""
+    figure = Figure(figsize=(4.0, 3.0), layout="constrained")
+    figure.add_subplot()
+    figure.suptitle("a title far too long for a figure four inches wide, " * 2)
+    assert len(_outside(figure)) == 1
