@@ -3,6 +3,7 @@ resumes to the same store."""
 
 from __future__ import annotations
 
+import json
 import signal
 import subprocess
 import sys
@@ -127,3 +128,19 @@ def test_256_by_256_sweep_streams_within_2_gib(tmp_path: Path) -> None:
     peak_kib = int(output.split()[-1])
     assert peak_kib < 2 * 1024 * 1024
     assert open_sweep(tmp_path / "big.zarr")["status"].shape == (256, 256)
+
+
+def test_a_store_of_the_raw_spin_reversal_is_not_resumed(tmp_path: Path) -> None:
+    """A store begun before reversals were read from the rocking average (its spec has no
+    ``reversal_window``) would mix two definitions: resuming it is refused in one line
+    naming the setting; it still opens."""
+    sweep = cs.Sweep({"initial_spin": [-5.0, 5.0]}, t_end=0.05)
+    store = tmp_path / "old.zarr"
+    sweep.run(store)
+    group = zarr.open_group(store, mode="r+")
+    spec = json.loads(str(group.attrs["sweep_spec"]))
+    del spec["reversal_window"]
+    group.attrs["sweep_spec"] = json.dumps(spec, sort_keys=True)
+    with pytest.raises(cs.ParameterError, match="differ from the stored ones: reversal_window"):
+        sweep.run(store, resume=True)
+    assert open_sweep(store)["n_reversals"].size == 2

@@ -313,6 +313,9 @@ class Sweep:
             "atol": self.atol,
             "samples_per_second": self.samples_per_second,
             "reversal_threshold": self.reversal_threshold,
+            # the spin's running mean over each body's rocking period (docs/decisions.md §8):
+            # a store begun with the raw-spin definition is not resumed with this one
+            "reversal_window": "rocking_period",
             "max_steps": self.max_steps,
             "chunk_points": int(chunk_points),
         }
