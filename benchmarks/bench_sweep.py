@@ -75,7 +75,11 @@ def grid_sweep(n: int, t_end: float) -> Sweep:
             "initial_spin": np.linspace(*SPIN, n),
         },
         model="sliding",
-        fixed={"contact_radius": 1e-3, "regularisation_speed": REGULARISATION_SPEED},
+        fixed={
+            "contact": "sliding",  # the oracle's contact (the sweep default is stick-slip)
+            "contact_radius": 1e-3,
+            "regularisation_speed": REGULARISATION_SPEED,
+        },
         t_end=t_end,
     )
 
@@ -128,7 +132,7 @@ def oracle_sample(n: int, t_end: float, oracle_t_end: float, count: int) -> dict
         oracle_cpu_s = (time.process_time() - cpu_start) * t_end / oracle_t_end
         single = Sweep(
             {"friction_coefficient": [f], "initial_spin": [spin]},
-            fixed={"regularisation_speed": REGULARISATION_SPEED},
+            fixed={"contact": "sliding", "regularisation_speed": REGULARISATION_SPEED},
             t_end=t_end,
         )
         start, cpu_start = time.perf_counter(), time.process_time()

@@ -86,10 +86,16 @@ def test_spin_is_the_initial_omega_dot_n() -> None:
 
 
 def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
-    """Each point equals simulate() + reversal_times() + summary() with the same samples,
-    and the default band is the reproduction's (dataset_reversal_times)."""
+    """With the regularised contact, each point equals simulate() + reversal_times() +
+    summary() with the same samples, and the default band is the reproduction's
+    (dataset_reversal_times)."""
     frictions, spins = [0.35, 0.5], [-5.0, 3.0]
-    sweep = Sweep({"friction_coefficient": frictions, "initial_spin": spins}, t_end=2.5, rtol=1e-8)
+    sweep = Sweep(
+        {"friction_coefficient": frictions, "initial_spin": spins},
+        fixed={"contact": "sliding"},
+        t_end=2.5,
+        rtol=1e-8,
+    )
     results = sweep.run(workers=2, task_points=1)
     assert results["status"].dims == ("friction_coefficient", "initial_spin")
     for f in frictions:
@@ -153,11 +159,21 @@ def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
     assert stick_phases >= 2  # the phase loop really switched
 
 
+def test_the_stick_slip_contact_is_the_sliding_sweeps_default() -> None:
+    """A sliding sweep without a contact runs the stick–slip contact (decisions §28);
+    ``contact=sliding`` the regularised one; a rolling sweep has no contact."""
+    assert Sweep({"initial_spin": [-5.0]}, t_end=0.1).is_hybrid
+    regularised = Sweep({"initial_spin": [-5.0]}, fixed={"contact": "sliding"}, t_end=0.1)
+    assert not regularised.is_hybrid
+    rolling = Sweep({"initial_spin": [-5.0]}, model="rolling", t_end=0.1)
+    assert not rolling.is_hybrid and "contact" not in rolling.fixed
+
+
 def test_hybrid_contact_options_are_checked_per_point() -> None:
     """A capture speed needs the hybrid contact; the hybrid contact needs the sliding
     model and δ <= v_c / 10 at every point, named before anything runs."""
     with pytest.raises(cs.ParameterError, match="capture_speed"):
-        Sweep({"capture_speed": [1e-8]}, t_end=0.1)
+        Sweep({"capture_speed": [1e-8]}, fixed={"contact": "sliding"}, t_end=0.1)
     with pytest.raises(cs.ParameterError, match="rolling model"):
         Sweep({"initial_spin": [-5.0]}, model="rolling", fixed={"contact": "hybrid"}, t_end=0.1)
     with pytest.raises(cs.ParameterError, match=r"regularisation_speed.*capture_speed=1e-10"):

@@ -27,10 +27,18 @@ from celtstone.sweep.budget import (
 )
 from celtstone.sweep.plots import map_paths, write_maps
 from celtstone.sweep.points import read_points
-from celtstone.sweep.runner import MAX_CHUNK_POINTS, MAX_WORKERS, check_run_options
+from celtstone.sweep.runner import (
+    DEFAULT_CONTACT,
+    MAX_CHUNK_POINTS,
+    MAX_WORKERS,
+    check_run_options,
+)
 from celtstone.sweep.spec import CHOICES, parse_axis_spec
 from celtstone.sweep.store import check_store_target
 
+_CHOICE_NOTES = {
+    "contact": f" (default {DEFAULT_CONTACT}: stick-slip; sliding: regularised, as celtstone run)"
+}
 EPILOG = (
     "sweep parameters (NAME for --vary, --set and --points):\n"
     + "\n".join(
@@ -38,7 +46,8 @@ EPILOG = (
         for p in PARAMETERS.values()
     )
     + "".join(
-        f"\n  {name:22s} (--set only) " + " or ".join(options) for name, options in CHOICES.items()
+        f"\n  {name:22s} (--set only) " + " or ".join(options) + _CHOICE_NOTES.get(name, "")
+        for name, options in CHOICES.items()
     )
     + "\n\nexample: celtstone sweep --vary friction_coefficient=0.02:0.5:64 "
     "--vary initial_spin=-8:8:64 --t-end 10 --out sweep.zarr"
