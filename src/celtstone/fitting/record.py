@@ -80,7 +80,7 @@ def _finite_array(name: str, values: Any) -> np.ndarray:
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         raise ParameterError(
-            name, f"{array[bad[0]]} in row {bad[0] + 1}", "finite numbers (no NaN or inf)"
+            name, f"{float(array[bad[0]])} in row {bad[0] + 1}", "finite numbers (no NaN or inf)"
         )
     return array
 
@@ -185,12 +185,11 @@ def _column(table: Any, header: str, name: str) -> np.ndarray:
     import pandas as pd
 
     numbers = pd.to_numeric(table[header], errors="coerce").to_numpy(dtype=float)
-    text = table[header].astype(str).str.strip().str.lower()
-    unreadable = np.flatnonzero(np.isnan(numbers) & ~text.isin(["nan", ""]).to_numpy())
+    unreadable = np.flatnonzero(np.isnan(numbers) & ~table[header].isna().to_numpy())
     if unreadable.size:
         row = int(unreadable[0])
         raise ParameterError(
-            f"{name} column {header!r}", f"{table[header].iloc[row]!r} in row {row + 1}", "numbers"
+            f"{name} column {header!r}", f"{table[header].iloc[row]} in row {row + 1}", "numbers"
         )
     return numbers
 
