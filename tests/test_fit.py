@@ -78,7 +78,13 @@ def test_friction_and_contact_size_from_spin_alone_are_correlated() -> None:
     noisy = spin + np.random.default_rng(0).normal(0.0, 0.02, spin.size)
     record = cs.make_record(run.samples.values("time"), {"spin": noisy})
     with pytest.warns(cs.IdentifiabilityWarning, match="friction_coefficient and contact_radius"):
-        result = cs.fit(record, body, "sliding", ["friction_coefficient", "contact_radius"])
+        result = cs.fit(
+            record,
+            body,
+            "sliding",
+            ["friction_coefficient", "contact_radius"],
+            fixed={"omega3": 5.0},
+        )
     assert abs(result.correlation[0, 1]) > 0.99
     pair = result.summary()["strongly_correlated"][0]
     assert pair["parameters"] == ["friction_coefficient", "contact_radius"]
@@ -98,7 +104,7 @@ def test_pure_pivoting_leaves_only_the_product(kane_levinson: cs.Body) -> None:
             kane_levinson,
             "sliding",
             ["friction_coefficient", "contact_radius"],
-            fixed={"euler_alpha": 0.0, "euler_beta": 0.0},
+            fixed={"euler_alpha": 0.0, "euler_beta": 0.0, "omega3": -5.0},
         )
     summary = result.summary()
     assert summary["jacobian_rank"] == 1
@@ -117,6 +123,7 @@ def _problem(kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]) -> 
         kane_levinson,
         "sliding",
         ["friction_coefficient", "contact_radius"],
+        fixed={"omega3": -5.0},
         rtol=1e-8,
         atol=1e-10,
     )
@@ -203,6 +210,11 @@ def test_yaw_and_tilt_from_video(kane_levinson: cs.Body, tmp_path: Path) -> None
     deviation = abs(result.values[0] - TRUTH["friction_coefficient"]) / result.standard_errors[0]
     assert deviation < 3.0
     assert result.problem.degrees_of_freedom == 2 * len(samples.values("time")) - 2
+    # two series: weighted again by their first fit's residuals, which find the noise added
+    assert set(result.problem.sigma_source.values()) == {"residuals of a first fit"}
+    noise = result.noise_estimates()
+    assert noise["yaw"] == pytest.approx(0.002, rel=0.2)
+    assert noise["tilt"] == pytest.approx(np.radians(0.005), rel=0.2)
 
 
 def _phyphox_record(path: Path, body: cs.Body) -> Path:
@@ -227,7 +239,9 @@ def test_cli_writes_the_fit_directory_whole(
         "--start", "friction_coefficient=0.25", "--no-progress", "--json", "--out", str(out),
     ]  # fmt: skip
     assert main(arguments) == 0
-    summary = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert "the initial state omega1 = " in captured.err  # held at the noisy first sample
     assert sorted(p.name for p in out.iterdir()) == ["fit.png", "fit.svg", "run.nc", "summary.json"]
     assert json.loads((out / "summary.json").read_text()) == summary
     assert summary["parameters"]["friction_coefficient"]["value"] == pytest.approx(0.3, rel=0.01)

@@ -8,6 +8,7 @@ its own noise scale σ_s, given or estimated from the data (:func:`noise_scale`)
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -16,7 +17,7 @@ import numpy as np
 
 from celtstone import schema
 from celtstone.bodies import Body
-from celtstone.errors import ParameterError, did_you_mean
+from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
 from celtstone.fitting.record import Record
 from celtstone.fitting.series import SERIES
 from celtstone.integrate import simulate
@@ -322,6 +323,7 @@ def make_problem(
     current = _current_values(model, configured_body, state)
     dropped = {*names, *(("initial_spin",) if "omega3" in names else ())}  # omega3 would lose
     numbers = {k: v for k, v in configured.items() if k not in dropped}
+    held = {k: v for k, v in numbers.items() if k not in fixed}  # the record's, held fixed
     parameters = []
     for name in names:
         value = float(start.get(name, current.get(name, configured.get(name, 0.0))))
@@ -350,6 +352,15 @@ def make_problem(
             raise ParameterError(
                 "sigma", name, "a series of the record: " + ", ".join(record.series)
             )
+    if held:
+        warnings.warn(
+            "the initial state "
+            + ", ".join(f"{k} = {v:.6g} rad/s" for k, v in held.items())
+            + " is the record's first sample, its noise included, and is held fixed: add "
+            f"{', '.join(held)} to the free parameters, or set it, unless it is known",
+            CeltstoneWarning,
+            stacklevel=3,
+        )
     return Problem(
         record,
         body,

@@ -45,6 +45,11 @@ class Runs:
         self._pool = ThreadPoolExecutor(self.workers) if self.workers > 1 else None
         self._last: tuple[bytes, np.ndarray] | None = None
 
+    def use(self, problem: Problem) -> None:
+        """Evaluate ``problem`` from now on (the same runs, other weights)."""
+        self.problem = problem
+        self._last = None
+
     def close(self) -> None:
         """Stop the threads (runs under way finish; queued ones are dropped)."""
         if self._pool is not None:

@@ -11,7 +11,9 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -29,7 +31,7 @@ from celtstone.fitting.result import FitResult, StartOutcome
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.uncertainty import uncertainty
 
-__all__ = ["FIT_ATOL", "FIT_RTOL", "MAX_ITERATIONS", "draw_starts", "fit"]
+__all__ = ["FIT_ATOL", "FIT_RTOL", "MAX_ITERATIONS", "draw_starts", "fit", "reweighted"]
 
 # the runs' tolerances: rtol 1e-8 changes the spin of a 3 s K&L sliding run by 2.5e-9
 # rad/s from rtol 1e-10, at half the time (docs/decisions.md §31)
@@ -65,9 +67,10 @@ def draw_starts(problem: Problem, count: int, seed: int | None) -> list[np.ndarr
 
 def _minimise(
     runs: Runs, x0: np.ndarray, columns: list[int]
-) -> tuple[np.ndarray, float, bool, str, np.ndarray]:
+) -> tuple[np.ndarray, float, bool, str, np.ndarray, np.ndarray]:
     """least_squares over ``columns`` of the parameter vector from ``x0`` (the others
-    held): (optimum, cost, converged, message, Jacobian of the columns there)."""
+    held): (optimum, cost, converged, message, Jacobian of the columns there, residuals
+    there)."""
     from scipy.optimize import least_squares
 
     problem = runs.problem
@@ -90,7 +93,48 @@ def _minimise(
         gtol=COST_TOLERANCE,
         max_nfev=MAX_ITERATIONS,
     )
-    return full(result.x), float(result.cost), result.status > 0, result.message, result.jac
+    converged = result.status > 0
+    return full(result.x), float(result.cost), converged, result.message, result.jac, result.fun
+
+
+def _from_starts(
+    runs: Runs, count: int, seed: int | None
+) -> tuple[list[StartOutcome], tuple[np.ndarray, float, np.ndarray, np.ndarray]]:
+    """Each start's outcome, and the best one's (values, cost, Jacobian, residuals). A start
+    reached the best when its cost is within half the residual variance of the best's (the
+    same minimum, as far as the data tell)."""
+    problem = runs.problem
+    columns = list(range(len(problem.free)))
+    ends = []
+    for x0 in draw_starts(problem, count, seed):
+        before = runs.count
+        ends.append((x0, *_minimise(runs, x0, columns), runs.count - before))
+    best = min(ends, key=lambda end: end[2])
+    variance = 2.0 * best[2] / problem.degrees_of_freedom
+    outcomes = [
+        StartOutcome(x0, x, cost, converged, message, used, cost - best[2] <= 0.5 * variance)
+        for x0, x, cost, converged, message, _, _, used in ends
+    ]
+    return outcomes, (best[1], best[2], best[5], best[6])
+
+
+def reweighted(problem: Problem, residuals: np.ndarray) -> Problem:
+    """``problem`` with each estimated σ_s replaced by the noise level of its series'
+    ``residuals`` (weighted by the old σ_s): RMS · sqrt(m / (m − p)) [unit of the series].
+
+    The data's own estimate (``noise_scale``) is biased up where a series curves within a
+    few samples (a rocking rate at 100 Hz); the residuals of a first fit are not, so a
+    record of several series is fitted again from the optimum with these weights.
+    """
+    ratio = problem.n_residuals / problem.degrees_of_freedom
+    sigma, sources, start = dict(problem.sigma), dict(problem.sigma_source), 0
+    for name, measured in problem.record.series.items():
+        part = residuals[start : start + measured.size] * sigma[name]
+        start += measured.size
+        if sources[name] == "estimated":
+            sigma[name] = float(np.sqrt(np.mean(part**2) * ratio)) or sigma[name]
+            sources[name] = "residuals of a first fit"
+    return replace(problem, sigma=MappingProxyType(sigma), sigma_source=MappingProxyType(sources))
 
 
 def _body(body: Body | str | Path) -> Body:
@@ -168,28 +212,25 @@ def fit(
     if profile is not None and profile not in problem.names:
         raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
     columns = list(range(len(problem.free)))
-    outcomes = []
     with warnings.catch_warnings(), Runs(problem, workers, progress) as runs:
         # trial runs warn about nothing; the fitted run below warns once
         warnings.simplefilter("ignore", FrictionBoundWarning)
         warnings.simplefilter("ignore", PlausibilityWarning)
-        jacobians = []
-        for x0 in draw_starts(problem, starts, seed):
-            before = runs.count
-            x, cost, converged, message, jacobian = _minimise(runs, x0, columns)
-            outcomes.append(StartOutcome(x0, x, cost, converged, message, runs.count - before))
-            jacobians.append(jacobian)
-        best = int(np.argmin([o.cost for o in outcomes]))
-        values, cost = outcomes[best].end, outcomes[best].cost
+        outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starts, seed)
+        if len(problem.record.series) > 1 and "estimated" in problem.sigma_source.values():
+            problem = reweighted(problem, residuals)
+            runs.use(problem)
+            values, cost, _, _, jacobian, residuals = _minimise(runs, values, columns)
         spread = uncertainty(
-            jacobians[best], cost, problem.degrees_of_freedom, problem.scale, problem.names
+            jacobian, cost, problem.degrees_of_freedom, problem.scale, problem.names
         )
         profiled = None
         if profile is not None:
             index = problem.names.index(profile)
 
             def refit(x: np.ndarray, others: list[int]) -> tuple[np.ndarray, float]:
-                return _minimise(runs, x, others)[:2]
+                optimum, cost = _minimise(runs, x, others)[:2]
+                return optimum, cost
 
             profiled = profile_likelihood(
                 runs,
