@@ -39,6 +39,16 @@ def _truth_run(body: cs.Body, state: cs.InitialState, duration: float) -> cs.Tra
         return cs.simulate(cs.SlidingModel(**TRUTH), body, state, duration, sample_times=times)
 
 
+def _noisy_spin_record(
+    body: cs.Body, state: cs.InitialState, duration: float, noise: float
+) -> cs.Record:
+    """The spin of the truth run with Gaussian noise of ``noise`` [rad/s] (seed 0)."""
+    run = _truth_run(body, state, duration)
+    spin = run.samples.values("spin")
+    noisy = spin + np.random.default_rng(0).normal(0.0, noise, spin.size)
+    return cs.make_record(run.samples.values("time"), {"spin": noisy})
+
+
 @pytest.fixture(scope="module")
 def kl_spin(kane_levinson: cs.Body) -> tuple[np.ndarray, np.ndarray]:
     run = _truth_run(kane_levinson, KL_STATE, DURATION)
@@ -73,10 +83,7 @@ def test_friction_and_contact_size_from_spin_alone_are_correlated() -> None:
     """The toy stone spun the stable way: its spin decays by the pivoting moment, whose
     size is f ε N (paper eq. 10), so f and ε are not separately determined."""
     body = cs.load_body("toy_rattleback_10cm")
-    run = _truth_run(body, cs.InitialState((0.0, 0.0, 5.0), (0.5, 0.5)), 2.0)
-    spin = run.samples.values("spin")
-    noisy = spin + np.random.default_rng(0).normal(0.0, 0.02, spin.size)
-    record = cs.make_record(run.samples.values("time"), {"spin": noisy})
+    record = _noisy_spin_record(body, cs.InitialState((0.0, 0.0, 5.0), (0.5, 0.5)), 2.0, 0.02)
     with pytest.warns(cs.IdentifiabilityWarning, match="friction_coefficient and contact_radius"):
         result = cs.fit(
             record,
@@ -94,10 +101,8 @@ def test_friction_and_contact_size_from_spin_alone_are_correlated() -> None:
 def test_pure_pivoting_leaves_only_the_product(kane_levinson: cs.Body) -> None:
     """Spin about the upright axis 3 without tilt: the only torque is the pivoting moment
     ∝ f ε, so the Jacobian has rank 1 and neither is determined alone."""
-    run = _truth_run(kane_levinson, cs.InitialState((0.0, 0.0, -5.0), (0.0, 0.0)), 1.0)
-    spin = run.samples.values("spin")
-    noisy = spin + np.random.default_rng(0).normal(0.0, 0.01, spin.size)
-    record = cs.make_record(run.samples.values("time"), {"spin": noisy})
+    upright = cs.InitialState((0.0, 0.0, -5.0), (0.0, 0.0))
+    record = _noisy_spin_record(kane_levinson, upright, 1.0, 0.01)
     with pytest.warns(cs.IdentifiabilityWarning, match="rank 1 < 2"):
         result = cs.fit(
             record,
