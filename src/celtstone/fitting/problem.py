@@ -331,12 +331,12 @@ def make_problem(
         if not lower <= value <= upper:
             raise ParameterError(f"start of {name}", value, f"a number in [{lower:g}, {upper:g}]")
         parameters.append(FreeParameter(name, PARAMETERS[name].unit, lower, upper, value))
-    if record.n_points <= len(parameters):
-        raise ParameterError(
-            "data",
-            f"{record.n_points} values",
-            f"more values than the {len(parameters)} free parameters",
+    offsets = sum(SERIES[name].is_angle_offset_free for name in record.series)
+    if record.n_points - offsets <= len(parameters):
+        needed = f"{len(parameters)} free parameters" + (
+            f" and {offsets} yaw offset" if offsets else ""
         )
+        raise ParameterError("data", f"{record.n_points} values", f"more values than the {needed}")
     scales, sources = {}, {}
     for name in record.series:
         if name in sigma:
