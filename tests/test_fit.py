@@ -172,6 +172,7 @@ def test_profile_interval_of_a_near_linear_parameter(
     times, spin = kl_spin
     noisy = spin + np.random.default_rng(7).normal(0.0, NOISE, spin.size)
     record = cs.make_record(times[:151], {"spin": noisy[:151]})
+    reports: list[tuple[int, float]] = []
     result = cs.fit(
         record,
         kane_levinson,
@@ -179,7 +180,11 @@ def test_profile_interval_of_a_near_linear_parameter(
         ["friction_coefficient"],
         fixed={"omega3": -5.0},
         profile="friction_coefficient",
+        progress=lambda runs, cost: reports.append((runs, cost)),
     )
+    runs = [count for count, _ in reports]
+    assert runs == sorted(runs) and runs[-1] == result.runs - 1  # all but the final run
+    assert min(cost for _, cost in reports) == pytest.approx(result.cost)
     assert result.profile is not None
     low, high = result.profile.interval
     assert low is not None and high is not None

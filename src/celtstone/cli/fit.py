@@ -12,7 +12,7 @@ from contextlib import contextmanager
 from celtstone.errors import ParameterError
 from celtstone.fitting.problem import DEFAULT_BOUNDS, DEFAULT_RATE_SPAN, parse_bounds
 from celtstone.fitting.series import SERIES
-from celtstone.sweep.spec import parse_setting
+from celtstone.sweep.spec import PARAMETERS, parse_setting
 
 EPILOG = (
     "series (NAME for --column NAME[UNIT]=HEADER; UNIT defaults to the header's '(unit)', "
@@ -27,7 +27,11 @@ EPILOG = (
     "rates become omega1..3 through --sensor-rotation.\n\n"
     "free parameters: any name of `celtstone sweep --help` (model settings, initial state,\n"
     "body numbers); default bounds:\n"
-    + "\n".join(f"  {name:22s} {lo:g}:{hi:g}" for name, (lo, hi) in DEFAULT_BOUNDS.items())
+    + "\n".join(
+        f"  {name:22s} {lo:g}:{hi:g}"
+        + (f" {PARAMETERS[name].unit}" if PARAMETERS[name].unit else "")
+        for name, (lo, hi) in DEFAULT_BOUNDS.items()
+    )
     + f"\n  omega1..3, initial_spin start ± {DEFAULT_RATE_SPAN:g} rad/s\n\n"
     "example: celtstone fit gyro.csv --body toy_rattleback_10cm --model sliding "
     "--free friction_coefficient,contact_radius --sensor-rotation x,-z,y --out fit/"

@@ -236,7 +236,9 @@ def read_record(
         sensor = np.column_stack([_column(table, h, "gyroscope") for h in PHYPHOX_GYROSCOPE])
         for k, values in enumerate((sensor @ rotation.T).T):
             series[f"omega{k + 1}"] = values
-            headers[f"omega{k + 1}"] = f"{PHYPHOX_GYROSCOPE} rotated"
+            headers[f"omega{k + 1}"] = (
+                f"Gyroscope x, y, z (rad/s) turned into body axes by R = {rotation.tolist()}"
+            )
     elif sensor_rotation is not None:
         raise ParameterError(
             "sensor_rotation",
