@@ -10,10 +10,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.trajectory import RunSamples
+if TYPE_CHECKING:
+    from celtstone.trajectory import RunSamples
 
 __all__ = ["ANGLE_UNITS", "RATE_UNITS", "SERIES", "Series", "yaw_angle"]
 
