@@ -17,6 +17,7 @@ from celtstone.errors import CeltstoneError as CeltstoneError
 from celtstone.errors import CeltstoneWarning as CeltstoneWarning
 from celtstone.errors import FrictionBoundWarning as FrictionBoundWarning
 from celtstone.errors import FrictionSingularityError as FrictionSingularityError
+from celtstone.errors import IdentifiabilityWarning as IdentifiabilityWarning
 from celtstone.errors import IntegrationError as IntegrationError
 from celtstone.errors import LiftOffError as LiftOffError
 from celtstone.errors import ParameterError as ParameterError
@@ -33,6 +34,11 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.bodies import Superellipsoid as Superellipsoid
     from celtstone.bodies import list_bodies as list_bodies
     from celtstone.bodies import load_body as load_body
+    from celtstone.fitting import FitResult as FitResult
+    from celtstone.fitting import Record as Record
+    from celtstone.fitting import fit as fit
+    from celtstone.fitting import make_record as make_record
+    from celtstone.fitting import read_record as read_record
     from celtstone.integrate import simulate as simulate
     from celtstone.models import MODELS as MODELS
     from celtstone.models import HybridModel as HybridModel
@@ -51,9 +57,11 @@ __all__ = [
     "CeltstoneError",
     "CeltstoneWarning",
     "Ellipsoid",
+    "FitResult",
     "FrictionBoundWarning",
     "FrictionSingularityError",
     "HybridModel",
+    "IdentifiabilityWarning",
     "ImplicitFunction",
     "ImplicitPolynomial",
     "InitialState",
@@ -62,16 +70,20 @@ __all__ = [
     "Paraboloid",
     "ParameterError",
     "PlausibilityWarning",
+    "Record",
     "RollingModel",
     "SlidingModel",
     "SpinStability",
     "Superellipsoid",
     "Sweep",
     "Trajectory",
+    "fit",
     "list_bodies",
     "load_body",
+    "make_record",
     "model_from_name",
     "open_sweep",
+    "read_record",
     "reversal_times",
     "simulate",
     "spin_stability",
@@ -93,6 +105,11 @@ _LAZY = {
     "list_bodies": "celtstone.bodies",
     "load_body": "celtstone.bodies",
     "simulate": "celtstone.integrate",
+    "FitResult": "celtstone.fitting",
+    "Record": "celtstone.fitting",
+    "fit": "celtstone.fitting",
+    "make_record": "celtstone.fitting",
+    "read_record": "celtstone.fitting",
     "MODELS": "celtstone.models",
     "HybridModel": "celtstone.models",
     "InitialState": "celtstone.models",

@@ -15,6 +15,7 @@ __all__ = [
     "CeltstoneWarning",
     "FrictionBoundWarning",
     "FrictionSingularityError",
+    "IdentifiabilityWarning",
     "IntegrationError",
     "LiftOffError",
     "OutputError",
@@ -153,3 +154,8 @@ def require_choice(name: str, value: object, options: Iterable[object]) -> None:
     if value not in choices:
         allowed = "one of: " + ", ".join(str(c) for c in choices)
         raise ParameterError(name, value, allowed, did_you_mean(value, choices))
+
+
+class IdentifiabilityWarning(CeltstoneWarning):
+    """Fitted parameters that the data do not determine separately: |correlation| above
+    the limit, or a Jacobian without full rank (``celtstone.fitting``)."""

@@ -53,6 +53,7 @@ SUBCOMMANDS = {
         Command(
             "friction", "force F/(f N) and pivoting moment M/(f N eps) of a friction law against u"
         ),
+        Command("fit", "fit friction, contact size, damping or initial state to a measured record"),
     )
 }
 

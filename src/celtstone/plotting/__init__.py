@@ -7,6 +7,8 @@ whole or not at all.
 
 from celtstone.plotting.compare import plot_energy_budget as plot_energy_budget
 from celtstone.plotting.compare import plot_spin_comparison as plot_spin_comparison
+from celtstone.plotting.fit import FitPanel as FitPanel
+from celtstone.plotting.fit import plot_fit as plot_fit
 from celtstone.plotting.run import plot_run as plot_run
 from celtstone.plotting.save import FIGURE_FORMATS as FIGURE_FORMATS
 from celtstone.plotting.save import save_figure as save_figure
@@ -15,7 +17,9 @@ from celtstone.plotting.threshold import plot_threshold as plot_threshold
 
 __all__ = [
     "FIGURE_FORMATS",
+    "FitPanel",
     "plot_energy_budget",
+    "plot_fit",
     "plot_run",
     "plot_spin_comparison",
     "plot_threshold",

@@ -1,0 +1,389 @@
+"""The fitting problem: which numbers are free, where each goes (model, body or initial
+state: the names of ``celtstone sweep``), their bounds, and the weighted residuals.
+
+The residual of series s at time t_i is (model − data) / σ_s: each series is weighted by
+its own noise scale σ_s, given or estimated from the data (:func:`noise_scale`).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+
+from celtstone import schema
+from celtstone.bodies import Body
+from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
+from celtstone.fitting.record import Record
+from celtstone.fitting.series import SERIES
+from celtstone.integrate import simulate
+from celtstone.models import InitialState, Model
+from celtstone.sweep.spec import (
+    BODY,
+    MODEL,
+    PARAMETERS,
+    STATE,
+    build_body,
+    build_model,
+    build_state,
+)
+from celtstone.trajectory import Trajectory
+
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "FAILED_RESIDUAL",
+    "FreeParameter",
+    "Problem",
+    "make_problem",
+    "noise_scale",
+    "parse_bounds",
+]
+
+# weighted residual [1] of a sample a run did not reach (it stopped early or raised): large
+# and finite, so that the optimiser steps back instead of stopping
+FAILED_RESIDUAL = 1e3
+# default [LO, HI] of the free numbers that have one (SI units of schema.PARAMETERS)
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "friction_coefficient": (0.01, 2.0),
+    "contact_radius": (1e-5, 1e-2),  # m
+    "rolling_resistance": (0.0, 1e-3),  # m
+    "damping": (0.0, 1e-3),  # N m s
+    "euler_alpha": (-10.0, 10.0),  # deg
+    "euler_beta": (-10.0, 10.0),  # deg
+}
+# the initial rates [rad/s] are free within this distance of their start by default
+DEFAULT_RATE_SPAN = 10.0
+_RATES = ("omega1", "omega2", "omega3", "initial_spin")
+# the schema entry that checks a bound of each free name (model settings: their own name)
+_SCHEMA_NAMES = {**dict.fromkeys(_RATES, "omega"), "euler_alpha": "euler_angles"}
+_SCHEMA_NAMES["euler_beta"] = "euler_angles"
+# the MAD of a normal sample is 0.6745 σ
+_MAD_TO_SIGMA = 1.0 / 0.6744897501960817
+
+
+@dataclass(frozen=True)
+class FreeParameter:
+    """A free number: its name (``sweep`` parameter names), unit, bounds and start.
+
+    ``scale`` [unit] is its typical size, for the optimiser's ``x_scale`` and the
+    finite-difference steps: |start|, or a tenth of the bounds' width at a start of 0.
+    """
+
+    name: str
+    unit: str
+    lower: float
+    upper: float
+    start: float
+
+    @property
+    def scale(self) -> float:
+        return abs(self.start) if self.start != 0.0 else (self.upper - self.lower) / 10.0
+
+    @property
+    def is_log_spaced(self) -> bool:
+        """Whether starts are drawn log-uniformly: positive bounds a decade or more apart."""
+        return self.lower > 0.0 and self.upper >= 10.0 * self.lower
+
+
+def parse_bounds(text: str) -> tuple[str, tuple[float, float]]:
+    """``NAME=LO:HI`` -> (name, (lo, hi)), numbers checked finite and LO < HI."""
+    name, sep, span = text.partition("=")
+    lo_text, colon, hi_text = span.partition(":")
+    name = name.strip()
+    try:
+        if not sep or not colon:
+            raise ValueError(text)
+        lower, upper = float(lo_text), float(hi_text)
+    except ValueError:
+        raise ParameterError(
+            "bounds", text, "NAME=LO:HI", "e.g. contact_radius=1e-4:5e-3"
+        ) from None
+    if not (math.isfinite(lower) and math.isfinite(upper)) or lower >= upper:
+        raise ParameterError(f"bounds of {name}", span, "LO:HI with finite LO < HI")
+    return name, (lower, upper)
+
+
+def _check_free_name(name: str) -> None:
+    if name not in PARAMETERS:
+        raise ParameterError(
+            "free",
+            name,
+            "a model setting, initial-state or body number (see `celtstone fit --help`)",
+            did_you_mean(name, PARAMETERS, cutoff=0.5),
+        )
+
+
+def _bounds(name: str, start: float, given: tuple[float, float] | None) -> tuple[float, float]:
+    """The bounds of free ``name``: ``given``, else its default; each bound an allowed value."""
+    if given is not None:
+        lower, upper = given
+    elif name in DEFAULT_BOUNDS:
+        lower, upper = DEFAULT_BOUNDS[name]
+    elif name in _RATES:
+        lower, upper = start - DEFAULT_RATE_SPAN, start + DEFAULT_RATE_SPAN
+    else:
+        raise ParameterError(
+            f"bounds of {name}", None, "NAME=LO:HI", f"{name} has no default range: add --bounds"
+        )
+    schema_name = _SCHEMA_NAMES.get(name, name)
+    if schema_name in schema.PARAMETERS:
+        for bound in (lower, upper):
+            try:
+                schema.check(schema_name, bound)
+            except ParameterError as error:
+                raise ParameterError(
+                    f"bounds of {name}", f"{lower:g}:{upper:g}", error.allowed
+                ) from None
+    return lower, upper
+
+
+def noise_scale(times: np.ndarray, values: np.ndarray) -> float:
+    """σ [unit of ``values``] of white noise on a smooth series, from the spread of each
+    sample about the line through its neighbours.
+
+    Notes
+    -----
+    d_i = y_i − (w y_{i−1} + (1 − w) y_{i+1}), w = (t_{i+1} − t_i) / (t_{i+1} − t_{i−1}),
+    has variance σ² (1 + w² + (1 − w)²) for noise alone; σ is the median |d_i| scaled
+    by that factor and by 1/0.6745 (a normal sample's median absolute value), so that a
+    few outliers do not set it. A smooth signal adds its curvature (|ÿ| Δt² / 2 per
+    sample): the estimate is an upper bound at coarse sampling. Zero (noise-free
+    data) falls back to 1e-6 of the series' range.
+    """
+    weight = (times[2:] - times[1:-1]) / (times[2:] - times[:-2])
+    deviation = values[1:-1] - (weight * values[:-2] + (1.0 - weight) * values[2:])
+    normalised = np.abs(deviation) / np.sqrt(1.0 + weight**2 + (1.0 - weight) ** 2)
+    sigma = float(np.median(normalised)) * _MAD_TO_SIGMA if normalised.size else 0.0
+    return sigma if sigma > 0.0 else 1e-6 * float(np.ptp(values))
+
+
+def _initial_values(record: Record, given: Mapping[str, float]) -> dict[str, float]:
+    """Initial-state numbers read from the record where not ``given``: ω(0) from measured
+    omega1..3, else the initial spin from a measured spin (first samples)."""
+    values: dict[str, float] = {}
+    for k in range(3):
+        name = f"omega{k + 1}"
+        if name in record.series and name not in given:
+            values[name] = float(record.series[name][0])
+    if "spin" in record.series and not {"omega3", "initial_spin"} & {*given, *values}:
+        values["initial_spin"] = float(record.series["spin"][0])
+    return values
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A fit: the record, what is fixed, what is free, and how runs are made.
+
+    Parameters
+    ----------
+    record : the measured motion
+    body : the body before any free or fixed body number is applied
+    model_name : "rolling" or "sliding"
+    choices : fixed named options (``friction_load``, ``contact``, ...)
+    fixed : fixed numbers by name (``sweep`` names, SI units)
+    free : the free numbers, in the order of the parameter vector
+    sigma : series name -> its noise scale σ_s [unit of the series]
+    rtol, atol : the runs' tolerances
+    method : integrator name, or None for the model's default
+    """
+
+    record: Record
+    body: Body
+    model_name: str
+    choices: Mapping[str, str]
+    fixed: Mapping[str, float]
+    free: tuple[FreeParameter, ...]
+    sigma: Mapping[str, float]
+    rtol: float
+    atol: float
+    method: str | None = None
+    sigma_source: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.free)
+
+    @property
+    def start(self) -> np.ndarray:
+        return np.array([p.start for p in self.free])
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.array([p.lower for p in self.free])
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.array([p.upper for p in self.free])
+
+    @property
+    def scale(self) -> np.ndarray:
+        return np.array([p.scale for p in self.free])
+
+    @property
+    def n_residuals(self) -> int:
+        return self.record.n_points
+
+    @property
+    def degrees_of_freedom(self) -> int:
+        """Residuals less free numbers less one offset per offset-free series (yaw)."""
+        offsets = sum(SERIES[name].is_angle_offset_free for name in self.record.series)
+        return self.n_residuals - len(self.free) - offsets
+
+    def values(self, x: np.ndarray) -> dict[str, float]:
+        """Every number of a run (sweep names): the fixed ones and ``x``'s."""
+        return {**self.fixed, **dict(zip(self.names, (float(v) for v in x), strict=True))}
+
+    def configuration(self, x: np.ndarray) -> tuple[Model, Body, InitialState]:
+        """The validated model, body and initial state of parameter vector ``x``."""
+        values = self.values(x)
+        groups: dict[str, dict[str, float]] = {BODY: {}, MODEL: {}, STATE: {}}
+        for name, value in values.items():
+            groups[PARAMETERS[name].group][name] = value
+        model = build_model(self.model_name, self.choices, groups[MODEL])
+        return model, build_body(self.body, groups[BODY]), build_state(groups[STATE])
+
+    def run(self, x: np.ndarray) -> Trajectory:
+        """The run of ``x`` sampled at the record's times (may stop early; may raise)."""
+        model, body, state = self.configuration(x)
+        times = self.record.times
+        return simulate(
+            model,
+            body,
+            state,
+            float(times[-1]),
+            sample_times=times,
+            method=self.method,
+            rtol=self.rtol,
+            atol=self.atol,
+        )
+
+    def residuals(self, trajectory: Trajectory | None) -> np.ndarray:
+        """Weighted residuals (model − data) / σ_s of every series, concatenated, shape (m,).
+
+        Samples a run did not reach (and all, for ``None``: a run that raised) get
+        ``FAILED_RESIDUAL``; an offset-free series (yaw) has its mean removed.
+        """
+        parts = []
+        for name, measured in self.record.series.items():
+            residual = np.full(measured.size, FAILED_RESIDUAL)
+            if trajectory is not None:
+                modelled = SERIES[name].model(trajectory.samples)
+                reached = min(modelled.size, measured.size)
+                residual[:reached] = (modelled[:reached] - measured[:reached]) / self.sigma[name]
+                if SERIES[name].is_angle_offset_free and reached == measured.size:
+                    residual -= residual.mean()
+            parts.append(residual)
+        return np.concatenate(parts)
+
+
+def make_problem(
+    record: Record,
+    body: Body,
+    model_name: str,
+    free: Sequence[str],
+    *,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    start: Mapping[str, float] | None = None,
+    fixed: Mapping[str, float | str] | None = None,
+    sigma: Mapping[str, float] | None = None,
+    rtol: float,
+    atol: float,
+    method: str | None = None,
+) -> Problem:
+    """A checked :class:`Problem` (see :func:`celtstone.fitting.fit` for the arguments)."""
+    bounds, start, fixed, sigma = (
+        dict(bounds or {}),
+        dict(start or {}),
+        dict(fixed or {}),
+        dict(sigma or {}),
+    )
+    names = list(dict.fromkeys(free))
+    if not names:
+        raise ParameterError("free", "", "at least one parameter name")
+    for name in names:
+        _check_free_name(name)
+    for option, given in (("bounds", bounds), ("start", start)):
+        for name in given:
+            if name not in names:
+                raise ParameterError(option, name, "a free parameter: " + ", ".join(names))
+    choices = {k: str(v) for k, v in fixed.items() if isinstance(v, str)}
+    numbers = {k: float(v) for k, v in fixed.items() if not isinstance(v, str)}
+    for name in numbers:
+        _check_free_name(name)
+        if name in names:
+            raise ParameterError("set", name, "a parameter that is not free", "it is in --free")
+    # the record's first samples set the initial state unless given; they start a free one
+    configured = {**_initial_values(record, numbers), **numbers}
+    base = Problem(record, body, model_name, choices, configured, (), {}, rtol, atol, method)
+    model, configured_body, state = base.configuration(np.array([]))  # the fixed part, checked
+    current = _current_values(model, configured_body, state)
+    dropped = {*names, *(("initial_spin",) if "omega3" in names else ())}  # omega3 would lose
+    numbers = {k: v for k, v in configured.items() if k not in dropped}
+    held = {k: v for k, v in numbers.items() if k not in fixed}  # the record's, held fixed
+    parameters = []
+    for name in names:
+        value = float(start.get(name, current.get(name, configured.get(name, 0.0))))
+        lower, upper = _bounds(name, value, bounds.get(name))
+        if not lower <= value <= upper:
+            raise ParameterError(f"start of {name}", value, f"a number in [{lower:g}, {upper:g}]")
+        parameters.append(FreeParameter(name, PARAMETERS[name].unit, lower, upper, value))
+    offsets = sum(SERIES[name].is_angle_offset_free for name in record.series)
+    if record.n_points - offsets <= len(parameters):
+        needed = f"{len(parameters)} free parameters" + (
+            f" and {offsets} yaw offset" if offsets else ""
+        )
+        raise ParameterError("data", f"{record.n_points} values", f"more values than the {needed}")
+    scales, sources = {}, {}
+    for name in record.series:
+        if name in sigma:
+            scales[name] = float(sigma[name])
+            if not (math.isfinite(scales[name]) and scales[name] > 0.0):
+                raise ParameterError(f"sigma of {name}", sigma[name], "a number > 0")
+            sources[name] = "given"
+        else:
+            scales[name] = noise_scale(record.times, record.series[name])
+            sources[name] = "estimated"
+    for name in sigma:
+        if name not in record.series:
+            raise ParameterError(
+                "sigma", name, "a series of the record: " + ", ".join(record.series)
+            )
+    if held:
+        warnings.warn(
+            "the initial state "
+            + ", ".join(f"{k} = {v:.6g} rad/s" for k, v in held.items())
+            + " is the record's first sample, its noise included, and is held fixed: add "
+            f"{', '.join(held)} to the free parameters, or set it, unless it is known",
+            CeltstoneWarning,
+            stacklevel=3,
+        )
+    return Problem(
+        record,
+        body,
+        model_name,
+        MappingProxyType(choices),
+        MappingProxyType(numbers),
+        tuple(parameters),
+        MappingProxyType(scales),
+        rtol,
+        atol,
+        method,
+        MappingProxyType(sources),
+    )
+
+
+def _current_values(model: Model, body: Body, state: InitialState) -> dict[str, float]:
+    """The value each sweep name has in the configured objects (the default starts)."""
+    values: dict[str, float] = {}
+    for name in PARAMETERS:
+        if hasattr(model, name) and isinstance(getattr(model, name), float):
+            values[name] = getattr(model, name)
+    values.update(zip(("omega1", "omega2", "omega3"), state.omega, strict=True))
+    values.update(euler_alpha=state.euler_angles[0], euler_beta=state.euler_angles[1])
+    values["initial_spin"] = float(np.dot(state.omega, state.vertical))
+    values.update(mass=body.mass, gravity=body.gravity)
+    return values

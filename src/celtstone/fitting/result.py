@@ -1,0 +1,172 @@
+"""The outcome of a fit: best values, uncertainties, the starts, and the fitted run."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from celtstone.fitting.problem import Problem
+from celtstone.fitting.profile import Profile
+from celtstone.fitting.series import SERIES
+from celtstone.fitting.uncertainty import Uncertainty
+from celtstone.trajectory import Trajectory
+
+__all__ = ["FORMAT", "FitResult", "StartOutcome"]
+
+FORMAT = "celtstone-fit-1"  # the summary's "format": what `fit --overwrite` may replace
+
+
+@dataclass(frozen=True)
+class StartOutcome:
+    """One start of the optimiser: where it began and ended [units of the parameters],
+    its cost [1], whether least_squares reported convergence, its message, its runs, and
+    whether it reached the best start's minimum (within half the residual variance)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    cost: float
+    converged: bool
+    message: str
+    runs: int
+    reached_best: bool
+
+    def summary(self, names: tuple[str, ...]) -> dict[str, Any]:
+        return {
+            "start": dict(zip(names, self.start.tolist(), strict=True)),
+            "end": dict(zip(names, self.end.tolist(), strict=True)),
+            "cost": self.cost,
+            "converged": self.converged,
+            "reached_best": self.reached_best,
+            "message": self.message,
+            "runs": self.runs,
+        }
+
+
+def _number(value: float) -> float | None:
+    """JSON's number, or null for inf and NaN."""
+    return float(value) if math.isfinite(value) else None
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A finished fit.
+
+    Parameters
+    ----------
+    problem : what was fitted (record, body, model, free and fixed numbers, weights)
+    values : best values [units of ``problem.free``], shape (p,)
+    cost : ½ Σ r² at the best values [1]
+    residuals : weighted residuals there [1], shape (m,)
+    uncertainty : standard errors, correlation, rank
+    starts : each start's outcome, the user's (or default) start first
+    runs, failed_runs : simulations made, and those that stopped early or raised
+    wall_time : seconds the fit took [s]
+    trajectory : the run at the best values, sampled at the record's times
+    profile : the profile likelihood of one parameter, if asked for
+    warnings : the identifiability warnings issued
+    """
+
+    problem: Problem
+    values: np.ndarray
+    cost: float
+    residuals: np.ndarray
+    uncertainty: Uncertainty
+    starts: tuple[StartOutcome, ...]
+    runs: int
+    failed_runs: int
+    wall_time: float
+    trajectory: Trajectory
+    profile: Profile | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return self.problem.names
+
+    @property
+    def standard_errors(self) -> np.ndarray:
+        return self.uncertainty.standard_errors
+
+    @property
+    def correlation(self) -> np.ndarray:
+        return self.uncertainty.correlation
+
+    def series_residuals(self) -> dict[str, np.ndarray]:
+        """Series name -> model − data at the best values [unit of the series]."""
+        sigma = self.problem.sigma
+        parts, start = {}, 0
+        for name, measured in self.problem.record.series.items():
+            parts[name] = self.residuals[start : start + measured.size] * sigma[name]
+            start += measured.size
+        return parts
+
+    def noise_estimates(self) -> dict[str, float]:
+        """Series name -> the noise σ the residuals imply [unit of the series]: their RMS
+        corrected for the fitted degrees of freedom: RMS · sqrt(m / (m − p))."""
+        ratio = self.problem.n_residuals / self.problem.degrees_of_freedom
+        return {
+            name: float(np.sqrt(np.mean(r**2) * ratio))
+            for name, r in self.series_residuals().items()
+        }
+
+    def summary(self) -> dict[str, Any]:
+        """The JSON summary (SI units; inf and NaN as null)."""
+        problem, u = self.problem, self.uncertainty
+        names = problem.names
+        units = {p.name: p.unit for p in problem.free}
+        parameters = {
+            name: {
+                "value": float(value),
+                "standard_error": _number(error),
+                "unit": units[name],
+                "lower_bound": p.lower,
+                "upper_bound": p.upper,
+                "start": p.start,
+            }
+            for name, value, error, p in zip(
+                names, self.values, u.standard_errors, problem.free, strict=True
+            )
+        }
+        return {
+            "format": FORMAT,
+            "body": problem.body.name,
+            "model": problem.model_name,
+            "options": dict(problem.choices),
+            "fixed": dict(problem.fixed),
+            "free": list(names),
+            "parameters": parameters,
+            "correlation": [[_number(c) for c in row] for row in u.correlation],
+            "strongly_correlated": [
+                {"parameters": [a, b], "correlation": c} for a, b, c in u.strongly_correlated
+            ],
+            "jacobian_rank": u.rank,
+            "condition_number": _number(u.condition_number),
+            "cost": self.cost,
+            "residual_variance": u.residual_variance,
+            "degrees_of_freedom": problem.degrees_of_freedom,
+            "series": {
+                name: {
+                    "unit": SERIES[name].unit,
+                    "sigma": problem.sigma[name],
+                    "sigma_source": problem.sigma_source.get(name, "given"),
+                    "residual_rms": float(np.sqrt(np.mean(r**2))),
+                    "noise_estimate": self.noise_estimates()[name],
+                }
+                for name, r in self.series_residuals().items()
+            },
+            "record": problem.record.describe(),
+            "runs": self.runs,
+            "failed_runs": self.failed_runs,
+            "wall_time": self.wall_time,
+            "starts": [s.summary(names) for s in self.starts],
+            "starts_converged": sum(s.converged for s in self.starts),
+            "starts_reaching_best": sum(s.reached_best for s in self.starts),
+            "fitted_run_status": self.trajectory.status,
+            "rtol": problem.rtol,
+            "atol": problem.atol,
+            "profile": None if self.profile is None else self.profile.summary(),
+            "warnings": list(self.warnings),
+        }
