@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test lint bench clean e2e
+.PHONY: install run test lint bench clean e2e docs
 
 install: $(STAMP)
 
@@ -21,13 +21,18 @@ run: $(STAMP)
 	$(BIN)/celtstone reproduce all --out results
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks docs
+	$(BIN)/ruff format --check src tests benchmarks docs
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
 test: lint
 	$(BIN)/python -m pytest -n 2 -m "not slow" tests
+
+# the documentation site, warnings as errors: docs/_build/html/index.html (`make test`
+# builds it too, in tests/test_docs.py)
+docs: $(STAMP)
+	$(BIN)/sphinx-build -W --keep-going -q -b html docs docs/_build/html
 
 # the viewer in headless Chromium alone (also part of `make test`; skipped without /usr/bin/chromium)
 e2e: $(STAMP)

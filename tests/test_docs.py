@@ -1,0 +1,68 @@
+"""The documentation site builds with warnings as errors, and lists what the code has.
+
+One build (``sphinx-build -W``, as ``make docs``) into a temporary directory; then, read
+from the HTML, not from the sources: every name of ``celtstone.__all__`` has its page
+and is listed on the API page; every command of the CLI has its ``--help`` on the CLI
+page; every internal link of the site points at a page that exists.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import celtstone
+from celtstone.cli.main import build_parser
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+
+def _commands() -> list[str]:
+    """The CLI's commands, read from its parser."""
+    actions = build_parser()._actions
+    (commands,) = [a for a in actions if isinstance(a, argparse._SubParsersAction)]
+    return list(commands.choices)
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("site")
+    build = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", DOCS, out],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert build.returncode == 0, build.stderr[-4000:]
+    return out
+
+
+def test_the_api_page_lists_every_public_name(site: Path) -> None:
+    api = (site / "api.html").read_text(encoding="utf-8")
+    for name in celtstone.__all__:
+        page = f"generated/celtstone.{name}.html"
+        assert f'href="{page}' in api, name
+        assert (site / page).is_file(), name
+
+
+def test_the_cli_page_is_every_commands_help(site: Path) -> None:
+    cli = (site / "cli.html").read_text(encoding="utf-8")
+    commands = _commands()
+    assert {"run", "sweep", "reproduce", "fit"} <= set(commands)
+    for command in commands:
+        assert f"usage: celtstone {command}" in cli, command
+
+
+def test_internal_links_resolve(site: Path) -> None:
+    """Every relative href of every page names a file of the site (anchors aside)."""
+    broken = []
+    for page in site.rglob("*.html"):
+        for target in re.findall(r'href="([^"#:?]+)(?:#[^"]*)?"', page.read_text("utf-8")):
+            if not (page.parent / target).resolve().exists():
+                broken.append(f"{page.relative_to(site)} -> {target}")
+    assert broken == []
