@@ -136,6 +136,16 @@ def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float)
     assert point["min_normal_force"] == summary["min_normal_force"]
     assert point["status"] == summary["status"]
     assert point["message"] == summary["message"]
+    # the fields the paper's findings read (reproduce.cases.summarise), from the samples
+    energy, work, spins = ds["energy"].values, ds["dissipated_work"].values, ds["spin"].values
+    scale = 1e-12 * abs(energy[0])  # the energy's own rounding, sample by sample
+    assert point["energy_initial"] == pytest.approx(energy[0], abs=scale)
+    assert point["peak_reversed_spin"] == np.max(-np.sign(spins[0]) * spins)
+    assert point["raw_sign_changes"] == run.spin_crossings.size
+    budget = np.max(np.abs(energy[0] - energy - work))
+    assert point["max_budget_error"] == pytest.approx(budget, abs=scale)
+    rise = max(float(np.max(np.diff(energy), initial=0.0)), 0.0)
+    assert point["max_energy_rise"] == pytest.approx(rise, abs=scale)
 
 
 def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:

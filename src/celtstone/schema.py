@@ -394,6 +394,23 @@ VARIABLES: dict[str, Variable] = {
     "t_stop": Variable("s", "time the run stopped", "stop time"),
     "status": Variable("", "success, or why the run stopped early", "status"),
     "message": Variable("", "what happened and what to change", "message"),
+    "energy_initial": Variable("J", "energy E(0) at the start", "initial energy $E(0)$"),
+    "peak_reversed_spin": Variable(
+        "rad/s",
+        "largest spin against the initial sense, -sign(spin(0)) spin, over the samples",
+        "peak reversed spin",
+    ),
+    "raw_sign_changes": Variable(
+        "1", "zero crossings of the raw spin omega . n (no band)", "raw spin sign changes"
+    ),
+    "max_budget_error": Variable(
+        "J",
+        "largest |E(0) - E - W| over the samples, W the dissipated work",
+        "energy budget residual",
+    ),
+    "max_energy_rise": Variable(
+        "J", "largest rise of the energy between two samples (0: never rises)", "energy rise"
+    ),
     # axis labels of plots
     "contact_x": Variable("m", "contact point x, space axes", "contact point $x$"),
     "contact_y": Variable("m", "contact point y, space axes", "contact point $y$"),

@@ -8,14 +8,16 @@ and ``yes`` / ``partly`` / ``no`` by a rule stated in its docstring.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 __all__ = [
     "FINDINGS",
+    "JUDGES",
     "PAPER_THRESHOLD",
     "THRESHOLD_SLACK",
+    "Judge",
     "Verdict",
     "judge_energy_decrease",
     "judge_energy_order",
@@ -197,3 +199,22 @@ def judge_long_run(fig3: dict[str, Any]) -> Verdict:
             "but none is a held reversal",
         )
     return Verdict(ours, "no", "the sliding spin stops changing sign")
+
+
+Judge = Callable[[dict[str, Any]], Verdict | None]
+
+
+def _judge_energy_decrease_of(fig2: dict[str, Any]) -> Verdict:
+    """:func:`judge_energy_decrease` of one Figure 2 result (its sliding runs)."""
+    return judge_energy_decrease([fig2])
+
+
+JUDGES: dict[str, tuple[str, Judge]] = {
+    "period": ("fig2", judge_period_growth),
+    "energy_order": ("fig2", judge_energy_order),
+    "energy_decrease": ("fig2", _judge_energy_decrease_of),
+    "threshold": ("threshold", judge_threshold),
+    "long_run": ("fig3", judge_long_run),
+}
+"""Each finding of :data:`FINDINGS`: the target whose numbers judge it, and its judge (the
+report's summary and the atlas read this one table)."""

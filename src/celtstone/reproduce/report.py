@@ -13,7 +13,9 @@ from celtstone.bodies import load_body
 from celtstone.export import atomic_path
 from celtstone.reproduce.findings import (
     FINDINGS,
+    JUDGES,
     PAPER_THRESHOLD,
+    Judge,
     Verdict,
     judge_energy_decrease,
     judge_energy_order,
@@ -195,14 +197,15 @@ def _braking_table(fig2: dict[str, dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-Judge = Callable[[dict[str, Any]], Verdict | None]
-
-_SUMMARY: tuple[tuple[str, str, Judge], ...] = (
-    ("period grows as f falls", "fig2", judge_period_growth),
-    ("energy falls with f", "fig2", judge_energy_order),
-    ("energy falls in sliding", "fig2", lambda r: judge_energy_decrease([r])),
-    (f"no reversal below f ≈ {PAPER_THRESHOLD:g}", "threshold", judge_threshold),
-    ("long run: sliding changes sign faster", "fig3", judge_long_run),
+_LABELS = {
+    "period": "period grows as f falls",
+    "energy_order": "energy falls with f",
+    "energy_decrease": "energy falls in sliding",
+    "threshold": f"no reversal below f ≈ {PAPER_THRESHOLD:g}",
+    "long_run": "long run: sliding changes sign faster",
+}
+_SUMMARY: tuple[tuple[str, str, Judge], ...] = tuple(
+    (label, *JUDGES[key]) for key, label in _LABELS.items()
 )
 """One row of the summary table per finding: its label, the target judged, the judge."""
 

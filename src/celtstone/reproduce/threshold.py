@@ -22,7 +22,7 @@ from celtstone.reproduce.cases import provenance, run_case, study_identity, summ
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
-__all__ = ["bisection_steps", "threshold"]
+__all__ = ["bisection_steps", "boundary", "threshold", "threshold_numbers"]
 
 _COLUMNS = (
     "friction_coefficient",
@@ -88,12 +88,42 @@ def _bisect(
             low = middle
         else:
             high = middle
+    return boundary(start, low, high)
+
+
+def boundary(
+    grid_bracket: tuple[float, float], low: dict[str, Any], high: dict[str, Any]
+) -> dict[str, Any]:
+    """A change between reversing and not reversing, bisected from the grid's
+    ``grid_bracket`` to the points ``low`` and ``high`` (each with
+    ``friction_coefficient`` [1] and ``reverses``): its kind ("appears" where the
+    higher f reverses), both brackets and the estimate, the bracket's middle."""
     f_low, f_high = low["friction_coefficient"], high["friction_coefficient"]
     return {
         "kind": "appears" if high["reverses"] else "disappears",
-        "grid_bracket": list(start),
+        "grid_bracket": list(grid_bracket),
         "bracket": [f_low, f_high],
         "estimate": 0.5 * (f_low + f_high),
+    }
+
+
+def threshold_numbers(
+    grid: np.ndarray, grid_reverses: list[bool], boundaries: list[dict[str, Any]]
+) -> dict[str, Any]:
+    """The numbers :func:`~celtstone.reproduce.findings.judge_threshold` reads: the f grid
+    [1], whether each grid point reverses, the bisected ``boundaries`` (:func:`boundary`),
+    the lowest reversing f (the upper end of the lowest "appears" bracket, None if none)
+    and whether any f reverses (a bisection point reverses only between grid points of
+    which one does)."""
+    appears = [b for b in boundaries if b["kind"] == "appears"]
+    return {
+        "grid": [float(f) for f in grid],
+        "grid_reverses": [bool(r) for r in grid_reverses],
+        "boundaries": boundaries,
+        "lowest_reversing_f": min(appears, key=lambda b: b["estimate"])["bracket"][1]
+        if appears
+        else None,
+        "reverses_anywhere": any(grid_reverses),
     }
 
 
@@ -134,8 +164,6 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     )
     figure = plot_threshold(table, title, [b["estimate"] for b in boundaries])
     figures = save_figure_formats(figure, out, stem)
-    reversing = [r["friction_coefficient"] for r in rows if r["reverses"]]
-    appears = [b for b in boundaries if b["kind"] == "appears"]
     result = {
         "target": "threshold",
         "study": study.describe(),
@@ -143,13 +171,9 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
         **study_identity(study),
         "t_end": study.threshold_t_end,
         "band": study.band,
-        "grid": [float(f) for f in study.friction_grid()],
-        "grid_reverses": [bool(r["reverses"]) for r in grid_rows],
-        "boundaries": boundaries,
-        "lowest_reversing_f": min(appears, key=lambda b: b["estimate"])["bracket"][1]
-        if appears
-        else None,
-        "reverses_anywhere": bool(reversing),
+        **threshold_numbers(
+            study.friction_grid(), [bool(r["reverses"]) for r in grid_rows], boundaries
+        ),
         "reversal_time_by_f": [
             [
                 r["friction_coefficient"],

@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
 from celtstone.kernels.reversal import count_reversals, rocking_average
 from celtstone.kernels.system import energy, spin_and_normal_force
 from celtstone.solvers._events import event_table
@@ -65,6 +65,12 @@ RESULT_FIELDS: tuple[ResultField, ...] = (
     ResultField("t_stop", "float64", math.nan, 6),
     ResultField("status", "str", "", 7),  # the code (``codes.Status``), stored as its label
     ResultField("message", "str", "", None),  # ``codes.stop_message`` of status and t_stop
+    # what ``reproduce.cases.summarise`` reads besides, for the paper's findings as fields
+    ResultField("energy_initial", "float64", math.nan, 8),
+    ResultField("peak_reversed_spin", "float64", math.nan, 9),  # over the samples
+    ResultField("raw_sign_changes", "int32", -1, 10),  # every zero crossing of the spin
+    ResultField("max_budget_error", "float64", math.nan, 11),  # max |E(0) - E - W|, samples
+    ResultField("max_energy_rise", "float64", math.nan, 12),  # between samples, >= 0
 )
 
 _COLUMNS = {f.name: f.column for f in RESULT_FIELDS if f.column is not None}
@@ -82,6 +88,11 @@ F_MAX_TILT = _COLUMNS["max_tilt"]  # largest angle between n and body axis 3 [ra
 F_MIN_NORMAL_FORCE = _COLUMNS["min_normal_force"]  # smallest normal force [N], 0 at lift-off
 F_T_STOP = _COLUMNS["t_stop"]  # time the run stopped [s]
 F_STATUS = _COLUMNS["status"]  # solver status code (``codes.Status``)
+F_ENERGY_INITIAL = _COLUMNS["energy_initial"]  # E(0) [J]
+F_PEAK_REVERSED_SPIN = _COLUMNS["peak_reversed_spin"]  # largest spin against ω(0)·n(0) [rad/s]
+F_SIGN_CHANGES = _COLUMNS["raw_sign_changes"]  # zero crossings of the raw spin [1]
+F_BUDGET_ERROR = _COLUMNS["max_budget_error"]  # max |E(0) - E - W| over the samples [J]
+F_ENERGY_RISE = _COLUMNS["max_energy_rise"]  # largest rise of E between samples [J], >= 0
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -93,9 +104,24 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
     max_tilt = 0.0
+    energy_initial = energy(model, y0, params)
+    spin_initial = (
+        y0[Y_OMEGA] * y0[Y_N] + y0[Y_OMEGA + 1] * y0[Y_N + 1] + y0[Y_OMEGA + 2] * y0[Y_N + 2]
+    )
+    sense = -np.sign(spin_initial)  # as ``reproduce.cases.summarise``: against the start
+    peak_reversed = -np.inf
+    budget_error = 0.0
+    energy_rise = 0.0
+    previous = energy_initial
     for j in range(n_samples):
         y = samples[j]
         spins[j] = y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
+        peak_reversed = max(peak_reversed, sense * spins[j])
+        current = energy(model, y, params)
+        budget_error = max(budget_error, abs(energy_initial - current - y[Y_WORK]))
+        if j > 0:
+            energy_rise = max(energy_rise, current - previous)
+        previous = current
         norm = math.sqrt(y[Y_N] ** 2 + y[Y_N + 1] ** 2 + y[Y_N + 2] ** 2)
         tilt = math.acos(min(1.0, max(-1.0, y[Y_N + 2] / norm)))
         max_tilt = max(max_tilt, tilt)
@@ -123,6 +149,11 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     out[F_MIN_NORMAL_FORCE] = min_normal
     out[F_T_STOP] = end.t_stop
     out[F_STATUS] = end.status
+    out[F_ENERGY_INITIAL] = energy_initial
+    out[F_PEAK_REVERSED_SPIN] = peak_reversed if n_samples > 0 else np.nan
+    out[F_SIGN_CHANGES] = end.n_crossings
+    out[F_BUDGET_ERROR] = budget_error if n_samples > 0 else np.nan
+    out[F_ENERGY_RISE] = energy_rise if n_samples > 0 else np.nan
 
 
 class Points(NamedTuple):
