@@ -39,6 +39,7 @@ from celtstone.errors import OutputError
 from celtstone.plotting import save_figure
 from celtstone.reproduce import Study, reproduce
 from celtstone.reproduce import cases as reproduce_cases
+from celtstone.sweep.store import RESULT_FIELDS as STORE_FIELDS
 from celtstone.sweep.store import Layout, SweepStore
 from celtstone.visual import write_viewer
 from tests.conftest import LITERATURE_EULER_ANGLES
@@ -513,17 +514,9 @@ def test_full_disk_sweep_store(small_disk: Path) -> None:
     assert caught.value.errno == errno.ENOSPC
     assert str(caught.value).startswith(f"{small_disk / 't.zarr'}: ")
     assert [p.name for p in small_disk.iterdir()] == ["s.zarr"]
-    results = {
-        "first_reversal_time": np.full(2, 1.0),
-        "n_reversals": np.ones(2),
-        "final_spin": np.ones(2),
-        "energy_lost": np.ones(2),
-        "max_tilt": np.ones(2),
-        "min_normal_force": np.ones(2),
-        "t_stop": np.ones(2),
-        "status": np.array(["success"] * 2),
-        "message": np.array(["a long message " * 500] * 2),
-    }
+    results = {name: np.ones(2) for name in STORE_FIELDS}  # every field of a sweep
+    results["status"] = np.array(["success"] * 2)
+    results["message"] = np.array(["a long message " * 500] * 2)
     with pytest.raises(OutputError) as caught:
         store.write_block((slice(0, 2),), results)
     assert str(caught.value).startswith(f"{small_disk / 's.zarr'}: ")
