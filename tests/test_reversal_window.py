@@ -132,3 +132,12 @@ def test_scaled_bodies_reverse_once_per_real_reversal(scale: float, tmp_path: Pa
     assert len(independent) == found.size
     assert np.max(np.abs(np.array(independent) - found)) < 1.0
     assert found.size < raw.size
+
+
+def test_a_flat_pole_has_no_rocking_period() -> None:
+    """A superellipsoid of exponent 4 is flat at its pole (radii of curvature infinite):
+    no linear rocking, so no window, and reversals are the raw spin's."""
+    shape = cs.Superellipsoid((0.2, 0.03, 0.02), 0.01, 4.0)
+    body = cs.Body("flat pole", 1.0, tuple(map(tuple, KL_INERTIA)), shape)  # type: ignore[arg-type]
+    assert shape.radii_of_curvature == (math.inf, math.inf)
+    assert body.rocking_periods == (0.0, 0.0) and body.rocking_period == 0.0

@@ -83,7 +83,9 @@ class Body:
         radius of curvature ρ along the rocking plane: 2π √((A_jj + m l²) / (m g (ρ − l))),
         with A_jj the central moment about the rocking axis (products of inertia, which
         couple the two, are left out: they shift the periods by a few per cent). ``inf``
-        where ρ <= l: the rest is not stable in that plane and the body does not rock.
+        where ρ <= l: the rest is not stable in that plane and the body does not rock;
+        0 where ρ is infinite (a flat pole, as a superellipsoid's with exponent > 2:
+        small rocking there has no period of its own, it shortens with the amplitude).
         """
         height = self.shape.rest_height
         first, second = (float(r) for r in self.shape.radii_of_curvature)
@@ -100,8 +102,8 @@ class Body:
     @property
     def rocking_period(self) -> float:
         """The longest finite period of :attr:`rocking_periods` [s], the window over which
-        a reversal averages the spin (``celtstone.reversals``); 0 (no averaging) if the
-        body rocks in neither plane."""
+        a reversal averages the spin (``celtstone.reversals``); 0 (no averaging: the raw
+        spin's reversals) if the body rocks in neither plane or has a flat pole."""
         finite = [p for p in self.rocking_periods if math.isfinite(p)]
         return max(finite) if finite else 0.0
 
