@@ -18,6 +18,7 @@ from matplotlib.transforms import Bbox
 
 import celtstone as cs
 from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
+from celtstone.plotting.fit import FitPanel, plot_fit
 from celtstone.plotting.maps import plot_field_map
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.sweep import Sweep
@@ -108,6 +109,12 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
         "run": plot_run(runs[1]),
         "map": plot_field_map(sweep, "first_reversal_time"),
         "stability": growth_rate_figure(stability),
+        "fit": plot_fit(
+            runs[1]["time"].values,
+            [FitPanel("spin ω·n [rad/s]", runs[1]["spin"].values, runs[1]["spin"].values)],
+            f"celtstone fit of {LONG_KEY}: friction_coefficient, contact_radius, "
+            "rolling_resistance, damping, omega3 free, sliding model, 3 starts",
+        ),
     }
 
 

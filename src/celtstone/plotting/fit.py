@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.plotting.labels import axis_label
+from celtstone.plotting.labels import axis_label, wrapped_title
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -48,5 +48,5 @@ def plot_fit(times: np.ndarray, panels: Sequence[FitPanel], title: str = "") -> 
             axes.grid(alpha=0.3)
     grid[-1, 0].set_xlabel(axis_label("time"))
     if title:
-        figure.suptitle(title)
+        figure.suptitle(wrapped_title(title, figure.get_figwidth()))
     return figure
