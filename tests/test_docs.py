@@ -66,3 +66,26 @@ def test_internal_links_resolve(site: Path) -> None:
             if not (page.parent / target).resolve().exists():
                 broken.append(f"{page.relative_to(site)} -> {target}")
     assert broken == []
+
+
+EXAMPLES = sorted((DOCS / "examples").glob("plot_*.py"))
+
+
+def test_the_gallery_has_its_examples() -> None:
+    assert len(EXAMPLES) >= 8
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda path: path.stem)
+def test_every_example_made_its_figure(site: Path, example: Path) -> None:
+    """Each example's page exists, is on the gallery's index and embeds a figure the
+    build made (sphinx-gallery names them ``sphx_glr_<example>_NNN.png``)."""
+    page = site / "auto_examples" / f"{example.stem}.html"
+    assert page.is_file()
+    assert f'href="{example.stem}.html' in (site / "auto_examples" / "index.html").read_text(
+        "utf-8"
+    )
+    images = re.findall(r'<img[^>]+src="([^"]+)"', page.read_text("utf-8"))
+    figures = [src for src in images if f"sphx_glr_{example.stem}_" in src]
+    assert figures, images
+    for src in figures:
+        assert (page.parent / src).resolve().is_file(), src
