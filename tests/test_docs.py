@@ -89,3 +89,36 @@ def test_every_example_made_its_figure(site: Path, example: Path) -> None:
     assert figures, images
     for src in figures:
         assert (page.parent / src).resolve().is_file(), src
+
+
+def test_the_tutorial_is_on_the_site(site: Path) -> None:
+    page = (site / "tutorial.html").read_text("utf-8")
+    assert "Tutorial notebook" in page
+    assert (site / "_downloads").rglob("tutorial.ipynb")
+
+
+def test_the_notebook_is_its_paired_script() -> None:
+    """docs/tutorial.ipynb holds the cells of docs/tutorial.py (jupytext, percent format):
+    the diffable text and the notebook do not drift apart."""
+    import jupytext
+
+    script = jupytext.read(DOCS / "tutorial.py")
+    notebook = jupytext.read(DOCS / "tutorial.ipynb")
+    assert [(c.cell_type, c.source) for c in notebook.cells] == [
+        (c.cell_type, c.source) for c in script.cells
+    ]
+
+
+def test_the_tutorial_notebook_runs(tmp_path: Path) -> None:
+    """Every cell of the notebook runs without error (nbclient, a fresh kernel), the
+    figures render, and the sweep answers."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    notebook = nbformat.read(DOCS / "tutorial.ipynb", as_version=4)
+    NotebookClient(
+        notebook, timeout=300, kernel_name="python3", resources={"metadata": {"path": tmp_path}}
+    ).execute()
+    outputs = [o for c in notebook.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert sum("image/png" in o.get("data", {}) for o in outputs) >= 3
