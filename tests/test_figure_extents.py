@@ -18,6 +18,7 @@ from matplotlib.transforms import Bbox
 
 import celtstone as cs
 from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
+from celtstone.plotting.friction import friction_law_figure
 from celtstone.plotting.maps import plot_field_map
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.sweep import Sweep
@@ -108,6 +109,7 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
         "run": plot_run(runs[1]),
         "map": plot_field_map(sweep, "first_reversal_time"),
         "stability": growth_rate_figure(stability),
+        "friction": friction_law_figure(),
     }
 
 
