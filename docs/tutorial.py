@@ -5,6 +5,8 @@
 #     text_representation:
 #       extension: .py
 #       format_name: percent
+#       format_version: '1.3'
+#       jupytext_version: 1.19.6
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -56,11 +58,12 @@ print(body.shape)
 # %% [markdown]
 # Linearising the rolling model about steady spin at rate s [rad/s] gives eigenvalues
 # whose positive real parts are growth rates [1/s] of the rocking. One sense of spin
-# has a large growth rate: spun that way the stone rocks at once.
+# has a growth rate more than ten times the other's: spun that way the stone rocks at
+# once.
 
 # %%
 stability = cs.spin_stability(body, np.linspace(-10.0, 10.0, 101))
-print("preferred (stable) sense of spin:", stability.preferred_direction)
+print("preferred sense of spin:", stability.preferred_direction)
 print(f"largest growth rate for s < 0: {stability.max_growth_rate_negative:.2f} 1/s")
 print(f"largest growth rate for s > 0: {stability.max_growth_rate_positive:.2f} 1/s")
 

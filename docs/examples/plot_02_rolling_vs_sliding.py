@@ -5,8 +5,10 @@ Rolling against sliding
 The same start (tilt 0.5 rad, ω₃ = −5 rad/s) rolling without sliding and rolling with
 sliding: dry friction of coefficient f = 0.35 on a Hertz contact disk of radius
 ε = 1 mm, Zhuravlev's Padé law, normal force N = m g (the paper's first
-approximation). Sliding dissipates energy, the friction work W [J], and the reversal
-comes later and weaker.
+approximation). Sliding dissipates energy, the friction work W [J] (about 0.024 J of
+0.124 J in 4 s), and here the reversal comes sooner: at 1.7 s against 2.8 s rolling.
+With N = m g the friction can exceed the Coulomb bound of the true normal force, and
+``simulate`` warns so (``friction_load="dynamic"`` is the consistent load).
 """
 
 import celtstone as cs
