@@ -20,6 +20,7 @@ import celtstone
 from celtstone.cli.main import build_parser
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
+SPHINX = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html"]
 
 
 def _commands() -> list[str]:
@@ -33,7 +34,8 @@ def _commands() -> list[str]:
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("site")
     build = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", DOCS, out],
+        # every example runs, not only those changed since the last build in the tree
+        [*SPHINX, "-D", "sphinx_gallery_conf.run_stale_examples=True", DOCS, out],
         capture_output=True,
         text=True,
         timeout=600,
@@ -66,3 +68,65 @@ def test_internal_links_resolve(site: Path) -> None:
             if not (page.parent / target).resolve().exists():
                 broken.append(f"{page.relative_to(site)} -> {target}")
     assert broken == []
+
+
+EXAMPLES = sorted((DOCS / "examples").glob("plot_*.py"))
+
+
+def test_the_gallery_has_its_examples() -> None:
+    assert len(EXAMPLES) >= 8
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda path: path.stem)
+def test_every_example_made_its_figure(site: Path, example: Path) -> None:
+    """Each example's page exists, is on the gallery's index and embeds a figure the
+    build made (sphinx-gallery names them ``sphx_glr_<example>_NNN.png``)."""
+    page = site / "auto_examples" / f"{example.stem}.html"
+    assert page.is_file()
+    assert f'href="{example.stem}.html' in (site / "auto_examples" / "index.html").read_text(
+        "utf-8"
+    )
+    images = re.findall(r'<img[^>]+src="([^"]+)"', page.read_text("utf-8"))
+    figures = [src for src in images if f"sphx_glr_{example.stem}_" in src]
+    assert figures, images
+    for src in figures:
+        assert (page.parent / src).resolve().is_file(), src
+
+
+def test_the_tutorial_is_on_the_site(site: Path) -> None:
+    page = (site / "tutorial.html").read_text("utf-8")
+    assert "Tutorial notebook" in page
+    assert any((site / "_downloads").rglob("tutorial.ipynb"))
+
+
+def test_the_notebook_is_its_paired_script() -> None:
+    """docs/tutorial.ipynb holds the cells of docs/tutorial.py (jupytext, percent format):
+    the diffable text and the notebook do not drift apart."""
+    import jupytext
+
+    script = jupytext.read(DOCS / "tutorial.py")
+    notebook = jupytext.read(DOCS / "tutorial.ipynb")
+    assert [(c.cell_type, c.source) for c in notebook.cells] == [
+        (c.cell_type, c.source) for c in script.cells
+    ]
+
+
+def test_the_tutorial_notebook_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every cell of the notebook runs without error (nbclient, a fresh kernel of this
+    environment's Python, not one a user installed) and the figures render."""
+    import nbformat
+    from jupyter_client.kernelspec import KernelSpecManager
+    from nbclient import NotebookClient
+
+    monkeypatch.setenv("JUPYTER_PREFER_ENV_PATH", "1")
+    spec = KernelSpecManager().get_kernel_spec("python3")
+    assert Path(spec.resource_dir).is_relative_to(sys.prefix), spec.resource_dir
+    assert spec.argv[0] == "python", spec.argv  # jupyter_client runs sys.executable
+
+    notebook = nbformat.read(DOCS / "tutorial.ipynb", as_version=4)
+    NotebookClient(
+        notebook, timeout=300, kernel_name="python3", resources={"metadata": {"path": tmp_path}}
+    ).execute()
+    outputs = [o for c in notebook.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert sum("image/png" in o.get("data", {}) for o in outputs) >= 3

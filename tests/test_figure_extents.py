@@ -19,6 +19,7 @@ from matplotlib.transforms import Bbox
 import celtstone as cs
 from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
 from celtstone.plotting.fit import FitPanel, plot_fit
+from celtstone.plotting.friction import friction_law_figure
 from celtstone.plotting.maps import plot_field_map
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.sweep import Sweep
@@ -115,6 +116,7 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
             f"celtstone fit of {LONG_KEY}: friction_coefficient, contact_radius, "
             "rolling_resistance, damping, omega3 free, sliding model, 3 starts",
         ),
+        "friction": friction_law_figure(),
     }
 
 

@@ -79,3 +79,27 @@ def setup(app: Any) -> dict[str, Any]:
     app.connect("config-inited", _generate)  # before autosummary reads api.rst
     app.connect("autodoc-process-docstring", _escape_bars, priority=100)
     return {"parallel_read_safe": True, "version": celtstone.version()}
+
+
+def figure_scraper(block: Any, block_vars: dict[str, Any], gallery_conf: dict[str, Any]) -> str:
+    """sphinx-gallery's scraper of the ``Figure`` objects an example holds.
+
+    celtstone's plotting functions return ``matplotlib.figure.Figure`` objects that
+    pyplot does not manage, so the default scraper (``plt.get_fignums()``) misses them:
+    each such figure bound to a name of the example is saved once, after the code block
+    that made it.
+    """
+    from matplotlib.figure import Figure
+    from sphinx_gallery.scrapers import figure_rst
+
+    paths = []
+    for value in list(block_vars["example_globals"].values()):
+        if not isinstance(value, Figure) or value.canvas.manager is not None:
+            continue  # not a figure, or one of pyplot's (the matplotlib scraper's)
+        if getattr(value, "_celtstone_scraped", False):
+            continue
+        path = next(block_vars["image_path_iterator"])
+        value.savefig(path)
+        value._celtstone_scraped = True  # type: ignore[attr-defined]
+        paths.append(path)
+    return figure_rst(paths, gallery_conf["src_dir"])

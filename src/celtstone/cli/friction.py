@@ -7,8 +7,6 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
-
 from celtstone import ParameterError
 from celtstone.contact import (
     CONTACT_PRESSURES,
@@ -190,28 +188,13 @@ def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
 
 
 def _plot(path: str, pressure: str, *, overwrite: bool) -> None:
-    """Both laws' F/(fN) and M/(fNε) against u on a logarithmic axis."""
+    """Both laws' F/(fN) and M/(fNε) against u (``plotting.friction``), written whole."""
     import matplotlib
 
     matplotlib.use("Agg")
-    from matplotlib.figure import Figure
+    from celtstone.plotting.friction import friction_law_figure
 
-    u = np.logspace(-3, 3, 601)
-    figure = Figure(figsize=(9.0, 3.8), layout="constrained")
-    force_axes, moment_axes = figure.subplots(1, 2, sharex=True)
-    for law, style in (("exact", "-"), ("pade", "--")):
-        force, moment = friction_functions(u, law, pressure)
-        label = "exact (Coulomb–Contensou)" if law == "exact" else "Padé (Zhuravlev)"
-        force_axes.plot(u, force, style, label=label)
-        moment_axes.plot(u, moment, style, label=label)
-    force_axes.set_ylabel("friction force F / (f N)")
-    moment_axes.set_ylabel("pivoting moment M / (f N ε)")
-    for axes in (force_axes, moment_axes):
-        axes.set_xscale("log")
-        axes.set_xlabel("slip ratio u = |V1| / (ε |Ω_n|)")
-        axes.grid(True, which="both", alpha=0.3)
-        axes.legend()
-    figure.suptitle(f"Coulomb–Contensou friction on a disk, {pressure} pressure")
+    figure = friction_law_figure(pressure)
     suffix = Path(path).suffix.lower().lstrip(".")
     with atomic_path(path, overwrite=overwrite, parameter="plot") as temporary:
         figure.savefig(temporary, format=suffix)

@@ -1,0 +1,43 @@
+"""The two friction laws of the contact disk against the slip ratio u."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from celtstone.contact import friction_functions
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+
+def friction_law_figure(pressure: str = "hertz") -> Figure:
+    """The exact law's and Padé's F/(fN) and M/(fNε) against u on a logarithmic axis.
+
+    Parameters
+    ----------
+    pressure : "hertz" (paper eq. 2) or "uniform"
+
+    The functions are those a run evaluates (``contact.friction_functions``), at 601
+    slip ratios u = |V1| / (ε |Ω_n|) from 1e-3 to 1e3.
+    """
+    from matplotlib.figure import Figure
+
+    u = np.logspace(-3, 3, 601)
+    figure = Figure(figsize=(9.0, 3.8), layout="constrained")
+    force_axes, moment_axes = figure.subplots(1, 2, sharex=True)
+    for law, style in (("exact", "-"), ("pade", "--")):
+        force, moment = friction_functions(u, law, pressure)
+        label = "exact (Coulomb–Contensou)" if law == "exact" else "Padé (Zhuravlev)"
+        force_axes.plot(u, force, style, label=label)
+        moment_axes.plot(u, moment, style, label=label)
+    force_axes.set_ylabel("friction force F / (f N)")
+    moment_axes.set_ylabel("pivoting moment M / (f N ε)")
+    for axes in (force_axes, moment_axes):
+        axes.set_xscale("log")
+        axes.set_xlabel("slip ratio u = |V1| / (ε |Ω_n|)")
+        axes.grid(True, which="both", alpha=0.3)
+        axes.legend()
+    figure.suptitle(f"Coulomb–Contensou friction on a disk, {pressure} pressure")
+    return figure
