@@ -20,8 +20,9 @@
 # horizontal plane. Its principal axes of inertia are turned against the axes of its
 # curved surface, and that misalignment couples spin and rocking: spun one way it
 # spins on; spun the other ("wrong") way it starts to rock, stops spinning and spins
-# back. Energy does not explain it (no torque about the vertical acts on an ideal
-# rolling body); the coupling through the rolling contact does.
+# back. Energy conservation does not forbid it: the contact force acts at a point off
+# the vertical through the centre of mass, so it has a moment about the vertical whose
+# sign follows the rocking, and the misalignment turns rocking into spin.
 #
 # This notebook walks through it with `celtstone` in SI units (m, kg, s, rad, J):
 #
@@ -70,7 +71,7 @@ print(f"largest growth rate for s > 0: {stability.max_growth_rate_positive:.2f} 
 # %% [markdown]
 # ## 2. Rolling without sliding
 #
-# Start tilted by 0.5 rad (two Euler angles) and spinning at ω₃ = −5 rad/s, the
+# Start tilted by two Euler angles α = β = 0.5° and spinning at ω₃ = −5 rad/s, the
 # unstable sense. The contact point does not slip, so energy is conserved: the spin
 # turns into rocking and back into spin of the other sense.
 

@@ -3,7 +3,7 @@ A first run and its plot
 ========================
 
 Kane & Levinson's rattleback (1 kg, an ellipsoid of semi-axes 0.20, 0.03, 0.02 m with
-its centre of mass 1 cm below the centre) is tilted by 0.5 rad and spun at
+its centre of mass 1 cm below the centre) is tilted (Euler angles α = β = 0.5°) and spun at
 ω₃ = −5 rad/s about the vertical, the "wrong" way. Rolling without sliding, it
 conserves energy: the spin turns into rocking, and at about 2.8 s the stone spins
 the other way. ``Trajectory.plot()`` draws the spin, the tilt, the energy

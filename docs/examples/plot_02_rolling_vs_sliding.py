@@ -2,7 +2,7 @@
 Rolling against sliding
 =======================
 
-The same start (tilt 0.5 rad, ω₃ = −5 rad/s) rolling without sliding and rolling with
+The same start (Euler angles α = β = 0.5°, ω₃ = −5 rad/s) rolling without sliding and rolling with
 sliding: dry friction of coefficient f = 0.35 on a Hertz contact disk of radius
 ε = 1 mm, Zhuravlev's Padé law, normal force N = m g (the paper's first
 approximation). Sliding dissipates energy, the friction work W [J] (about 0.024 J of

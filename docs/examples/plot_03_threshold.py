@@ -4,7 +4,7 @@ The friction threshold on a coarse grid
 
 How much friction does the reversal need? Seven friction coefficients f from 0.05 to
 0.35, each a run of 5 s with the stick–slip contact (a disk of radius 1 mm, Padé law,
-N = m g) from tilt 0.5 rad and ω₃ = −5 rad/s. Without enough friction the stone slides
+N = m g) from Euler angles α = β = 0.5° and ω₃ = −5 rad/s. Without enough friction the stone slides
 instead of rolling and does not spin back within the run; the left panel marks those
 runs with a cross. ``celtstone reproduce threshold`` bisects the boundary on a 49-point
 grid; this is its seven-point sketch.

@@ -7,7 +7,7 @@ surface [m]. Here it is written as a TOML file (the format of the shipped bodies
 ``docs/bodies.md``) into a temporary directory and loaded by path, and then the same
 inertia is given an egg-shaped surface, the implicit polynomial
 x²/a² + y²/b² + z²/c² + 0.3 z³/c³ + 0.1 z⁴/c⁴ = 1 (a, b, c = 0.20, 0.03, 0.02 m).
-Both roll for 3 s from tilt 0.5 rad and ω₃ = −5 rad/s.
+Both roll for 3 s from Euler angles α = β = 0.5° and ω₃ = −5 rad/s.
 """
 
 import tempfile

@@ -4,7 +4,7 @@ A frame of the animation
 
 ``celtstone.visual.animate`` draws a run in 3-D, the shaded body on the plane with the
 track of its contact point and a read-out of time and spin, and writes an mp4 or a GIF.
-Here one second of a rolling run (tilt 0.5 rad, ω₃ = −5 rad/s) becomes a small GIF of
+Here one second of a rolling run (Euler angles α = β = 0.5°, ω₃ = −5 rad/s) becomes a small GIF of
 a few frames in a temporary directory, and its last frame is shown.
 """
 
