@@ -17,7 +17,14 @@ from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
 import celtstone as cs
-from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
+from celtstone.atlas.target import FINE_ATLAS
+from celtstone.plotting import (
+    plot_energy_budget,
+    plot_run,
+    plot_spin_comparison,
+    plot_threshold,
+    plot_verdict_maps,
+)
 from celtstone.plotting.maps import plot_field_map
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.sweep import Sweep
@@ -86,6 +93,10 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
         model="sliding",
         t_end=0.2,
     ).run()
+    long_slice = max(FINE_ATLAS.slices, key=lambda s: len(s.words()))
+    verdicts = ["yes", "partly", "no"] * (len(long_slice.x_values) * len(long_slice.y_values))
+    cells = len(long_slice.x_values) * len(long_slice.y_values)
+    findings = ("period", "energy_order", "energy_decrease", "threshold", "long_run", "all five")
     stability = cs.spin_stability(cs.load_body("kane_levinson_1982"), np.linspace(-10, 10, 21))
     return {
         "fig2": plot_spin_comparison(
@@ -108,6 +119,14 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
         "run": plot_run(runs[1]),
         "map": plot_field_map(sweep, "first_reversal_time"),
         "stability": growth_rate_figure(stability),
+        "atlas": plot_verdict_maps(
+            list(long_slice.x_values),
+            list(long_slice.y_values),
+            {name: verdicts[:cells] for name in findings},
+            "b/a",
+            "c/a",
+            f"Atlas (fine grid), {long_slice.words()}: each finding's verdict",
+        ),
     }
 
 
