@@ -7,7 +7,6 @@ verdicts ``compute_atlas`` wrote), not from the JSON the report reads.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import re
 from pathlib import Path
@@ -16,7 +15,6 @@ import pytest
 import xarray as xr
 
 from celtstone.atlas import fields
-from celtstone.atlas.fields import ATLAS_STUDY
 from celtstone.atlas.target import ATLAS_GRIDS, AtlasGrid, AtlasSlice, AtlasTarget
 from celtstone.cli.main import main
 from celtstone.cli.reproduce import ATLAS_GRID_WORDS
@@ -25,17 +23,8 @@ from celtstone.export import read_table
 from celtstone.reproduce import reproduce
 from celtstone.reproduce.atlas_report import atlas_counts
 from celtstone.reproduce.findings import FINDINGS
+from tests.test_atlas_fields import SHORT  # two designs: 3 s runs, a 4-point f grid
 
-# two designs of 3 s runs and a 4-point f grid (test_atlas_fields' short study)
-SHORT = dataclasses.replace(
-    ATLAS_STUDY,
-    fig2_t_end=3.0,
-    fig3_t_end=4.0,
-    threshold_grid=(0.05, 0.35, 4),
-    threshold_t_end=3.0,
-    bisection_tolerance=0.04,
-    fig2_loads=("static",),
-)
 TINY = AtlasGrid(
     "tiny",
     (

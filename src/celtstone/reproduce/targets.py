@@ -17,7 +17,12 @@ from typing import Any, Protocol
 
 from celtstone._about import version
 from celtstone.errors import OutputError, ParameterError
-from celtstone.export import make_temporary_directory, output_error, write_json
+from celtstone.export import (
+    make_temporary_directory,
+    output_error,
+    replace_directory,
+    write_json,
+)
 from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3
 from celtstone.reproduce.progress import Progress, progress_bar
@@ -115,20 +120,6 @@ def _signals_deferred() -> Iterator[None]:
             signal.raise_signal(pending[0])
 
 
-def _move_store(source: Path, destination: Path) -> None:
-    """The directory ``source`` to ``destination`` whole: an earlier one of that name is
-    moved aside first and removed after (never mixed with the new one's files)."""
-    aside = destination.with_name(f".{destination.name}.{os.getpid()}.aside.part")
-    try:
-        if os.path.lexists(destination):
-            os.rename(destination, aside)
-        os.rename(source, destination)
-    except OSError as error:
-        raise output_error(destination, error) from error
-    finally:
-        shutil.rmtree(aside, ignore_errors=True)
-
-
 def _move_files(staging: Path, out: Path, last: Path) -> None:
     """Every file of ``staging`` to the same place in ``out``, ``last`` last; a store
     (``_STORES``, a directory) moves whole."""
@@ -143,7 +134,7 @@ def _move_files(staging: Path, out: Path, last: Path) -> None:
     ]
     with _signals_deferred():
         for store in stores:
-            _move_store(store, out / store.relative_to(staging))
+            replace_directory(store, out / store.relative_to(staging))
         for source in files:
             destination = out / source.relative_to(staging)
             try:
