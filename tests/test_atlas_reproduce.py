@@ -125,8 +125,8 @@ def test_interrupted_atlas_leaves_nothing(tmp_path: Path, monkeypatch: pytest.Mo
         raise KeyboardInterrupt
 
     monkeypatch.setattr(fields, "_threshold", interrupted)
-    argv = ["reproduce", "atlas", "--quick", "--no-progress", "--out", str(tmp_path)]
-    assert main(argv) == 130
+    argv = ["reproduce", "atlas", "--atlas-grid", "coarse", "--quick", "--no-progress"]
+    assert main([*argv, "--out", str(tmp_path)]) == 130
     assert sorted(p.name for p in tmp_path.iterdir()) == ["atlas.zarr"]
     assert (old / "zarr.json").read_text(encoding="utf-8") == "an earlier atlas"
     assert not list(tmp_path.rglob("*.part"))
