@@ -55,6 +55,12 @@ def _design_words(parameters: Mapping[str, float], varied: Sequence[str]) -> str
     return ", ".join(f"{PARAMETER_WORDS[k]} = {parameters[k]:g}" for k in varied)
 
 
+def _varied(slices: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The parameters some slice varies, in the order of ``StoneDesign``'s fields."""
+    names = {name for piece in slices for name in (piece["x"], piece["y"])}
+    return [name for name in PARAMETER_WORDS if name in names]
+
+
 def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
     """The section's Markdown lines (a line saying it was not run, without ``result``)."""
     lines = [TITLE, ""]
@@ -122,7 +128,7 @@ def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
         )
         most = max(sum(v == "yes" for v in d["verdicts"].values()) for d in designs)
         best = [d for d in designs if sum(v == "yes" for v in d["verdicts"].values()) == most]
-        varied = sorted({k for p in result["slices"] for k in (p["x"], p["y"])})
+        varied = _varied(result["slices"])
         lines += [
             "",
             f"The most findings that hold together: {most} of {len(findings)}, for "
@@ -136,7 +142,7 @@ def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
             + ".",
         ]
     else:
-        varied = sorted({k for p in result["slices"] for k in (p["x"], p["y"])})
+        varied = _varied(result["slices"])
         holding = [d for d in designs if all(v == "yes" for v in d["verdicts"].values())]
         lines.append(
             "All five hold for: "
