@@ -27,7 +27,7 @@ CONTACTS: dict[str, tuple[str, Callable[[str], Study]]] = {
 
 ATLAS_GRID_WORDS = {
     "coarse": "4 designs (L = 0.1, 0.2 m × δ = 2, 4°), about 1.5 min on 2 cores",
-    "fine": "25 designs (L × δ 4 × 4 and b/a × c/a 3 × 3), about 7 min on 2 cores (estimated)",
+    "fine": "25 designs (L × δ 4 × 4 and b/a × c/a 3 × 3), about 9 min on 2 cores",
 }
 """The grids of ``--atlas-grid`` (``celtstone.atlas.target.ATLAS_GRIDS``, tested equal)
 in words, so that ``--help`` imports no atlas."""
