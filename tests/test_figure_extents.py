@@ -17,7 +17,14 @@ from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
 import celtstone as cs
-from celtstone.plotting import plot_energy_budget, plot_run, plot_spin_comparison, plot_threshold
+from celtstone.atlas.target import FINE_ATLAS
+from celtstone.plotting import (
+    plot_energy_budget,
+    plot_run,
+    plot_spin_comparison,
+    plot_threshold,
+    plot_verdict_maps,
+)
 from celtstone.plotting.fit import FitPanel, plot_fit
 from celtstone.plotting.friction import friction_law_figure
 from celtstone.plotting.maps import plot_field_map
@@ -88,6 +95,10 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
         model="sliding",
         t_end=0.2,
     ).run()
+    long_slice = max(FINE_ATLAS.slices, key=lambda s: len(s.words()))
+    verdicts = ["yes", "partly", "no"] * (len(long_slice.x_values) * len(long_slice.y_values))
+    cells = len(long_slice.x_values) * len(long_slice.y_values)
+    findings = ("period", "energy_order", "energy_decrease", "threshold", "long_run", "all five")
     stability = cs.spin_stability(cs.load_body("kane_levinson_1982"), np.linspace(-10, 10, 21))
     return {
         "fig2": plot_spin_comparison(
@@ -117,6 +128,14 @@ def _figures(runs: list[xr.Dataset]) -> dict[str, Figure]:
             "rolling_resistance, damping, omega3 free, sliding model, 3 starts",
         ),
         "friction": friction_law_figure(),
+        "atlas": plot_verdict_maps(
+            list(long_slice.x_values),
+            list(long_slice.y_values),
+            {name: verdicts[:cells] for name in findings},
+            "b/a",
+            "c/a",
+            f"Atlas (fine grid), {long_slice.words()}: each finding's verdict",
+        ),
     }
 
 

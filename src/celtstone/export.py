@@ -47,6 +47,7 @@ __all__ = [
     "read_run",
     "read_table",
     "remove_stale_temporaries",
+    "replace_directory",
     "to_csv",
     "write",
     "write_json",
@@ -200,6 +201,29 @@ def remove_stale_temporaries(target: str | Path) -> list[Path]:
             continue  # not ours to force; left as it is
         removed.append(Path(entry.path))
     return removed
+
+
+def replace_directory(source: Path, target: Path) -> None:
+    """Move the directory ``source`` to ``target`` whole (the same file system): an
+    earlier ``target`` is moved aside first and removed after, never mixed with the new
+    one's files.
+
+    Raises
+    ------
+    OutputError
+        if a move fails (``target`` is then the earlier one, or absent if it had none).
+    """
+    aside = target.with_name(f".{target.name}.{os.getpid()}.aside.part")
+    try:
+        if os.path.lexists(target):
+            os.rename(target, aside)
+        os.rename(source, target)
+    except OSError as error:
+        if os.path.lexists(aside) and not os.path.lexists(target):
+            os.rename(aside, target)
+        raise output_error(target, error) from error
+    finally:
+        shutil.rmtree(aside, ignore_errors=True)
 
 
 def make_temporary_directory(target: str | Path) -> Path:

@@ -38,7 +38,12 @@ import numpy as np
 from celtstone.atlas.family import MaterialPair, StoneDesign
 from celtstone.bodies import Body, Ellipsoid
 from celtstone.errors import FrictionBoundWarning, ParameterError
-from celtstone.export import make_temporary_directory, output_error, write_json
+from celtstone.export import (
+    make_temporary_directory,
+    output_error,
+    replace_directory,
+    write_json,
+)
 from celtstone.integrate import simulate
 from celtstone.models import Model
 from celtstone.reproduce.cases import ENERGY_MONOTONE_TOLERANCE, case_name, summarise
@@ -591,17 +596,14 @@ def write_atlas(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = Fals
     # text as variable-length strings, which Zarr v3 specifies (fixed-width ones it warns of)
     dataset = dataset.assign({name: dataset[name].astype(object) for name in text})
     temporary = make_temporary_directory(target)
-    aside = target.with_name(f".{target.name}.{os.getpid()}.aside.part")
     try:
-        dataset.to_zarr(temporary, mode="w", consolidated=False, zarr_format=3)
-        if os.path.lexists(target):
-            os.rename(target, aside)
-        os.rename(temporary, target)
-    except OSError as error:
-        raise output_error(target, error) from error
+        try:
+            dataset.to_zarr(temporary, mode="w", consolidated=False, zarr_format=3)
+        except OSError as error:
+            raise output_error(target, error) from error
+        replace_directory(temporary, target)
     finally:
         shutil.rmtree(temporary, ignore_errors=True)
-        shutil.rmtree(aside, ignore_errors=True)
     return target
 
 

@@ -25,6 +25,13 @@ CONTACTS: dict[str, tuple[str, Callable[[str], Study]]] = {
 }
 """The contacts a reproduction can run: words for the help, and the study of a body."""
 
+ATLAS_GRID_WORDS = {
+    "coarse": "4 designs (L = 0.1, 0.2 m × δ = 2, 4°), about 1.5 min on 2 cores",
+    "fine": "25 designs (L × δ 4 × 4 and b/a × c/a 3 × 3), about 9 min on 2 cores",
+}
+"""The grids of ``--atlas-grid`` (``celtstone.atlas.target.ATLAS_GRIDS``, tested equal)
+in words, so that ``--help`` imports no atlas."""
+
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone reproduce``."""
@@ -33,7 +40,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         nargs="*",
         default=["all"],
         metavar="TARGET",
-        help=f"one or more of {', '.join(TARGETS)}, all (default: all)",
+        help=f"one or more of {', '.join(TARGETS)}, atlas (the paper's findings over a "
+        "family of stones, once for all bodies), all (default: all)",
     )
     parser.add_argument("--out", default="results", help="output directory (default: results)")
     parser.add_argument(
@@ -53,6 +61,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         + "; all: both, side by side in the report (default: all)",
     )
     parser.add_argument(
+        "--atlas-grid",
+        choices=ATLAS_GRID_WORDS,
+        default="coarse",
+        help="the atlas's designs and runs: "
+        + "; ".join(f"{name}: {words}" for name, words in ATLAS_GRID_WORDS.items())
+        + " (default: coarse)",
+    )
+    parser.add_argument(
         "--quick",
         action="store_true",
         help="shortened runs and a 6-point f grid: a smoke test, not the reproduction",
@@ -62,6 +78,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Run the targets; print where the report is."""
+    from celtstone.atlas.target import AtlasTarget, atlas_grid
     from celtstone.reproduce.targets import reproduce
 
     bodies = args.body or [study.body for study in STUDIES]
@@ -72,6 +89,7 @@ def handle(args: argparse.Namespace) -> int:
     if args.quick:
         studies = [reduced(study) for study in studies]
     show = not args.no_progress and sys.stderr.isatty()
-    report = reproduce(args.targets, Path(args.out), studies, progress=show)
+    atlas = AtlasTarget(atlas_grid(args.atlas_grid), quick=args.quick)
+    report = reproduce(args.targets, Path(args.out), studies, progress=show, atlas=atlas)
     print(f"report: {report}")
     return 0

@@ -5,6 +5,7 @@ No pyplot and no global backend: every function returns a
 whole or not at all.
 """
 
+from celtstone.plotting.atlas import plot_verdict_maps as plot_verdict_maps
 from celtstone.plotting.compare import plot_energy_budget as plot_energy_budget
 from celtstone.plotting.compare import plot_spin_comparison as plot_spin_comparison
 from celtstone.plotting.fit import FitPanel as FitPanel
@@ -23,6 +24,7 @@ __all__ = [
     "plot_run",
     "plot_spin_comparison",
     "plot_threshold",
+    "plot_verdict_maps",
     "save_figure",
     "save_figure_formats",
 ]

@@ -11,6 +11,7 @@ from typing import Any
 from celtstone._about import version
 from celtstone.bodies import load_body
 from celtstone.export import atomic_path
+from celtstone.reproduce.atlas_report import atlas_section
 from celtstone.reproduce.findings import (
     FINDINGS,
     JUDGES,
@@ -400,6 +401,7 @@ def render_report(out: Path) -> str:
         lambda r: [f for f in r["figures"] if "_energy" not in f],
     )
     lines += _comparison(results)
+    lines += atlas_section(results.get("atlas", {}).get("atlas"))
     lines.append(_WHY.format(braking=_braking_table(fig2) if fig2 else "(run fig2 for the table)"))
     return "\n".join(lines)
 

@@ -4,19 +4,25 @@ package docstring)."""
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import secrets
 import shutil
 import signal
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from celtstone._about import version
 from celtstone.errors import OutputError, ParameterError
-from celtstone.export import make_temporary_directory, output_error, write_json
+from celtstone.export import (
+    make_temporary_directory,
+    output_error,
+    replace_directory,
+    write_json,
+)
 from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3
 from celtstone.reproduce.progress import Progress, progress_bar
@@ -26,17 +32,37 @@ from celtstone.reproduce.threshold import threshold
 
 _RUNNERS = {"fig2": figure2, "fig3": figure3, "threshold": threshold}
 _STAGING = "reproduce"  # staging directories out/.reproduce.<pid>.<random>.part
+ATLAS_TARGET = "atlas"
+"""The target of the whole family (issue 15): run once, not per study, by the runner
+``celtstone.atlas.target.AtlasTarget`` that the caller passes (the atlas builds on this
+package, so this package cannot import it)."""
+_STORES = ("atlas.zarr",)  # directories a target writes, moved into ``out`` whole
 
 
-def _targets(names: Sequence[str]) -> list[str]:
+class FamilyTarget(Protocol):
+    """A target run once for a reproduction (the atlas): writes its files into the
+    staging directory it is given and returns its numbers (with ``target`` and ``key``)."""
+
+    def runs(self) -> int: ...
+
+    def __call__(self, out: Path, progress: Progress) -> dict[str, Any]: ...
+
+
+def _targets(names: Sequence[str], atlas: FamilyTarget | None) -> list[str]:
+    """The targets asked for; ``all`` is every study's target and the atlas if given."""
+    known = (*TARGETS, ATLAS_TARGET)
     chosen: list[str] = []
     for name in names:
         if name == "all":
-            chosen.extend(TARGETS)
-        elif name in TARGETS:
+            chosen.extend(TARGETS if atlas is None else known)
+        elif name in known:
             chosen.append(name)
         else:
-            raise ParameterError("target", name, "one of: " + ", ".join((*TARGETS, "all")))
+            raise ParameterError("target", name, "one of: " + ", ".join((*known, "all")))
+    if ATLAS_TARGET in chosen and atlas is None:
+        raise ParameterError(
+            "atlas", None, "an atlas target, celtstone.atlas.target.AtlasTarget(grid)"
+        )
     return list(dict.fromkeys(chosen))
 
 
@@ -95,9 +121,20 @@ def _signals_deferred() -> Iterator[None]:
 
 
 def _move_files(staging: Path, out: Path, last: Path) -> None:
-    """Every file of ``staging`` to the same place in ``out``, ``last`` last."""
-    files = [*sorted(p for p in staging.rglob("*") if p.is_file() and p != last), last]
+    """Every file of ``staging`` to the same place in ``out``, ``last`` last; a store
+    (``_STORES``, a directory) moves whole."""
+    stores = [staging / name for name in _STORES if (staging / name).is_dir()]
+    files = [
+        *sorted(
+            p
+            for p in staging.rglob("*")
+            if p.is_file() and p != last and not any(p.is_relative_to(s) for s in stores)
+        ),
+        last,
+    ]
     with _signals_deferred():
+        for store in stores:
+            replace_directory(store, out / store.relative_to(staging))
         for source in files:
             destination = out / source.relative_to(staging)
             try:
@@ -108,14 +145,18 @@ def _move_files(staging: Path, out: Path, last: Path) -> None:
 
 
 def _run_target(
-    target: str, study: Study, out: Path, progress: Progress, identity: dict[str, Any]
+    run: Callable[[Path, Progress], dict[str, Any]],
+    out: Path,
+    progress: Progress,
+    identity: dict[str, Any],
 ) -> None:
-    """One target of one study, staged: its files reach ``out`` only once it is done."""
+    """One target, staged: its files reach ``out`` only once it is done."""
     staging = make_temporary_directory(out / _STAGING)
     try:
-        result = _RUNNERS[target](study, staging, progress)
-        numbers = staging / "data" / f"{result['target']}_{study.key}.json"
+        result = run(staging, progress)
+        numbers = staging / "data" / f"{result['target']}_{result['key']}.json"
         stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
+        numbers.parent.mkdir(exist_ok=True)
         write_json(stamped, numbers, overwrite=True)
         _move_files(staging, out, numbers)
     except OutputError as error:  # name the file where it was going, not the staging area
@@ -134,8 +175,11 @@ def reproduce(
     out: str | Path = "results",
     studies: Sequence[Study] = STUDIES + REALISTIC_STUDIES,
     progress: bool = True,
+    atlas: FamilyTarget | None = None,
 ) -> Path:
-    """Run ``targets`` (``fig2``, ``fig3``, ``threshold`` or ``all``) for each study.
+    """Run ``targets`` (``fig2``, ``fig3``, ``threshold``, ``atlas`` or ``all``) for each
+    study; ``atlas`` (``celtstone.atlas.target.AtlasTarget``) runs once, after them, and
+    ``all`` includes it when it is given.
 
     Writes figures, tables and NetCDF runs into ``out`` and rebuilds
     ``out/report.md`` from every target's numbers found there; returns its path.
@@ -143,7 +187,7 @@ def reproduce(
     interrupted run leaves the finished targets and nothing of the others. A
     target's files from an earlier run are replaced by the new ones.
     """
-    chosen = _targets(targets)
+    chosen = _targets(targets, atlas)
     directory = Path(out)
     if directory.exists() and not directory.is_dir():
         raise ParameterError("out", str(out), "a directory")
@@ -152,12 +196,18 @@ def reproduce(
     total = sum(
         _runs(study, target) for study in studies for target in chosen if target in study.targets
     )
+    if atlas is not None and ATLAS_TARGET in chosen:
+        total += atlas.runs()
     bar = progress_bar(total, "reproduce", progress)
     try:
         for target in chosen:
+            if target == ATLAS_TARGET and atlas is not None:
+                _run_target(atlas, directory, bar, identity)
+                continue
             for study in studies:
                 if target in study.targets:  # a study may run some targets only
-                    _run_target(target, study, directory, bar, identity)
+                    run = functools.partial(_RUNNERS[target], study)
+                    _run_target(run, directory, bar, identity)
     finally:
         bar.close()
     return write_report(directory)

@@ -1,0 +1,140 @@
+"""``celtstone reproduce atlas`` (issue 15, item 3): its files whole, the report's section 7
+read from them, the CLI's ``--atlas-grid``, nothing left by an interruption.
+
+Oracle: the counts of the report are recomputed from the store ``atlas.zarr`` (the
+verdicts ``compute_atlas`` wrote), not from the JSON the report reads.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+import xarray as xr
+
+from celtstone.atlas import fields
+from celtstone.atlas.target import ATLAS_GRIDS, AtlasGrid, AtlasSlice, AtlasTarget
+from celtstone.cli.main import main
+from celtstone.cli.reproduce import ATLAS_GRID_WORDS
+from celtstone.errors import ParameterError
+from celtstone.export import read_table
+from celtstone.reproduce import reproduce
+from celtstone.reproduce.atlas_report import atlas_counts
+from celtstone.reproduce.findings import FINDINGS
+from tests.test_atlas_fields import SHORT  # two designs: 3 s runs, a 4-point f grid
+
+TINY = AtlasGrid(
+    "tiny",
+    (
+        AtlasSlice(
+            "tiny",
+            "length",
+            (0.1,),
+            "misalignment",
+            (2.0, 4.0),
+            (("width_ratio", 0.25), ("height_ratio", 0.15), ("mass_fraction", 0.5)),
+        ),
+    ),
+    SHORT,
+)
+
+
+@pytest.fixture(scope="module")
+def atlas_out(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("atlas")
+    reproduce(["atlas"], out, [], progress=False, atlas=AtlasTarget(TINY))
+    return out
+
+
+def test_atlas_writes_its_files_whole(atlas_out: Path) -> None:
+    names = {p.name for p in atlas_out.iterdir()}
+    assert {"atlas.zarr", "atlas_tiny.csv", "atlas_tiny.png", "atlas_tiny.svg"} <= names
+    assert {"data", "report.md"} <= names
+    assert not list(atlas_out.rglob("*.part"))
+    dataset = xr.open_zarr(atlas_out / "atlas.zarr", consolidated=False)
+    assert dataset.sizes["design"] == 2
+    assert dataset.attrs["atlas_grid"] == "tiny"
+    table, header = read_table(atlas_out / "atlas_tiny.csv")
+    assert len(table) == 2 and header["atlas_grid"] == "tiny"
+    assert header["slice"].startswith("L [m] = 0.1 × δ [deg] = 2, 4")
+    for finding in FINDINGS:  # the CSV's verdicts are the store's
+        assert table[finding].tolist() == dataset[finding].values.tolist()
+    assert table["misalignment"].tolist() == [2.0, 4.0]
+    numbers = json.loads((atlas_out / "data" / "atlas_atlas.json").read_text())
+    assert numbers["run"]["targets"] == ["atlas"]
+
+
+def test_report_counts_are_the_stores(atlas_out: Path) -> None:
+    dataset = xr.open_zarr(atlas_out / "atlas.zarr", consolidated=False)
+    report = (atlas_out / "report.md").read_text(encoding="utf-8")
+    section = report[report.index("## 7. For which stones") :]
+    holds = int(dataset["all_findings_hold"].values.sum())
+    assert f'All five findings hold ("yes") for {holds} of 2 designs.' in section
+    assert "Atlas grid **tiny**" in section
+    for finding in FINDINGS:
+        values = dataset[finding].values.tolist()
+        row = f"| {finding} | {values.count('yes')} | {values.count('partly')} | "
+        assert row + f"{values.count('no')} |" in section
+    designs = [{"verdicts": {f: dataset[f].values[k] for f in FINDINGS}} for k in range(2)]
+    counts = atlas_counts(designs)
+    both = [all(dataset[f].values[k] == "yes" for f in ("period", "threshold")) for k in range(2)]
+    assert counts["pairs"]["period+threshold"] == sum(both)
+    if holds == 0:
+        assert "No design of this grid satisfies all five findings" in section
+    assert "](atlas_tiny.png)" in section
+
+
+def test_atlas_counts_of_hand_made_verdicts() -> None:
+    yes = dict.fromkeys(FINDINGS, "yes")
+    designs = [
+        {"verdicts": yes},
+        {"verdicts": {**yes, "long_run": "no"}},
+        {"verdicts": {**yes, "period": "partly", "long_run": "partly"}},
+    ]
+    counts = atlas_counts(designs)
+    assert counts["all_five"] == 1
+    assert counts["verdicts"]["long_run"] == {"yes": 1, "partly": 1, "no": 1}
+    assert counts["pairs"]["period+long_run"] == 1
+    assert counts["pairs"]["period+threshold"] == 2
+    assert counts["pairs"]["energy_order+threshold"] == 3
+
+
+def test_cli_grids_and_a_bad_one(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert set(ATLAS_GRID_WORDS) == set(ATLAS_GRIDS)
+    for name, grid in ATLAS_GRIDS.items():
+        assert f"{len(grid.designs())} designs" in ATLAS_GRID_WORDS[name]
+    status = main(["reproduce", "atlas", "--atlas-grid", "huge", "--out", str(tmp_path)])
+    assert status == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and "--atlas-grid" in error and "huge" in error
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ParameterError, match="atlas"):
+        reproduce(["atlas"], tmp_path, [], progress=False)  # no atlas target given
+
+
+def test_interrupted_atlas_leaves_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C in the atlas's threshold sweeps (after its Figure 2 sweeps): exit 130, no
+    file of it, no staging directory; an earlier store of the same name is untouched."""
+    old = tmp_path / "atlas.zarr"
+    old.mkdir()
+    (old / "zarr.json").write_text("an earlier atlas", encoding="utf-8")
+
+    def interrupted(*args: object, **kwargs: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fields, "_threshold", interrupted)
+    argv = ["reproduce", "atlas", "--atlas-grid", "coarse", "--quick", "--no-progress"]
+    assert main([*argv, "--out", str(tmp_path)]) == 130
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["atlas.zarr"]
+    assert (old / "zarr.json").read_text(encoding="utf-8") == "an earlier atlas"
+    assert not list(tmp_path.rglob("*.part"))
+
+
+def test_slices_refuse_what_is_no_design_parameter() -> None:
+    with pytest.raises(ParameterError, match="slice"):
+        AtlasSlice("x", "length", (0.1,), "colour", (1.0,))
+    with pytest.raises(ParameterError, match="slice"):
+        AtlasSlice("x", "length", (0.1,), "length", (0.2,))
+    assert re.fullmatch(r"[a-z_]+", ATLAS_GRIDS["coarse"].slices[0].name)
