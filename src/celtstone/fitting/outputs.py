@@ -10,10 +10,8 @@ directory given as ``--out`` is never touched.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
-import secrets
 import shutil
 from pathlib import Path
 
@@ -21,7 +19,7 @@ from celtstone.errors import ParameterError
 from celtstone.export import (
     OVERWRITE_HINT,
     make_temporary_directory,
-    output_error,
+    replace_directory,
     write,
     write_json,
 )
@@ -105,19 +103,8 @@ def write_fit(result: FitResult, out: str | Path, *, overwrite: bool = False) ->
 
 
 def _replace(staging: Path, target: Path, overwrite: bool) -> None:
-    """Rename ``staging`` to ``target``; an existing fit directory (checked again) is moved
-    aside first and removed after."""
-    aside = None
-    try:
-        if os.path.lexists(target):
-            check_fit_target(target, overwrite=overwrite)
-            aside = target.with_name(f".{target.name}.{os.getpid()}.{secrets.token_hex(4)}.part")
-            os.rename(target, aside)
-        os.rename(staging, target)
-    except OSError as error:
-        if aside is not None and not os.path.lexists(target):
-            with contextlib.suppress(OSError):
-                os.rename(aside, target)  # put the old fit back
-        raise output_error(target, error) from error
-    if aside is not None:
-        shutil.rmtree(aside, ignore_errors=True)
+    """Rename ``staging`` to ``target`` (``export.replace_directory``); an existing
+    directory is checked again to be a fit's before it is replaced."""
+    if os.path.lexists(target):
+        check_fit_target(target, overwrite=overwrite)
+    replace_directory(staging, target)
