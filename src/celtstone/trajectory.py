@@ -362,14 +362,15 @@ class Trajectory:
         if attrs["model"] == "rolling" and attrs["damping"] == 0.0:
             drift = float(np.max(np.abs(energy - energy0)) / abs(energy0))
         balance = float(np.max(np.abs(energy + ds.values("dissipated_work") - energy0)))
+        reversals = [float(t) for t in self.reversal_times()]  # averaged once
         summary = {
             "model": attrs["model"],
             "body": attrs["body"],
             "body_shape": attrs.get("body_shape", ""),
             "t_end": float(attrs["t_end"]),
             "t_stop": float(self.t_stop),
-            "first_reversal_time": self.first_reversal_time,
-            "reversal_times": [float(t) for t in self.reversal_times()],
+            "first_reversal_time": reversals[0] if reversals else None,
+            "reversal_times": reversals,
             "reversal_band": self.reversal_band,
             "reversal_window": self.reversal_window,
             "first_sign_change_time": self.first_sign_change_time,
