@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from celtstone.solvers._linalg import lu_factor, lu_solve
+from celtstone.solvers._linalg import block_factor, block_solve, lu_factor, lu_solve
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.complex128])
@@ -30,3 +30,34 @@ def test_solves_like_numpy(dtype: type, size: int) -> None:
 def test_singular_matrix_is_reported() -> None:
     matrix = np.array([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 0.0]])
     assert not lu_factor(matrix, np.zeros(3, dtype=np.int64))
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
+@pytest.mark.parametrize("split", [0, 1, 9, 16])
+def test_block_triangular_systems_solve_like_numpy(dtype: type, split: int) -> None:
+    """[[A, 0], [C, B]] factored block by block: the solution of the whole system; the
+    block above the diagonal is never read (it holds garbage here)."""
+    rng = np.random.default_rng(split)
+    size = 16
+    matrix = rng.normal(size=(size, size)).astype(dtype) + 4.0 * np.eye(size)
+    if dtype is np.complex128:
+        matrix += 1j * rng.normal(size=(size, size))
+    matrix[:split, split:] = 0.0
+    right = rng.normal(size=size).astype(dtype)
+    factored, pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
+    factored[:split, split:] = np.nan
+    assert block_factor(factored, pivots, split)
+    for _ in range(2):
+        solution = right.copy()
+        block_solve(factored, pivots, solution, split)
+        expected = np.linalg.solve(matrix, right)
+        assert np.allclose(solution, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+
+
+def test_a_singular_diagonal_block_is_reported() -> None:
+    matrix = np.eye(4)
+    matrix[1, 1] = 0.0
+    assert not block_factor(matrix.copy(), np.zeros(4, dtype=np.int64), 2)
+    matrix = np.eye(4)
+    matrix[3, 3] = 0.0
+    assert not block_factor(matrix.copy(), np.zeros(4, dtype=np.int64), 2)

@@ -264,6 +264,12 @@ Y_QUAT = 9
 Y_POSITION = 13
 Y_WORK = 15
 N_STATE = 16
+# The dynamics are the first N_DYNAMIC components (n, ω, V1): their rates never read the
+# driven ones after them (attitude, position, work), and no rate reads the components from
+# Y_POSITION on (position, work). The Radau Jacobian and its LU use this structure
+# (``solvers._radau``); tests/test_kernel_structure.py checks it for every model.
+N_DYNAMIC = Y_QUAT
+N_READ = Y_POSITION
 
 # status codes returned by the right-hand side
 RHS_OK = 0

@@ -5,6 +5,13 @@ factors many times per factorisation: the diagonal holds the reciprocal pivots
 1 / U[k, k] (a multiplication in every solve instead of a division), and the solves
 run column by column, so that the updates of one column are independent of each
 other instead of forming one long chain of dependent multiply-adds.
+
+A matrix that is block lower triangular, [[A, 0], [C, B]] with A of size ``split``, is
+factored block by block (:func:`block_factor`, :func:`block_solve`): the LU of A and of B,
+C kept for the forward substitution. This is the Radau iteration matrix of the state, whose
+driven components (attitude, position, work) do not feed back into the dynamics
+(``kernels.layout.N_DYNAMIC``): for 9 + 7 components a third of the work of one 16 × 16 LU.
+``split`` = 0 is the plain LU of the whole matrix.
 """
 
 from __future__ import annotations
@@ -13,11 +20,13 @@ from celtstone.kernels._jit import kernel
 
 
 @kernel
-def lu_factor(matrix, pivots):
-    """Factor ``matrix`` in place: L unit lower below the diagonal, U strictly above
-    it, 1 / U[k, k] on it. Return False if singular."""
-    size = matrix.shape[0]
-    for k in range(size):
+def lu_factor(matrix, pivots, first=0, last=-1):
+    """Factor the diagonal block ``matrix[first:last, first:last]`` in place (the whole
+    matrix by default): L unit lower below the diagonal, U strictly above it, 1 / U[k, k]
+    on it; ``pivots[k]`` the row exchanged with row k (absolute indices). Return False if
+    singular. Entries outside the block are neither read nor written."""
+    size = matrix.shape[0] if last < 0 else last
+    for k in range(first, size):
         best = k
         best_value = abs(matrix[k, k])
         for i in range(k + 1, size):
@@ -28,7 +37,7 @@ def lu_factor(matrix, pivots):
         if best_value == 0.0:
             return False
         if best != k:
-            for j in range(size):
+            for j in range(first, size):
                 matrix[k, j], matrix[best, j] = matrix[best, j], matrix[k, j]
         inverse = 1.0 / matrix[k, k]
         matrix[k, k] = inverse
@@ -42,20 +51,46 @@ def lu_factor(matrix, pivots):
 
 
 @kernel
-def lu_solve(factored, pivots, rhs):
-    """Solve in place with the factors of :func:`lu_factor`; ``rhs`` is overwritten."""
-    size = factored.shape[0]
-    for k in range(size):
+def lu_solve(factored, pivots, rhs, first=0, last=-1):
+    """Solve in place with the factors of :func:`lu_factor` of the block [first, last);
+    ``rhs[first:last]`` is overwritten, the rest of ``rhs`` left alone."""
+    size = factored.shape[0] if last < 0 else last
+    for k in range(first, size):
         p = pivots[k]
         if p != k:
             rhs[k], rhs[p] = rhs[p], rhs[k]
-    for j in range(size):  # L y = P b
+    for j in range(first, size):  # L y = P b
         value = rhs[j]
         for i in range(j + 1, size):
             rhs[i] -= factored[i, j] * value
-    for back in range(size):  # U x = y
+    for back in range(size - first):  # U x = y
         j = size - 1 - back
         value = rhs[j] * factored[j, j]
         rhs[j] = value
-        for i in range(j):
+        for i in range(first, j):
             rhs[i] -= factored[i, j] * value
+
+
+@kernel
+def block_factor(matrix, pivots, split):
+    """Factor the block lower-triangular ``matrix`` [[A, 0], [C, B]] (A: split × split)
+    in place: the LU of A and of B, C left as it is; the block [0:split, split:] is never
+    read. Return False if A or B is singular."""
+    if split > 0 and not lu_factor(matrix, pivots, 0, split):
+        return False
+    return lu_factor(matrix, pivots, split, matrix.shape[0])
+
+
+@kernel
+def block_solve(factored, pivots, rhs, split):
+    """Solve [[A, 0], [C, B]] x = rhs in place with the factors of :func:`block_factor`:
+    x1 = A⁻¹ b1, then x2 = B⁻¹ (b2 − C x1)."""
+    size = factored.shape[0]
+    if split > 0:
+        lu_solve(factored, pivots, rhs, 0, split)
+        for i in range(split, size):
+            total = rhs[i]
+            for j in range(split):
+                total -= factored[i, j] * rhs[j]
+            rhs[i] = total
+    lu_solve(factored, pivots, rhs, split, size)

@@ -22,9 +22,10 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import N_DYNAMIC, N_READ
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._linalg import lu_factor, lu_solve
+from celtstone.solvers._linalg import block_factor, block_solve
 from celtstone.solvers._step_control import rms_scaled, smallest_step
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
@@ -69,6 +70,7 @@ MEMORY = np.dtype(  # records, so that fields read as attributes in Python too
                 ("has_dense", "b1"),  # a collocation polynomial of an accepted step exists
                 ("t_previous", "f8"),  # start of the last accepted step [s]
                 ("h_previous", "f8"),  # its size [s]
+                ("split", "i8"),  # the Jacobian is block lower triangular after this row (0: not)
             ],
             align=True,
         ),
@@ -130,19 +132,27 @@ def start(model, params, t, y, f, controls, work, stats):
     """Newton's tolerance from rtol (as SciPy's) and the Jacobian at the first state."""
     memory = work.memory[0]
     memory.newton_tolerance = max(10.0 * EPS / controls.rtol, min(0.03, math.sqrt(controls.rtol)))
-    jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
+    memory.split = jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
     stats[STAT_NJEV] += 1
-    stats[STAT_NFEV] += y.shape[0]
+    stats[STAT_NFEV] += N_READ
     memory.current_jacobian = True
 
 
 @kernel
 def jacobian(model, params, t, y, f, out, scratch, column):
-    """Forward-difference Jacobian df/dy into ``out`` (n, n); N_STATE evaluations."""
+    """Forward-difference Jacobian df/dy into ``out`` (n, n); ``N_READ`` evaluations.
+
+    The columns from ``N_READ`` on are zero (no rate reads those components). Returns the
+    block split for the LU: ``N_DYNAMIC`` when the dynamics' rows are zero in the driven
+    columns, as ``kernels.layout`` states, else 0 (a plain LU of the whole matrix).
+    """
     n = y.shape[0]
     for j in range(n):
         scratch[j] = y[j]
-    for j in range(n):
+    for j in range(N_READ, n):
+        for i in range(n):
+            out[i, j] = 0.0
+    for j in range(N_READ):
         step = SQRT_EPS * max(abs(y[j]), 1e-5)
         scratch[j] = y[j] + step
         step = scratch[j] - y[j]
@@ -150,11 +160,17 @@ def jacobian(model, params, t, y, f, out, scratch, column):
         for i in range(n):
             out[i, j] = (column[i] - f[i]) / step
         scratch[j] = y[j]
+    for j in range(N_DYNAMIC, N_READ):
+        for i in range(N_DYNAMIC):
+            if out[i, j] != 0.0:
+                return 0
+    return N_DYNAMIC
 
 
 @inlined
-def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):
-    """LU of MU_REAL/h I - J and MU_COMPLEX/h I - J; False if either is singular."""
+def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex, split):
+    """LU of MU_REAL/h I - J and MU_COMPLEX/h I - J, block lower triangular after row
+    ``split`` (``_linalg.block_factor``); False if either is singular."""
     n = jac.shape[0]
     real_shift = MU_REAL / h
     complex_shift = MU_COMPLEX / h
@@ -164,8 +180,8 @@ def factor_systems(h, jac, lu_real, pivots_real, lu_complex, pivots_complex):
             lu_complex[i, j] = -jac[i, j]
         lu_real[i, i] += real_shift
         lu_complex[i, i] += complex_shift
-    ok_real = lu_factor(lu_real, pivots_real)
-    ok_complex = lu_factor(lu_complex, pivots_complex)
+    ok_real = block_factor(lu_real, pivots_real, split)
+    ok_complex = block_factor(lu_complex, pivots_complex, split)
     return ok_real and ok_complex
 
 
@@ -183,6 +199,7 @@ def solve_collocation(
     pivots_real,
     lu_complex,
     pivots_complex,
+    split,
     work_w,
     work_f,
     scratch,
@@ -226,8 +243,8 @@ def solve_collocation(
             complex_rhs[j] = complex(fc_re, fc_im) - complex_shift * complex(
                 work_w[1, j], work_w[2, j]
             )
-        lu_solve(lu_real, pivots_real, real_rhs)
-        lu_solve(lu_complex, pivots_complex, complex_rhs)
+        block_solve(lu_real, pivots_real, real_rhs, split)
+        block_solve(lu_complex, pivots_complex, complex_rhs, split)
         total = 0.0
         for j in range(n):
             total += (real_rhs[j] / scale[j]) ** 2
@@ -291,6 +308,7 @@ def newton(model, params, t, y, f, h, controls, work, stats):
                 work.pivots_real,
                 work.lu_complex,
                 work.pivots_complex,
+                memory.split,
             )
             stats[STAT_NLU] += 2
             memory.lu_valid = factored
@@ -310,6 +328,7 @@ def newton(model, params, t, y, f, h, controls, work, stats):
             work.pivots_real,
             work.lu_complex,
             work.pivots_complex,
+            memory.split,
             work.transformed,
             work.stage_rates,
             work.scratch,
@@ -320,9 +339,11 @@ def newton(model, params, t, y, f, h, controls, work, stats):
         if not converged:
             if memory.current_jacobian:
                 break
-            jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
+            memory.split = jacobian(
+                model, params, t, y, f, work.jacobian, work.scratch, work.column
+            )
             stats[STAT_NJEV] += 1
-            stats[STAT_NFEV] += y.shape[0]
+            stats[STAT_NFEV] += N_READ
             memory.current_jacobian = True
             memory.lu_valid = False
             predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
@@ -346,7 +367,8 @@ def error_norm(model, params, t, y, f, y_new, h, rejected, controls, work, stats
             E[0] * collocation[0, j] + E[1] * collocation[1, j] + E[2] * collocation[2, j]
         ) / h
         estimate[j] = f[j] + correction[j]
-    lu_solve(work.lu_real, work.pivots_real, estimate)
+    split = work.memory[0].split
+    block_solve(work.lu_real, work.pivots_real, estimate, split)
     norm = rms_scaled(estimate, y, y_new, rtol, atol)
     if rejected and norm > 1.0:
         for j in range(n):
@@ -355,7 +377,7 @@ def error_norm(model, params, t, y, f, y_new, h, rejected, controls, work, stats
         stats[STAT_NFEV] += 1
         for j in range(n):
             estimate[j] = work.point[j] + correction[j]
-        lu_solve(work.lu_real, work.pivots_real, estimate)
+        block_solve(work.lu_real, work.pivots_real, estimate, split)
         norm = rms_scaled(estimate, y, y_new, rtol, atol)
     return norm
 
@@ -457,9 +479,11 @@ def accept(
     rhs(model, t + h_taken, y_new, params, f_new)
     stats[STAT_NFEV] += 1
     if recompute_jacobian:
-        jacobian(model, params, t + h_taken, y_new, f_new, work.jacobian, work.scratch, work.column)
+        memory.split = jacobian(
+            model, params, t + h_taken, y_new, f_new, work.jacobian, work.scratch, work.column
+        )
         stats[STAT_NJEV] += 1
-        stats[STAT_NFEV] += y_new.shape[0]
+        stats[STAT_NFEV] += N_READ
         memory.current_jacobian = True
     else:
         memory.current_jacobian = False
