@@ -7,6 +7,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
+import importlib.util
+
 import celtstone
 
 project = "celtstone"
@@ -17,13 +19,14 @@ release = celtstone.version()
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
     "celtstone_docs",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples"]
+exclude_patterns = ["_build", "examples", "_inventories"]
 html_theme = "pydata_sphinx_theme"
 html_title = f"celtstone {release}"
 myst_heading_anchors = 3
@@ -33,6 +36,24 @@ autodoc_typehints = "none"
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 nitpicky = False
+
+# Links to Python, NumPy, SciPy, xarray and matplotlib from inventories shipped in
+# docs/_inventories (written by its make.py from a declared list of names): the build
+# machines have no network, so nothing is fetched (decisions §33).
+_spec = importlib.util.spec_from_file_location(
+    "inventories", Path(__file__).parent / "_inventories" / "make.py"
+)
+assert _spec is not None and _spec.loader is not None
+_inventories = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_inventories)
+intersphinx_mapping = {
+    key: (project.base_url, f"_inventories/{key}.inv")
+    for key, project in _inventories.PROJECTS.items()
+}
+# parameter and return types as links (numpy.ndarray, xarray.Dataset, Body, ...); words
+# of the type phrases themselves are not names
+numpydoc_xref_param_type = True
+numpydoc_xref_ignore = {"of", "or", "to", "and", "optional", "default", "shape", "Self"}
 
 # The gallery: docs/examples/plot_*.py run at build time, their figures scraped
 # (celtstone's plotting functions return Figure objects outside pyplot: the scraper
