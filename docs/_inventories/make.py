@@ -33,79 +33,64 @@ def _generated(prefix: str, *names_roles: tuple[str, str]) -> tuple[tuple[str, s
     return tuple((name, role, f"{prefix}{name}.html#$") for name, role in names_roles)
 
 
+_PYTHON = (
+    ("None", "py:data", "library/constants.html#$"),
+    ("True", "py:data", "library/constants.html#$"),
+    ("False", "py:data", "library/constants.html#$"),
+    ("bltin-boolean-values", "std:label", "library/stdtypes.html#$"),
+    ("bool", "py:class", "library/functions.html#$"),
+    ("int", "py:class", "library/functions.html#$"),
+    ("float", "py:class", "library/functions.html#$"),
+    ("str", "py:class", "library/stdtypes.html#$"),
+    ("list", "py:class", "library/stdtypes.html#$"),
+    ("tuple", "py:class", "library/stdtypes.html#$"),
+    ("dict", "py:class", "library/stdtypes.html#$"),
+    ("callable", "py:function", "library/functions.html#$"),
+    ("pathlib.Path", "py:class", "library/pathlib.html#$"),
+    ("iterable", "std:term", "glossary.html#term-iterable"),
+    ("sequence", "std:term", "glossary.html#term-sequence"),
+    ("mapping", "std:term", "glossary.html#term-mapping"),
+)
+_NUMPY = (
+    *_generated(
+        "reference/generated/",
+        ("numpy.ndarray", "py:class"),
+        ("numpy.record", "py:class"),
+        ("numpy.dtype", "py:class"),
+        ("numpy.linspace", "py:function"),
+    ),
+    ("numpy.inf", "py:data", "reference/constants.html#$"),
+    ("numpy.nan", "py:data", "reference/constants.html#$"),
+    ("array_like", "std:term", "glossary.html#term-array_like"),
+)
+_SCIPY = _generated(
+    "generated/",
+    ("scipy.optimize.least_squares", "py:function"),
+    ("scipy.integrate.solve_ivp", "py:function"),
+    ("scipy.integrate.DOP853", "py:class"),
+    ("scipy.integrate.Radau", "py:class"),
+    ("scipy.integrate.quad", "py:function"),
+)
+_XARRAY = _generated(
+    "generated/",
+    ("xarray.Dataset", "py:class"),
+    ("xarray.DataArray", "py:class"),
+    ("xarray.open_dataset", "py:function"),
+    ("xarray.open_zarr", "py:function"),
+    ("xarray.Dataset.to_netcdf", "py:method"),
+)
+_MATPLOTLIB = _generated(
+    "api/_as_gen/",
+    ("matplotlib.figure.Figure", "py:class"),
+    ("matplotlib.figure.Figure.savefig", "py:method"),
+    ("matplotlib.axes.Axes", "py:class"),
+)
 PROJECTS: dict[str, Project] = {
-    "python": Project(
-        "Python",
-        "https://docs.python.org/3/",
-        (
-            ("None", "py:data", "library/constants.html#$"),
-            ("True", "py:data", "library/constants.html#$"),
-            ("False", "py:data", "library/constants.html#$"),
-            ("bltin-boolean-values", "std:label", "library/stdtypes.html#$"),
-            ("bool", "py:class", "library/functions.html#$"),
-            ("int", "py:class", "library/functions.html#$"),
-            ("float", "py:class", "library/functions.html#$"),
-            ("str", "py:class", "library/stdtypes.html#$"),
-            ("list", "py:class", "library/stdtypes.html#$"),
-            ("tuple", "py:class", "library/stdtypes.html#$"),
-            ("dict", "py:class", "library/stdtypes.html#$"),
-            ("callable", "py:function", "library/functions.html#$"),
-            ("pathlib.Path", "py:class", "library/pathlib.html#$"),
-            ("iterable", "std:term", "glossary.html#term-iterable"),
-            ("sequence", "std:term", "glossary.html#term-sequence"),
-            ("mapping", "std:term", "glossary.html#term-mapping"),
-        ),
-    ),
-    "numpy": Project(
-        "NumPy",
-        "https://numpy.org/doc/stable/",
-        (
-            *_generated(
-                "reference/generated/",
-                ("numpy.ndarray", "py:class"),
-                ("numpy.record", "py:class"),
-                ("numpy.dtype", "py:class"),
-                ("numpy.linspace", "py:function"),
-            ),
-            ("numpy.inf", "py:data", "reference/constants.html#$"),
-            ("numpy.nan", "py:data", "reference/constants.html#$"),
-            ("array_like", "std:term", "glossary.html#term-array_like"),
-        ),
-    ),
-    "scipy": Project(
-        "SciPy",
-        "https://docs.scipy.org/doc/scipy/reference/",
-        _generated(
-            "generated/",
-            ("scipy.optimize.least_squares", "py:function"),
-            ("scipy.integrate.solve_ivp", "py:function"),
-            ("scipy.integrate.DOP853", "py:class"),
-            ("scipy.integrate.Radau", "py:class"),
-            ("scipy.integrate.quad", "py:function"),
-        ),
-    ),
-    "xarray": Project(
-        "xarray",
-        "https://docs.xarray.dev/en/stable/",
-        _generated(
-            "generated/",
-            ("xarray.Dataset", "py:class"),
-            ("xarray.DataArray", "py:class"),
-            ("xarray.open_dataset", "py:function"),
-            ("xarray.open_zarr", "py:function"),
-            ("xarray.Dataset.to_netcdf", "py:method"),
-        ),
-    ),
-    "matplotlib": Project(
-        "Matplotlib",
-        "https://matplotlib.org/stable/",
-        _generated(
-            "api/_as_gen/",
-            ("matplotlib.figure.Figure", "py:class"),
-            ("matplotlib.figure.Figure.savefig", "py:method"),
-            ("matplotlib.axes.Axes", "py:class"),
-        ),
-    ),
+    "python": Project("Python", "https://docs.python.org/3/", _PYTHON),
+    "numpy": Project("NumPy", "https://numpy.org/doc/stable/", _NUMPY),
+    "scipy": Project("SciPy", "https://docs.scipy.org/doc/scipy/reference/", _SCIPY),
+    "xarray": Project("xarray", "https://docs.xarray.dev/en/stable/", _XARRAY),
+    "matplotlib": Project("Matplotlib", "https://matplotlib.org/stable/", _MATPLOTLIB),
 }
 
 

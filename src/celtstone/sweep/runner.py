@@ -357,7 +357,7 @@ class Sweep:
         Parameters
         ----------
         chunk_points : int, optional
-            Points per block of the store.
+            As :meth:`spec`, recorded with the spec.
 
         Returns
         -------
