@@ -66,12 +66,19 @@ def test_the_cli_page_is_every_commands_help(site: Path) -> None:
 
 
 def test_internal_links_resolve(site: Path) -> None:
-    """Every relative href of every page names a file of the site (anchors aside)."""
+    """Every relative href of every page names a file of the site, and its anchor (the
+    guide's links into the decisions and the equations) an id on that page."""
     broken = []
+    pages: dict[Path, str] = {}
     for page in site.rglob("*.html"):
-        for target in re.findall(r'href="([^"#:?]+)(?:#[^"]*)?"', page.read_text("utf-8")):
-            if not (page.parent / target).resolve().exists():
+        text = pages.setdefault(page.resolve(), page.read_text("utf-8"))
+        for target, anchor in re.findall(r'href="([^"#:?]*)(?:#([^"]*))?"', text):
+            path = (page.parent / target).resolve() if target else page.resolve()
+            if not path.exists():
                 broken.append(f"{page.relative_to(site)} -> {target}")
+            elif anchor and path.suffix == ".html":
+                if f'id="{anchor}"' not in pages.setdefault(path, path.read_text("utf-8")):
+                    broken.append(f"{page.relative_to(site)} -> {target}#{anchor}")
     assert broken == []
 
 
