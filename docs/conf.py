@@ -7,6 +7,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
+import importlib.util
+
 import celtstone
 
 project = "celtstone"
@@ -17,13 +19,14 @@ release = celtstone.version()
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
     "celtstone_docs",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples"]
+exclude_patterns = ["_build", "examples", "_inventories"]
 html_theme = "pydata_sphinx_theme"
 html_title = f"celtstone {release}"
 myst_heading_anchors = 3
@@ -33,6 +36,24 @@ autodoc_typehints = "none"
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 nitpicky = False
+
+# Links to Python, NumPy, SciPy, xarray and matplotlib from inventories shipped in
+# docs/_inventories (written by its make.py from a declared list of names): the build
+# machines have no network, so nothing is fetched (decisions §33).
+_spec = importlib.util.spec_from_file_location(
+    "inventories", Path(__file__).parent / "_inventories" / "make.py"
+)
+assert _spec is not None and _spec.loader is not None
+_inventories = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_inventories)
+intersphinx_mapping = {
+    key: (project.base_url, f"_inventories/{key}.inv")
+    for key, project in _inventories.PROJECTS.items()
+}
+# parameter and return types as links (numpy.ndarray, xarray.Dataset, Body, ...); words
+# of the type phrases themselves are not names
+numpydoc_xref_param_type = True
+numpydoc_xref_ignore = {"of", "or", "to", "and", "optional", "default", "shape", "Self"}
 
 # The gallery: docs/examples/plot_*.py run at build time, their figures scraped
 # (celtstone's plotting functions return Figure objects outside pyplot: the scraper
@@ -48,4 +69,21 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True,
     "show_memory": False,
     "write_computation_times": False,
+}
+
+# numpydoc validation of every docstring the build renders (celtstone's public API:
+# the API page's names and the members on their pages), warnings as errors
+# (decisions §33 says why each check below is left out).
+numpydoc_validation_checks = {
+    "all",
+    "ES01",  # extended summary: a one-line docstring is enough for a one-line job
+    "SA01",  # See Also: the API page and the guide link related names
+    "EX01",  # Examples: the gallery, the guide and the tutorial hold the runnable examples
+}
+numpydoc_validation_exclude = {
+    # data: numpydoc checks the raw __doc__ of the object, dict's for a dict (the page
+    # shows the attribute's own docstring, celtstone_docs._data_docstring)
+    r"^celtstone\.MODELS$",
+    # fitting/** belongs to issue 14's work in progress (fit14): validated when it lands
+    r"^celtstone\.(fit|FitResult|Record|make_record|read_record)(\.|$)",
 }

@@ -1,23 +1,28 @@
 """The documentation site builds with warnings as errors, and lists what the code has.
 
-One build (``sphinx-build -W``, as ``make docs``) into a temporary directory; then, read
-from the HTML, not from the sources: every name of ``celtstone.__all__`` has its page
-and is listed on the API page; every command of the CLI has its ``--help`` on the CLI
-page; every internal link of the site points at a page that exists.
+One build (``sphinx-build -W``, as ``make docs``; numpydoc validates the public API's
+docstrings in it) into a temporary directory; then, read from the HTML, not from the
+sources: every name of ``celtstone.__all__`` has its page and is listed on the API page;
+every command of the CLI has its ``--help`` on the CLI page; every internal link of the
+site points at a page that exists; external names link to their projects' sites through
+the shipped inventories. Without the build: every snippet of the user guide runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import re
+import shlex
 import subprocess
 import sys
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
 import celtstone
-from celtstone.cli.main import build_parser
+from celtstone.cli.main import build_parser, main
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 SPHINX = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html"]
@@ -61,12 +66,19 @@ def test_the_cli_page_is_every_commands_help(site: Path) -> None:
 
 
 def test_internal_links_resolve(site: Path) -> None:
-    """Every relative href of every page names a file of the site (anchors aside)."""
+    """Every relative href of every page names a file of the site, and its anchor (the
+    guide's links into the decisions and the equations) an id on that page."""
     broken = []
+    pages: dict[Path, str] = {}
     for page in site.rglob("*.html"):
-        for target in re.findall(r'href="([^"#:?]+)(?:#[^"]*)?"', page.read_text("utf-8")):
-            if not (page.parent / target).resolve().exists():
+        text = pages.setdefault(page.resolve(), page.read_text("utf-8"))
+        for target, anchor in re.findall(r'href="([^"#:?]*)(?:#([^"]*))?"', text):
+            path = (page.parent / target).resolve() if target else page.resolve()
+            if not path.exists():
                 broken.append(f"{page.relative_to(site)} -> {target}")
+            elif anchor and path.suffix == ".html":
+                if f'id="{anchor}"' not in pages.setdefault(path, path.read_text("utf-8")):
+                    broken.append(f"{page.relative_to(site)} -> {target}#{anchor}")
     assert broken == []
 
 
@@ -130,3 +142,85 @@ def test_the_tutorial_notebook_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPa
     outputs = [o for c in notebook.cells if c.cell_type == "code" for o in c.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     assert sum("image/png" in o.get("data", {}) for o in outputs) >= 3
+
+
+def _inventories() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("inventories", DOCS / "_inventories" / "make.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_shipped_inventories_are_what_make_py_writes() -> None:
+    """docs/_inventories/*.inv are the declared names, and Sphinx reads them."""
+    from sphinx.util.inventory import InventoryFile
+
+    inventories = _inventories()
+    assert {"numpy", "scipy", "xarray", "matplotlib"} <= set(inventories.PROJECTS)
+    for key, project in inventories.PROJECTS.items():
+        shipped = (DOCS / "_inventories" / f"{key}.inv").read_bytes()
+        assert shipped == inventories.inventory(project), f"rerun docs/_inventories/make.py ({key})"
+        loaded = InventoryFile.loads(shipped, uri=project.base_url)
+        names = {name for items in loaded.data.values() for name in items}
+        assert names == {name for name, _, _ in project.objects}
+
+
+@pytest.mark.parametrize(
+    ("page", "url"),
+    [
+        (
+            "generated/celtstone.simulate.html",
+            "https://numpy.org/doc/stable/reference/generated/numpy.ndarray.html#numpy.ndarray",
+        ),
+        (
+            "generated/celtstone.open_sweep.html",
+            "https://docs.xarray.dev/en/stable/generated/xarray.Dataset.html#xarray.Dataset",
+        ),
+        (
+            "guide/visuals.html",
+            "https://matplotlib.org/stable/api/_as_gen/matplotlib.figure.Figure.html#matplotlib.figure.Figure",
+        ),
+        (
+            "guide/models.html",
+            "https://docs.scipy.org/doc/scipy/reference/generated/scipy.integrate.Radau.html#scipy.integrate.Radau",
+        ),
+    ],
+)
+def test_external_names_link_to_their_projects(site: Path, page: str, url: str) -> None:
+    """intersphinx, offline: a type in a docstring or a role in a page links to the page
+    of its project (numpy.ndarray to numpy.org, ...)."""
+    assert f'href="{url}"' in (site / page).read_text("utf-8")
+
+
+GUIDE = sorted((DOCS / "guide").glob("*.md"))
+# minutes each (make run): their command lines are parsed here, not run
+PARSE_ONLY = {"reproduce"}
+
+
+def _snippets(page: Path) -> list[tuple[str, str]]:
+    """The ``python`` and ``console`` blocks of a guide page, in order."""
+    text = page.read_text("utf-8")
+    return re.findall(r"^```(python|console)\n(.*?)^```", text, flags=re.MULTILINE | re.DOTALL)
+
+
+@pytest.mark.parametrize("page", [p for p in GUIDE if _snippets(p)], ids=lambda p: p.stem)
+def test_the_guide_runs(
+    page: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Every Python block of a guide page runs, in order, in one namespace, and every
+    ``$ celtstone ...`` line exits 0 (in-process, in the same directory: a file one
+    line writes, the next reads)."""
+    monkeypatch.chdir(tmp_path)
+    namespace: dict[str, object] = {"__name__": f"guide_{page.stem}"}
+    for language, code in _snippets(page):
+        if language == "python":
+            exec(compile(code, str(page), "exec"), namespace)
+            continue
+        for line in code.splitlines():
+            assert line.startswith("$ celtstone "), line
+            argv = shlex.split(line.removeprefix("$ celtstone "))
+            if argv[0] in PARSE_ONLY:
+                build_parser().parse_args(argv)  # a wrong option exits 2
+            else:
+                assert main(argv) == 0, (line, capsys.readouterr().err[-2000:])

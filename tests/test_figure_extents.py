@@ -1,11 +1,17 @@
 """Every figure the package makes fits its canvas: no text is cut off (issue 16, item 5).
 
+Animation frames included: the figures of ``celtstone animate`` and of the
+reproduction's video.
+
 The Figure 3 analogue's title of ``make run`` (``fig3_kane_levinson_1982+realistic.png``)
 was cut off at both edges. Each figure function is drawn here with the longest title it
 is given in practice, and every visible text artist's extent must lie inside the figure.
 """
 
 from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -150,3 +156,47 @@ def test_the_check_finds_a_cut_title() -> None:
     figure.add_subplot()
     figure.suptitle("a title far too long for a figure four inches wide, " * 2)
     assert len(_outside(figure)) == 1
+
+
+@pytest.mark.parametrize(
+    ("suffix", "which"),
+    [(".gif", (1,)), (".mp4", (1,)), (".gif", (0, 1)), (".mp4", (0, 1))],
+    ids=["gif", "mp4", "gif-side-by-side", "mp4-side-by-side"],
+)
+def test_no_text_is_cut_off_in_an_animation_frame(
+    runs: list[xr.Dataset],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    suffix: str,
+    which: tuple[int, ...],
+) -> None:
+    """The frames of ``celtstone animate`` and of the reproduction's rolling-beside-sliding
+    video (``visual.animation``), at their default sizes (a gif panel is the smallest, 400
+    px wide side by side), in slow motion so that the read-out is at its longest: each
+    panel's title, legend and read-out fit the frame at its first, middle and last time.
+
+    The encoder is replaced by one that draws the first frame and then shows the frames
+    to check on the figure the animation built (its arguments, read before it runs)."""
+    from celtstone.visual import animate_comparison, animation
+
+    cut: dict[float, list[str]] = {}
+
+    def check_frames(
+        path: Path, suffix: str, frames: Iterator[np.ndarray], *args: object, **kwargs: object
+    ) -> None:
+        arguments = frames.gi_frame.f_locals  # type: ignore[attr-defined]
+        figure, panels, plan = arguments["figure"], arguments["panels"], arguments["plan"]
+        next(frames)
+        for time in (plan.times[0], plan.times[len(plan.times) // 2], plan.times[-1]):
+            for panel in panels:
+                panel.show(float(time), plan.speed)
+            cut[float(time)] = _outside(figure)
+        path.write_bytes(b"")
+
+    monkeypatch.setattr(animation, "_write", check_frames)
+    labels = ["rolling without sliding", f"rolling with sliding, f = 0.35 ({LONG_KEY})"]
+    animate_comparison(
+        [runs[i] for i in which], [labels[i] for i in which], tmp_path / f"run{suffix}", speed=0.2
+    )
+    assert len(cut) == 3
+    assert {time: texts for time, texts in cut.items() if texts} == {}

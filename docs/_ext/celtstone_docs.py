@@ -69,6 +69,22 @@ def _generate(app: Any, config: Any) -> None:
     _write_if_changed(source / "cli.md", _cli_page())
 
 
+def _data_docstring(
+    app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]
+) -> None:
+    """Data of ``celtstone.__all__`` (``MODELS``) is imported lazily, so autodoc finds no
+    docstring in ``celtstone/__init__.py`` and offers the type's (``dict``'s): the
+    attribute's docstring is read from the module that defines it (``celtstone._LAZY``)."""
+    short = name.removeprefix("celtstone.")
+    if what != "data" or short not in celtstone._LAZY:
+        return
+    from sphinx.pycode import ModuleAnalyzer
+
+    docs = ModuleAnalyzer.for_module(celtstone._LAZY[short]).find_attr_docs()
+    if ("", short) in docs:
+        lines[:] = list(docs["", short])
+
+
 def _escape_bars(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
     """Docstrings write |x| for a magnitude (plain text, as ``help()`` shows them); in
     reStructuredText a bar starts a substitution, so each is escaped."""
@@ -77,6 +93,7 @@ def _escape_bars(app: Any, what: str, name: str, obj: Any, options: Any, lines: 
 
 def setup(app: Any) -> dict[str, Any]:
     app.connect("config-inited", _generate)  # before autosummary reads api.rst
+    app.connect("autodoc-process-docstring", _data_docstring, priority=90)
     app.connect("autodoc-process-docstring", _escape_bars, priority=100)
     return {"parallel_read_safe": True, "version": celtstone.version()}
 

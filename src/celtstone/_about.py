@@ -4,7 +4,13 @@ from __future__ import annotations
 
 
 def version() -> str:
-    """The installed celtstone version."""
+    """Give the installed celtstone version.
+
+    Returns
+    -------
+    str
+        The version of the installed distribution, "unknown" in a bare source tree.
+    """
     from importlib import metadata  # 50 ms to import: only when asked
 
     try:

@@ -129,8 +129,10 @@ class PlausibilityWarning(CeltstoneWarning):
 
 
 class FrictionBoundWarning(CeltstoneWarning):
-    """A run's friction exceeded Coulomb's bound f N for the true normal force N (the
-    paper's first approximation, the friction law loaded with m g)."""
+    """A run's friction exceeded Coulomb's bound f N for the true normal force N.
+
+    The paper's first approximation (the friction law loaded with m g) allows it.
+    """
 
 
 def did_you_mean(value: object, options: Iterable[object], cutoff: float = 0.6) -> str:
@@ -157,5 +159,8 @@ def require_choice(name: str, value: object, options: Iterable[object]) -> None:
 
 
 class IdentifiabilityWarning(CeltstoneWarning):
-    """Fitted parameters that the data do not determine separately: |correlation| above
-    the limit, or a Jacobian without full rank (``celtstone.fitting``)."""
+    """Fitted parameters that the data do not determine separately.
+
+    Their |correlation| is above the limit, or the Jacobian has no full rank
+    (``celtstone.fitting``).
+    """

@@ -106,19 +106,30 @@ def simulate(
 
     Parameters
     ----------
-    model : :class:`RollingModel`, :class:`SlidingModel` or :class:`HybridModel`
-    body : :class:`Body`
-    initial_state : :class:`InitialState` (the contact starts without slip)
-    t_end : duration [s], > 0
-    method : integrator name from ``solvers.METHODS`` ("dop853", "radau5");
-        default: dop853 for rolling and stick phases, radau5 (stiff) for sliding
-    rtol, atol : relative and absolute local error tolerances
-    n_samples : number of equally spaced output samples (default 200 per second)
-    sample_times : explicit output times [s], increasing, in [0, t_end]
-    max_steps : largest number of steps before the run stops
-    max_crossings : largest number of spin zero crossings stored
-    progress : called about ten times a second with the time reached [s] while the
-        compiled loop runs in another thread (a progress bar); None runs in this thread
+    model : RollingModel, SlidingModel or HybridModel
+        The equations of motion: paper eq. (3)–(5), eq. (6)–(12), or stick–slip.
+    body : Body
+        The stone: mass, inertia and surface.
+    initial_state : InitialState
+        Angular velocity and attitude at t = 0; the contact starts without slip.
+    t_end : float
+        Duration [s], > 0.
+    method : str, optional
+        Integrator name from ``solvers.METHODS`` ("dop853", "radau5"). Default:
+        dop853 for rolling and stick phases, radau5 (stiff) for sliding.
+    rtol, atol : float, optional
+        Relative and absolute local error tolerances.
+    n_samples : int, optional
+        Number of equally spaced output samples (default 200 per second).
+    sample_times : numpy.ndarray, optional
+        Explicit output times [s], shape (k,), increasing, in [0, t_end].
+    max_steps : int, optional
+        Largest number of steps before the run stops.
+    max_crossings : int, optional
+        Largest number of spin zero crossings stored.
+    progress : callable, optional
+        Called about ten times a second with the time reached [s] while the compiled
+        loop runs in another thread (a progress bar); None runs in this thread.
 
     Returns
     -------

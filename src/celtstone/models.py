@@ -194,10 +194,14 @@ class RollingModel:
 
     Parameters
     ----------
-    damping : σ, viscous torque -σω [N m s], >= 0 (Kane & Levinson's optional term)
-    rolling_resistance : λ, rolling-friction length [m], in [0, 0.01]: the moment
-        −λ N ĥ against the rolling part ω_t of ω (docs/equations.md); 0: none
-    rolling_resistance_rate : ω_0 [rad/s], > 0: ĥ = ω_t / sqrt(|ω_t|² + ω_0²)
+    damping : float
+        Coefficient σ of the viscous torque −σω [N m s], >= 0 (Kane & Levinson's
+        optional term).
+    rolling_resistance : float
+        Rolling-friction length λ [m], in [0, 0.01]: the moment −λ N ĥ against the
+        rolling part ω_t of ω (docs/equations.md); 0: none.
+    rolling_resistance_rate : float
+        Regularising rate ω_0 [rad/s], > 0: ĥ = ω_t / sqrt(|ω_t|² + ω_0²).
     """
 
     damping: float = 0.0
@@ -218,7 +222,13 @@ class RollingModel:
         return "none"
 
     def attributes(self) -> dict[str, str | float]:
-        """The model's settings, for provenance attributes."""
+        """Give the model's settings, for provenance attributes.
+
+        Returns
+        -------
+        dict of str to str or float
+            Model, contact, every setting and the friction law ("none").
+        """
         return {
             "model": self.name,
             "contact": self.contact,
@@ -233,32 +243,42 @@ class SlidingModel:
 
     Parameters
     ----------
-    friction_coefficient : f [1], >= 0
-    contact_radius : ε, radius of the contact disk [m], > 0; not used when
-        ``elastic_modulus`` is given
-    friction_load : the normal force in the friction law: "static" (N = m g, the
-        paper's first approximation) or "dynamic" (the consistent normal force)
-    damping : σ, viscous torque -σω [N m s], >= 0
-    regularisation_speed : δ, the slip speed below which friction turns viscous,
-        |V1| -> sqrt(|V1|² + δ²) [m/s], > 0 (treatment of paper eq. 11)
-    friction_law : "pade" (Zhuravlev's Padé law, paper eq. 10, 12) or "exact"
-        (the Coulomb–Contensou integrals of paper section 2, in closed form)
-    contact_pressure : "hertz" (paper eq. 2) or "uniform" pressure on the disk;
-        for "pade" it selects the Padé constants (b, a, M0) of that pressure
-    contact_shape : "circle" (the paper's disk of radius ε) or "ellipse" (the Hertz
-        ellipse of the two principal radii of curvature at the current contact point,
-        semi-axes A >= B from N and E*; needs ``elastic_modulus`` and the Hertz
-        pressure; the friction law is the disk's law of radius A corrected by the
-        tabulated ratios of the exact elliptic to the exact circular law,
-        docs/decisions.md §29)
-    elastic_modulus : E, Young's modulus of body and plane [Pa], > 0, or None.
-        Given, ε is the Hertz radius (3 N R_eq / (4 E*))^(1/3) for the normal
-        force of the friction law (m g, or the dynamic N) and the equivalent
-        radius of curvature at the current contact point, E* = E / (2(1 − ν²))
-    poisson_ratio : ν of body and plane [1], in (−1, 0.5); required with
-        ``elastic_modulus``
-    rolling_resistance, rolling_resistance_rate : λ [m] and ω_0 [rad/s] as in
-        :class:`RollingModel`; the moment is loaded like the friction (``friction_load``)
+    friction_coefficient : float
+        Coefficient f of dry friction [1], >= 0.
+    contact_radius : float
+        Radius ε of the contact disk [m], > 0; not used when ``elastic_modulus`` is
+        given.
+    friction_load : {"static", "dynamic"}
+        The normal force in the friction law: N = m g (the paper's first
+        approximation) or the consistent normal force.
+    damping : float
+        Coefficient σ of the viscous torque −σω [N m s], >= 0.
+    regularisation_speed : float
+        Slip speed δ below which friction turns viscous, |V1| -> sqrt(|V1|² + δ²)
+        [m/s], > 0 (treatment of paper eq. 11).
+    friction_law : {"pade", "exact"}
+        Zhuravlev's Padé law (paper eq. 10, 12) or the Coulomb–Contensou integrals
+        of paper section 2, in closed form.
+    contact_pressure : {"hertz", "uniform"}
+        Pressure on the disk (Hertz: paper eq. 2); for "pade" it selects the Padé
+        constants (b, a, M0) of that pressure.
+    contact_shape : {"circle", "ellipse"}
+        The paper's disk of radius ε, or the Hertz ellipse of the two principal radii
+        of curvature at the current contact point, semi-axes A >= B from N and E*;
+        the ellipse needs ``elastic_modulus`` and the Hertz pressure, and its friction
+        law is the disk's law of radius A corrected by the tabulated ratios of the
+        exact elliptic to the exact circular law (docs/decisions.md §29).
+    elastic_modulus : float or None
+        E, Young's modulus of body and plane [Pa], > 0. Given, ε is the Hertz radius
+        (3 N R_eq / (4 E*))^(1/3) for the normal force of the friction law (m g, or
+        the dynamic N) and the equivalent radius of curvature at the current contact
+        point, E* = E / (2(1 − ν²)).
+    poisson_ratio : float or None
+        Poisson's ratio ν of body and plane [1], in (−1, 0.5); required with
+        ``elastic_modulus``.
+    rolling_resistance, rolling_resistance_rate : float
+        Length λ [m] and rate ω_0 [rad/s] as in :class:`RollingModel`; the moment is
+        loaded like the friction (``friction_load``).
     """
 
     friction_coefficient: float = 0.35
@@ -297,7 +317,13 @@ class SlidingModel:
         return effective_modulus(self.elastic_modulus, self.poisson_ratio)
 
     def attributes(self) -> dict[str, str | float]:
-        """The model's settings, for provenance attributes ("none": not set)."""
+        """Give the model's settings, for provenance attributes.
+
+        Returns
+        -------
+        dict of str to str or float
+            Model, contact and every setting ("none": not set), with how ε is found.
+        """
         return {
             "model": self.name,
             "contact": self.contact,
@@ -345,19 +371,28 @@ def _check_ellipse(model: SlidingModel) -> None:
 
 @dataclass(frozen=True)
 class HybridModel(SlidingModel):
-    """Stick–slip contact: the sliding model while the contact slides or pivots, rolling
-    without sliding and without pivoting while the friction that needs lies inside the
-    Coulomb–Contensou limit set; phase changes are located as events (``celtstone.hybrid``).
+    """Stick–slip contact: sliding while the contact slides or pivots, else rolling.
+
+    The sliding model while the contact slides or pivots; rolling without sliding and
+    without pivoting while the friction that needs lies inside the Coulomb–Contensou
+    limit set. Phase changes are located as events (``celtstone.hybrid``).
 
     Parameters
     ----------
-    friction_coefficient, contact_radius, friction_load, damping : as :class:`SlidingModel`
-    regularisation_speed : δ [m/s], > 0: only smooths the first instant of sliding after
-        stick (V1 = 0, ω · n = 0, where Zhuravlev's law is 0/0); must be below
-        capture_speed / 10 so that stick is found in the dry-friction regime
-    capture_speed : v_c [m/s], > 0, or None for 100 atol: the slip–spin speed
+    friction_coefficient, contact_radius, friction_load, damping : float or str
+        As :class:`SlidingModel`.
+    regularisation_speed : float
+        Slip speed δ [m/s], > 0: only smooths the first instant of sliding after stick
+        (V1 = 0, ω · n = 0, where Zhuravlev's law is 0/0); must be below
+        capture_speed / 10 so that stick is found in the dry-friction regime.
+    friction_law, contact_pressure, contact_shape, elastic_modulus : str or float
+        As :class:`SlidingModel`.
+    poisson_ratio, rolling_resistance, rolling_resistance_rate : float
+        As :class:`SlidingModel`.
+    capture_speed : float or None
+        Capture speed v_c [m/s], > 0, or None for 100 atol: the slip–spin speed
         sqrt(|V1|² + ε²(ω · n)²) counted as zero, a numerical zero like an event
-        tolerance (phase times converge as it shrinks; docs/decisions.md)
+        tolerance (phase times converge as it shrinks; docs/decisions.md §16).
     """
 
     regularisation_speed: float = 1e-12
@@ -366,7 +401,18 @@ class HybridModel(SlidingModel):
     contact: ClassVar[str] = "hybrid"
 
     def resolved_capture_speed(self, atol: float) -> float:
-        """v_c for a run at absolute tolerance ``atol``; checks δ < v_c / 10 [m/s]."""
+        """Return v_c [m/s] for a run at ``atol``, after checking δ < v_c / 10.
+
+        Parameters
+        ----------
+        atol : float
+            The run's absolute tolerance.
+
+        Returns
+        -------
+        float
+            ``capture_speed``, or 100 ``atol`` when it is None [m/s].
+        """
         capture = CAPTURE_ATOL_FACTOR * atol if self.capture_speed is None else self.capture_speed
         if not self.regularisation_speed <= 0.1 * capture:
             raise ParameterError(
@@ -386,6 +432,8 @@ MODELS: dict[str, type[RollingModel] | type[SlidingModel]] = {
     "rolling": RollingModel,
     "sliding": SlidingModel,
 }
+"""The models by name: ``model_from_name``, ``celtstone run --model`` and sweeps read it."""
+
 # contact options of the sliding model
 CONTACTS: dict[str, type[SlidingModel]] = {"sliding": SlidingModel, "hybrid": HybridModel}
 MODEL_KINDS.update(rolling=RollingModel, sliding=SlidingModel, hybrid=HybridModel)
@@ -394,10 +442,20 @@ MODEL_KINDS.update(rolling=RollingModel, sliding=SlidingModel, hybrid=HybridMode
 def model_from_name(name: str, **settings: float | str | None) -> Model:
     """Build a model by registry name; unknown names list the valid ones.
 
-    ``contact`` ("sliding" or "hybrid") picks the contact of the sliding model. Settings
-    that are None are left at their defaults; a setting the model does not have (a
-    friction setting of the rolling model, a capture speed without the hybrid contact)
-    is refused.
+    Parameters
+    ----------
+    name : {"rolling", "sliding"}
+        A key of :data:`MODELS`.
+    **settings : float, str or None
+        The model's settings by name; None leaves a setting at its default.
+        ``contact`` ("sliding" or "hybrid") picks the contact of the sliding model. A
+        setting the model does not have (a friction setting of the rolling model, a
+        capture speed without the hybrid contact) is refused.
+
+    Returns
+    -------
+    RollingModel, SlidingModel or HybridModel
+        The model, its settings checked.
     """
     require_choice("model", name, MODELS)
     contact = settings.pop("contact", None)
@@ -440,10 +498,13 @@ class InitialState:
 
     Parameters
     ----------
-    omega : ω0, angular velocity in body axes [rad/s]
-    euler_angles : (α, β), Euler angles [deg]: the vertical in body axes is
-        n0 = (-cos α sin β, sin α, cos α cos β) (Kane & Levinson's convention)
-    tilt : the old name of ``euler_angles``, refused (``tilt`` is the output angle [rad])
+    omega : tuple of 3 float
+        Angular velocity ω0 in body axes [rad/s].
+    euler_angles : tuple of 2 float
+        (α, β), Euler angles [deg]: the vertical in body axes is
+        n0 = (−cos α sin β, sin α, cos α cos β) (Kane & Levinson's convention).
+    tilt : None
+        The old name of ``euler_angles``, refused (``tilt`` is the output angle [rad]).
     """
 
     omega: tuple[float, float, float] = (0.0, 0.0, -5.0)
@@ -464,7 +525,7 @@ class InitialState:
 
     @property
     def vertical(self) -> tuple[float, float, float]:
-        """n0, the upward vertical in body axes [1]."""
+        """The upward vertical n0 in body axes [1]."""
         alpha, beta = (math.radians(angle) for angle in self.euler_angles)
         return (
             -math.cos(alpha) * math.sin(beta),
@@ -473,7 +534,13 @@ class InitialState:
         )
 
     def mirrored(self) -> InitialState:
-        """The state mirrored in the plane x2 = 0 of the body (pairs with D -> -D)."""
+        """Mirror the state in the plane x2 = 0 of the body (pairs with D -> -D).
+
+        Returns
+        -------
+        InitialState
+            The mirrored state.
+        """
         w1, w2, w3 = self.omega
         alpha, beta = self.euler_angles
         return InitialState(omega=(-w1, w2, -w3), euler_angles=(-alpha, beta))

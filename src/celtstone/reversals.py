@@ -57,23 +57,28 @@ def reversal_times(
     crossings: np.ndarray | None = None,
     window: float = 0.0,
 ) -> np.ndarray:
-    """Times [s] at which the sense of spin reverses, with hysteresis band ``threshold``.
+    """Find the times [s] at which the sense of spin reverses (hysteresis ``threshold``).
 
     Parameters
     ----------
-    time : sample times [s], shape (k,), increasing
-    spin : spin ω·n at those times [rad/s], shape (k,)
-    threshold : half-width of the band around zero [rad/s], > 0
-    crossings : exact zero-crossing times of the raw spin [s]
-        (``Trajectory.spin_crossings``); used for the times only when ``window`` is 0
-    window : width of the rocking average [s], >= 0: the body's rocking period
+    time : numpy.ndarray
+        Sample times [s], shape (k,), increasing.
+    spin : numpy.ndarray
+        Spin ω·n at those times [rad/s], shape (k,).
+    threshold : float
+        Half-width of the band around zero [rad/s], > 0.
+    crossings : numpy.ndarray, optional
+        Exact zero-crossing times of the raw spin [s] (``Trajectory.spin_crossings``);
+        used for the times only when ``window`` is 0.
+    window : float, optional
+        Width of the rocking average [s], >= 0: the body's rocking period
         (``Body.rocking_period``, what runs, sweeps and the report use); 0 judges the
-        raw spin
+        raw spin.
 
     Returns
     -------
     numpy.ndarray
-        reversal times [s], shape (r,)
+        Reversal times [s], shape (r,).
     """
     if not threshold > 0.0:
         raise ParameterError("threshold", threshold, "a number > 0 rad/s")

@@ -226,9 +226,24 @@ def _finite_or_none(value: float) -> float | None:
 class Trajectory:
     """A finished run: the sampled ``dataset`` and the run's ``summary``.
 
-    ``status`` is ``"success"`` or why the run stopped early (``"lift_off"``,
-    ``"friction_singular"``, ``"off_shape"``, ``"max_steps"``,
-    ``"step_too_small"``, ``"not_finite"``); the samples reach ``t_stop``.
+    Made by :func:`simulate`, not by hand.
+
+    Parameters
+    ----------
+    samples : RunSamples
+        The sampled time series and the run's attributes, as NumPy arrays.
+    status : str
+        ``"success"`` or why the run stopped early (``"lift_off"``,
+        ``"friction_singular"``, ``"off_shape"``, ``"max_steps"``,
+        ``"step_too_small"``, ``"not_finite"``); the samples reach ``t_stop``.
+    message : str
+        What stopped the run and what to change, or "".
+    t_stop : float
+        Time the run reached [s].
+    min_normal_force : float
+        Smallest normal force N over the run [N].
+    statistics : dict of str to int
+        Solver counts: ``nfev``, ``njev``, ``nlu``, ``n_accepted``, ``n_rejected``.
     """
 
     samples: RunSamples
@@ -240,8 +255,10 @@ class Trajectory:
 
     @cached_property
     def dataset(self) -> xr.Dataset:
-        """The samples as an ``xarray.Dataset`` (time series, spin crossings, phases, and the
-        run's attributes), built on first use."""
+        """The samples as an ``xarray.Dataset``, built on first use.
+
+        Time series, spin crossings, phases, and the run's attributes.
+        """
         return self.samples.to_dataset()
 
     @property
@@ -250,7 +267,13 @@ class Trajectory:
         return self.status == "success"
 
     def raise_for_status(self) -> Trajectory:
-        """Raise the matching :class:`CeltstoneError` unless the run succeeded."""
+        """Raise the matching :class:`CeltstoneError` unless the run succeeded.
+
+        Returns
+        -------
+        Trajectory
+            This run, when it succeeded.
+        """
         if not self.ok:
             raise _ERRORS.get(self.status, IntegrationError)(self.message)
         return self
@@ -262,29 +285,48 @@ class Trajectory:
 
     @property
     def first_sign_change_time(self) -> float | None:
-        """First sign change of the spin ω · n [s] (raw: around a reversal the spin can cross
-        zero several times, and a dying spin dithers about zero), None if it never changes."""
+        """First sign change of the spin ω · n [s], None if it never changes.
+
+        Raw: around a reversal the spin can cross zero several times, and a dying spin
+        dithers about zero.
+        """
         crossings = self.spin_crossings
         return float(crossings[0]) if crossings.size else None
 
     @property
     def reversal_band(self) -> float:
-        """Default half-width of the reversal's hysteresis band [rad/s]: 4 % of the initial
-        |spin|, at least 0.01 rad/s (``celtstone.reversals.reversal_bands``), as in sweeps and
-        the reproduction."""
+        """Default half-width of the reversal's hysteresis band [rad/s].
+
+        4 % of the initial |spin|, at least 0.01 rad/s
+        (``celtstone.reversals.reversal_bands``), as in sweeps and the reproduction.
+        """
         return float(reversal_bands(np.array([self.samples.values("spin")[0]]))[0])
 
     @property
     def reversal_window(self) -> float:
-        """Width of the rocking average of the spin that reversals are read from [s]: the
-        body's rocking period (``Body.rocking_period``); 0 (the raw spin) in files
-        written before it was recorded."""
+        """Width of the rocking average of the spin that reversals are read from [s].
+
+        The body's rocking period (``Body.rocking_period``); 0 (the raw spin) in files
+        written before it was recorded.
+        """
         return float(self.samples.attrs.get("reversal_window", 0.0))
 
     def reversal_times(self, band: float | None = None) -> np.ndarray:
-        """Times of the reversals of the sense of spin [s]: changes of sign of the spin's
-        rocking average (:attr:`reversal_window`) held beyond the hysteresis band
-        ``band`` [rad/s] (default :attr:`reversal_band`; ``celtstone.reversals``)."""
+        """Find the reversals of the sense of spin.
+
+        A reversal is a change of sign of the spin's rocking average
+        (:attr:`reversal_window`) held beyond the hysteresis band (``celtstone.reversals``).
+
+        Parameters
+        ----------
+        band : float, optional
+            Half-width of the band [rad/s]; default :attr:`reversal_band`.
+
+        Returns
+        -------
+        numpy.ndarray
+            Reversal times [s], shape (r,).
+        """
         ds = self.samples
         threshold = self.reversal_band if band is None else band
         return reversal_times(
@@ -297,17 +339,21 @@ class Trajectory:
 
     @property
     def first_reversal_time(self) -> float | None:
-        """First reversal of the sense of spin [s] with the default hysteresis band (the
-        reversal of sweeps and the report), None if the spin never reverses."""
+        """First reversal of the sense of spin [s], None if the spin never reverses.
+
+        With the default hysteresis band: the reversal of sweeps and the report.
+        """
         times = self.reversal_times()
         return float(times[0]) if times.size else None
 
     @property
     def max_friction_bound_ratio(self) -> float | None:
-        """Largest |F| / (f N) over the samples with N > 0, N the true normal force [1]:
-        above 1 the friction exceeds Coulomb's bound, as the paper's first approximation
+        """Largest |F| / (f N) over the samples with N > 0, N the true normal force [1].
+
+        Above 1 the friction exceeds Coulomb's bound, as the paper's first approximation
         (``friction_load`` static, the law loaded with m g) allows. None for rolling (no
-        friction law), f = 0 or no sample with N > 0."""
+        friction law), f = 0 or no sample with N > 0.
+        """
         ds = self.samples
         coefficient = ds.attrs.get("friction_coefficient")
         if ds.attrs["model"] == "rolling" or not isinstance(coefficient, (int, float)):
@@ -321,8 +367,16 @@ class Trajectory:
         return _finite_or_none(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
 
     def plot(self) -> Figure:
-        """The run's figure (``celtstone.plotting.plot_run``): spin with its reversals,
-        tilt, energy and its budget, slip, normal force and contact path against time."""
+        """Draw the run (``celtstone.plotting.plot_run``).
+
+        Spin with its reversals, tilt, energy and its budget, slip, normal force and
+        contact path against time.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure, outside pyplot.
+        """
         from celtstone.plotting.run import plot_run
 
         return plot_run(self.dataset)
@@ -353,7 +407,13 @@ class Trajectory:
         return f"<table><caption>celtstone Trajectory</caption>{cells}</table>"
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary: keys ``SUMMARY_KEYS`` (SI units), plus solver statistics."""
+        """Summarise the run as ``celtstone run --json`` prints it.
+
+        Returns
+        -------
+        dict of str to object
+            Keys ``SUMMARY_KEYS`` (SI units), plus solver statistics.
+        """
         ds = self.samples
         attrs = ds.attrs
         energy = ds.values("energy")

@@ -175,14 +175,21 @@ def _max_growth(eigenvalues: np.ndarray) -> np.ndarray:
 class SpinStability:
     """Eigenvalues of the linearised rolling model against steady spin.
 
-    Attributes
+    Made by :func:`spin_stability`.
+
+    Parameters
     ----------
-    body : the body
-    model : the rolling model (damping σ)
-    spin : spin rates s [rad/s], shape (k,)
-    eigenvalues : complex eigenvalues λ [1/s], shape (k, 4), ordered as
-        ``MODE_NAMES`` (pitch, pitch, roll, roll; each pair by Im λ descending)
-    mirror_eigenvalues : the same at −spin, shape (k, 4), for the spin preference
+    body : Body
+        The body.
+    model : RollingModel
+        The rolling model (damping σ).
+    spin : numpy.ndarray
+        Spin rates s [rad/s], shape (k,).
+    eigenvalues : numpy.ndarray
+        Complex eigenvalues λ [1/s], shape (k, 4), ordered as ``MODE_NAMES`` (pitch,
+        pitch, roll, roll; each pair by Im λ descending).
+    mirror_eigenvalues : numpy.ndarray
+        The same at −spin, shape (k, 4), for the spin preference.
     """
 
     body: Body
@@ -261,7 +268,13 @@ class SpinStability:
         return False
 
     def options(self) -> dict[str, Any]:
-        """The settings of this analysis, for JSON summaries and NetCDF attributes."""
+        """Give the settings of this analysis, for JSON summaries and NetCDF attributes.
+
+        Returns
+        -------
+        dict of str to object
+            Body, model, damping [N m s], spin grid [rad/s] and finite-difference step.
+        """
         return {
             "body": self.body.name,
             "body_source": self.body.source,
@@ -274,7 +287,13 @@ class SpinStability:
         }
 
     def table(self) -> dict[str, tuple[str, np.ndarray]]:
-        """Columns by name: (unit, values of shape (k,)); one row per spin."""
+        """Tabulate the result, one row per spin.
+
+        Returns
+        -------
+        dict of str to (str, numpy.ndarray)
+            Columns by name: (unit, values of shape (k,)).
+        """
         columns: dict[str, tuple[str, np.ndarray]] = {
             "spin": (_UNITS["spin"], self.spin),
             "growth_rate_pitch": (_UNITS["growth_rate"], self.growth_rate_pitch),
@@ -289,7 +308,13 @@ class SpinStability:
         return columns
 
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary: options, spins, eigenvalues [[re, im] × 4] per spin, preference."""
+        """Summarise the result for JSON.
+
+        Returns
+        -------
+        dict of str to object
+            Options, spins, eigenvalues [[re, im] × 4] per spin, the preferred sense.
+        """
         direction = {1: "positive", -1: "negative", 0: "none"}[self.preferred_direction]
         return {
             **self.options(),
@@ -308,7 +333,13 @@ class SpinStability:
         }
 
     def to_dataset(self) -> xr.Dataset:
-        """The result as an ``xarray.Dataset`` over ``spin``; options as attributes."""
+        """Convert the result to a dataset over ``spin``; options as attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+            The columns of :meth:`table` with their units.
+        """
         import xarray as xr
 
         variables = {}
@@ -333,17 +364,23 @@ class SpinStability:
 def spin_stability(
     body: Body, spin_rates: np.ndarray | list[float], model: RollingModel | None = None
 ) -> SpinStability:
-    """Eigenvalues of the rolling model linearised about steady spin, for each spin rate.
+    """Linearise the rolling model about steady spin and find its eigenvalues.
+
+    The Jacobian is the kernel's own, by central differences (docs/decisions.md §12).
 
     Parameters
     ----------
-    body : a body with I13 = I23 = 0
-    spin_rates : spin rates s = ω · n [rad/s], shape (k,), finite, 1 <= k <= MAX_SPIN_COUNT
-    model : the rolling model (damping σ); default σ = 0
+    body : Body
+        A body with I13 = I23 = 0.
+    spin_rates : array_like
+        Spin rates s = ω · n [rad/s], shape (k,), finite, 1 <= k <= MAX_SPIN_COUNT.
+    model : RollingModel, optional
+        The rolling model (damping σ); default σ = 0.
 
     Returns
     -------
     SpinStability
+        Eigenvalues for each spin rate and at its mirror image.
     """
     model = RollingModel() if model is None else model
     spins = np.asarray(spin_rates, dtype=float)

@@ -68,7 +68,13 @@ _DATA = resources.files("celtstone.bodies") / "data"
 
 
 def list_bodies() -> dict[str, str]:
-    """Shipped parameter sets: name -> one-line citation of the source."""
+    """List the shipped parameter sets (``celtstone bodies``).
+
+    Returns
+    -------
+    dict of str to str
+        Name -> one-line citation of the source.
+    """
     found = {}
     for entry in sorted(_DATA.iterdir(), key=lambda e: e.name):
         if entry.name.endswith(".toml"):
@@ -285,10 +291,20 @@ def load_body(name_or_path: str | Path) -> Body:
     The file's keys, forms and units are those of ``bodies.file_schema``; a UTF-8
     byte-order mark is allowed.
 
+    Parameters
+    ----------
+    name_or_path : str or pathlib.Path
+        A name of :func:`list_bodies`, or a path ending in ``.toml``.
+
+    Returns
+    -------
+    Body
+        The body, its ``source`` and ``citation`` read from the file.
+
     Raises
     ------
     ParameterError
-        for an unknown name (with the closest match) or a malformed file
+        For an unknown name (with the closest match) or a malformed file
         (:class:`~celtstone.bodies.file_schema.BodyFileError`, naming the file and key).
     """
     text = str(name_or_path)

@@ -22,15 +22,23 @@ class Body:
 
     Parameters
     ----------
-    name : identifier, e.g. the parameter file's stem
-    mass : m [kg], > 0
-    inertia : central inertia tensor A in body axes [kg m²], 3x3, symmetric and
-        positive-definite, with principal moments obeying the triangle inequality
-    shape : the convex surface (:class:`Ellipsoid`, :class:`Paraboloid`, :class:`Superellipsoid`,
-        :class:`ImplicitPolynomial`, :class:`ImplicitFunction`)
-    gravity : g [m/s²], > 0
-    source : citation of the parameter set
-    notes : conversions made from the source
+    name : str
+        Identifier, e.g. the parameter file's stem.
+    mass : float
+        Mass m [kg], > 0.
+    inertia : tuple of 3 tuples of 3 float
+        Central inertia tensor A in body axes [kg m²], shape (3, 3), symmetric and
+        positive-definite, with principal moments obeying the triangle inequality.
+    shape : Ellipsoid, Paraboloid, Superellipsoid, ImplicitPolynomial or ImplicitFunction
+        The convex surface.
+    gravity : float
+        Gravitational acceleration g [m/s²], > 0.
+    source : str
+        Citation of the parameter set.
+    notes : str
+        Conversions made from the source.
+    citation : dict of str to str
+        The source as BibTeX fields (``celtstone cite``).
     """
 
     name: str
@@ -76,11 +84,11 @@ class Body:
 
     @property
     def rocking_periods(self) -> tuple[float, float]:
-        """Periods of small rocking at rest without spin [s]: pitch (about body axis 2,
-        the long axis 1 tips) and roll (about axis 1).
+        """Periods of small rocking at rest without spin [s]: pitch and roll.
 
-        A rigid body rolling on its rest contact, G at height l above it, the surface's
-        radius of curvature ρ along the rocking plane: 2π √((A_jj + m l²) / (m g (ρ − l))),
+        Pitch is about body axis 2 (the long axis 1 tips), roll about axis 1. A rigid
+        body rolling on its rest contact, G at height l above it, the surface's radius
+        of curvature ρ along the rocking plane: 2π √((A_jj + m l²) / (m g (ρ − l))),
         with A_jj the central moment about the rocking axis (products of inertia, which
         couple the two, are left out: they shift the periods by a few per cent). ``inf``
         where ρ <= l: the rest is not stable in that plane and the body does not rock;
@@ -101,9 +109,12 @@ class Body:
 
     @property
     def rocking_period(self) -> float:
-        """The longest finite period of :attr:`rocking_periods` [s], the window over which
-        a reversal averages the spin (``celtstone.reversals``); 0 (no averaging: the raw
-        spin's reversals) if the body rocks in neither plane or has a flat pole."""
+        """The longest finite period of :attr:`rocking_periods` [s].
+
+        The window over which a reversal averages the spin (``celtstone.reversals``); 0
+        (no averaging: the raw spin's reversals) if the body rocks in neither plane or
+        has a flat pole.
+        """
         finite = [p for p in self.rocking_periods if math.isfinite(p)]
         return max(finite) if finite else 0.0
 

@@ -126,17 +126,31 @@ class DeclaredShape:
     stored: ClassVar[bool] = True
 
     def kernel_fields(self) -> dict[str, Any]:
-        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        """Give the fields of the kernel parameter record this shape sets.
+
+        Returns
+        -------
+        dict of str to object
+            Field name of ``kernels.layout`` -> value (SI).
+        """
         raise NotImplementedError
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """Four shape numbers a run records (``body_shape_parameters``) [m]."""
+        """Give the four shape numbers a run records (``body_shape_parameters``).
+
+        Returns
+        -------
+        tuple of 4 float
+            The shape's numbers [m].
+        """
         raise NotImplementedError
 
     @property
     def bounding_radius(self) -> float | None:
-        """An upper bound of the distance from G to the surface [m]; None for an open cap
-        (the plausibility checks of size and density skip what is None)."""
+        """An upper bound of the distance from G to the surface [m]; None for an open cap.
+
+        The plausibility checks of size and density skip what is None.
+        """
         return None
 
     @property
@@ -150,12 +164,17 @@ class DeclaredShape:
         raise NotImplementedError
 
     def table(self) -> dict[str, object]:
-        """The ``[shape]`` table of a body file that builds this shape (``kind`` first).
+        """Give the ``[shape]`` table of a body file that builds this shape.
+
+        Returns
+        -------
+        dict of str to object
+            ``kind`` first, then the declared entries as JSON and TOML values.
 
         Raises
         ------
         ParameterError
-            for a shape that is not data (``stored`` false: a Python function).
+            For a shape that is not data (``stored`` false: a Python function).
         """
         if not self.stored:
             raise ParameterError(
@@ -167,8 +186,14 @@ class DeclaredShape:
         return {"kind": self.kind, **{e.key: _plain(getattr(self, e.key)) for e in self.entries}}
 
     def attributes(self) -> dict[str, str | float]:
-        """Provenance of the shape in a run's or a sweep's attributes: its kind, the four
-        recorded numbers and, for a stored shape, the table that rebuilds it."""
+        """Give the shape's provenance for a run's or a sweep's attributes.
+
+        Returns
+        -------
+        dict of str to str or float
+            Its kind, the four recorded numbers and, for a stored shape, the table that
+            rebuilds it.
+        """
         attrs: dict[str, str | float] = {
             "body_shape": self.kind,
             "body_shape_parameters": str(list(self.kernel_parameters())),
@@ -178,7 +203,18 @@ class DeclaredShape:
         return attrs
 
     def replaced(self, values: Mapping[str, float]) -> Self:
-        """A copy with the numbers ``values`` (of ``sweep_names``) set, validated anew."""
+        """Copy the shape with some of its numbers set, validated anew.
+
+        Parameters
+        ----------
+        values : mapping of str to float
+            Name of ``sweep_names`` -> value, in the unit of its entry (SI).
+
+        Returns
+        -------
+        Self
+            The new shape (this one when ``values`` is empty).
+        """
         if not values:
             return self
         by_name = {sweep.name: sweep for sweep in self.sweep_names}

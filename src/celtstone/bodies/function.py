@@ -40,13 +40,18 @@ class ImplicitFunction(ImplicitSurface):
 
     Parameters
     ----------
-    value : F(x) -> float [1], x a NumPy array of 3 [m] in body axes about O
-    gradient : ∇F(x) -> array of 3 [1/m]
-    com_offset : h, distance of G below O along axis 3 [m]; F(0, 0, -h) < 1
-    hessian : ∇²F(x) -> 3 x 3 array [1/m²], optional: without it the central
-        difference of ``gradient`` (step 1e-5 × the body size, error ~1e-10
-        relative) is used in the contact rate
-    name : a label for the run's attributes (default: the function's name)
+    value : callable
+        F(x) -> float [1], x a NumPy array of shape (3,) [m] in body axes about O.
+    gradient : callable
+        ∇F(x) -> array of shape (3,) [1/m].
+    com_offset : float
+        Distance h of G below O along axis 3 [m]; F(0, 0, -h) < 1.
+    hessian : callable, optional
+        ∇²F(x) -> array of shape (3, 3) [1/m²]; without it the central difference of
+        ``gradient`` (step 1e-5 × the body size, error ~1e-10 relative) is used in the
+        contact rate.
+    name : str, optional
+        A label for the run's attributes (default: the function's name).
 
     Notes
     -----
@@ -150,8 +155,14 @@ class ImplicitFunction(ImplicitSurface):
         return cls(_example_value, _example_gradient, KL_COM_OFFSET, name="kane_levinson_ellipsoid")
 
     def attributes(self) -> dict[str, str | float]:
-        """Kind, recorded numbers, the functions' name and source text (not enough to
-        rebuild the shape) and h [m]."""
+        """Give the shape's provenance for a run's attributes.
+
+        Returns
+        -------
+        dict of str to str or float
+            Kind, recorded numbers, the functions' name and source text (not enough to
+            rebuild the shape) and h [m].
+        """
         return {
             **super().attributes(),
             "body_shape_function": self.name,
@@ -160,7 +171,13 @@ class ImplicitFunction(ImplicitSurface):
         }
 
     def source_text(self) -> str:
-        """The functions' source, for the run's attributes (not enough to rerun it)."""
+        """Give the functions' source, for the run's attributes (not enough to rerun it).
+
+        Returns
+        -------
+        str
+            The source of ``value``, ``gradient`` and ``hessian``, where Python has it.
+        """
         parts = []
         for function in (self.value, self.gradient, self.hessian):
             if function is None:

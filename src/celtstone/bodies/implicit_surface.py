@@ -115,16 +115,26 @@ class ImplicitSurface(DeclaredShape):
     code = ShapeCode.IMPLICIT
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a0, b0, c0, h): start-ellipsoid semi-axes and h [m], the shape numbers a run
-        records (``body_shape_parameters``).
+        """Give the shape numbers a run records (``body_shape_parameters``).
 
         The start ellipsoid is the box of the body's extents (derived, not an input).
+
+        Returns
+        -------
+        tuple of 4 float
+            (a0, b0, c0, h): start-ellipsoid semi-axes and h [m].
         """
         a, b, c = self.start_semi_axes
         return (a, b, c, self.com_offset)
 
     def kernel_fields(self) -> dict[str, Any]:
-        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        """Give the fields of the kernel parameter record this shape sets.
+
+        Returns
+        -------
+        dict of str to object
+            Field name of ``kernels.layout`` -> value (SI).
+        """
         return {
             "shape_code": self.code,
             "com_offset": self.com_offset,
@@ -134,7 +144,13 @@ class ImplicitSurface(DeclaredShape):
         }
 
     def kernel_record(self) -> np.record:
-        """A parameter record with only the shape filled (for the geometry kernels)."""
+        """Make a parameter record with only the shape filled (for the geometry kernels).
+
+        Returns
+        -------
+        numpy.record
+            A record of ``kernels.layout``'s dtype.
+        """
         return parameter_record(**self.kernel_fields())
 
     # --- geometry --------------------------------------------------------------
@@ -145,7 +161,18 @@ class ImplicitSurface(DeclaredShape):
         return max(self.start_semi_axes)
 
     def contact_point(self, n: tuple[float, float, float]) -> tuple[float, ...] | None:
-        """Lowest point x* about O for the upward vertical n [m], or None if not found."""
+        """Find the lowest point x* of the surface for an upward vertical.
+
+        Parameters
+        ----------
+        n : tuple of 3 float
+            Upward vertical in body axes [1], unit length.
+
+        Returns
+        -------
+        tuple of 3 float or None
+            The point x* about O [m], or None if the Newton solve did not converge.
+        """
         x, _, _, _, ok = implicit.implicit_point(n, self.kernel_record())
         return tuple(x) if ok else None
 

@@ -70,10 +70,12 @@ class ImplicitPolynomial(ImplicitSurface):
 
     Parameters
     ----------
-    terms : [(c, i, j, l), ...], coefficient c [m^-(i+j+l)] and integer exponents
-        i, j, l in 0..16; at least one term of total degree >= 2
-    com_offset : h, distance of the centre of mass G below O along axis 3 [m];
-        G = (0, 0, -h) must lie strictly inside, F(G) < 1
+    terms : sequence of (float, int, int, int)
+        (c, i, j, l) per term: coefficient c [m^-(i+j+l)] and exponents i, j, l in
+        0..16; at least one term of total degree >= 2.
+    com_offset : float
+        Distance h of the centre of mass G below O along axis 3 [m];
+        G = (0, 0, -h) must lie strictly inside, F(G) < 1.
 
     Notes
     -----
@@ -141,5 +143,11 @@ class ImplicitPolynomial(ImplicitSurface):
         }
 
     def terms_json(self) -> str:
-        """The terms as a JSON list of [c, i, j, l], for run attributes."""
+        """Write the terms as JSON, for run attributes.
+
+        Returns
+        -------
+        str
+            A JSON list of [c, i, j, l].
+        """
         return json.dumps([[c, i, j, k] for c, i, j, k in self.terms])

@@ -51,19 +51,33 @@ _ABOUT_CENTRE_SWEEP = (
 
 
 class _AboutCentre(DeclaredShape):
-    """Kernel parameters and rest height of a shape given by semi-axes and the offset h of
-    G below its centre O (ellipsoid, superellipsoid)."""
+    """Kernel parameters and rest height of a shape given by semi-axes and offset h.
+
+    h is the offset of G below the centre O (ellipsoid, superellipsoid).
+    """
 
     semi_axes: tuple[float, float, float]
     com_offset: float
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(a, b, c, h) [m], the shape numbers a run records (``body_shape_parameters``)."""
+        """Give the shape numbers a run records (``body_shape_parameters``).
+
+        Returns
+        -------
+        tuple of 4 float
+            (a, b, c, h) [m].
+        """
         a, b, c = self.semi_axes
         return (a, b, c, self.com_offset)
 
     def kernel_fields(self) -> dict[str, Any]:
-        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        """Give the fields of the kernel parameter record this shape sets.
+
+        Returns
+        -------
+        dict of str to object
+            Field name of ``kernels.layout`` -> value (SI).
+        """
         return {"shape_code": self.code, "semi_axes": self.semi_axes, "com_offset": self.com_offset}
 
     @property
@@ -73,7 +87,7 @@ class _AboutCentre(DeclaredShape):
 
     @property
     def bounding_radius(self) -> float:
-        """max(a, b, c) + |h| [m], a bound of the distance from G to the surface."""
+        """A bound of the distance from G to the surface, max(a, b, c) + |h| [m]."""
         return max(self.semi_axes) + abs(self.com_offset)
 
     @property
@@ -90,9 +104,11 @@ class Ellipsoid(_AboutCentre):
 
     Parameters
     ----------
-    semi_axes : (a, b, c), semi-axes along body axes 1, 2, 3 [m]
-    com_offset : h, distance of the centre of mass G below O along axis 3 [m];
-        G must lie inside the body, |h| < c.
+    semi_axes : tuple of 3 float
+        (a, b, c), semi-axes along body axes 1, 2, 3 [m].
+    com_offset : float
+        Distance h of the centre of mass G below O along axis 3 [m]; G must lie
+        inside the body, |h| < c.
     """
 
     semi_axes: tuple[float, float, float]
@@ -137,9 +153,10 @@ class Paraboloid(DeclaredShape):
 
     Parameters
     ----------
-    radii_of_curvature : (ρ1, ρ2), radii of curvature at the rest contact along
-        body axes 1, 2 [m]
-    com_height : l, height of the centre of mass above the rest contact [m]
+    radii_of_curvature : tuple of 2 float
+        (ρ1, ρ2), radii of curvature at the rest contact along body axes 1, 2 [m].
+    com_height : float
+        Height l of the centre of mass above the rest contact [m].
 
     Notes
     -----
@@ -180,12 +197,24 @@ class Paraboloid(DeclaredShape):
         return cls((a * a / c, b * b / c), c - KL_COM_OFFSET)
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
-        """(ρ1, ρ2, l, 0) [m], the shape numbers a run records (``body_shape_parameters``)."""
+        """Give the shape numbers a run records (``body_shape_parameters``).
+
+        Returns
+        -------
+        tuple of 4 float
+            (ρ1, ρ2, l, 0) [m].
+        """
         rho1, rho2 = self.radii_of_curvature
         return (rho1, rho2, self.com_height, 0.0)
 
     def kernel_fields(self) -> dict[str, Any]:
-        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        """Give the fields of the kernel parameter record this shape sets.
+
+        Returns
+        -------
+        dict of str to object
+            Field name of ``kernels.layout`` -> value (SI).
+        """
         return {
             "shape_code": self.code,
             "radii_of_curvature": self.radii_of_curvature,
@@ -210,9 +239,12 @@ class Superellipsoid(_AboutCentre):
 
     Parameters
     ----------
-    semi_axes : (a, b, c), semi-axes along body axes 1, 2, 3 [m]
-    com_offset : h, distance of the centre of mass G below O along axis 3 [m], |h| < c
-    exponent : p [1], in [2, 64]; p = 2 is the ellipsoid. p < 1 is not convex and
+    semi_axes : tuple of 3 float
+        (a, b, c), semi-axes along body axes 1, 2, 3 [m].
+    com_offset : float
+        Distance h of the centre of mass G below O along axis 3 [m], |h| < c.
+    exponent : float
+        Exponent p [1], in [2, 64]; p = 2 is the ellipsoid. p < 1 is not convex and
         1 <= p < 2 has edges (infinite curvature), so neither is accepted.
 
     Notes
@@ -256,12 +288,20 @@ class Superellipsoid(_AboutCentre):
 
     @classmethod
     def example(cls) -> Self:
-        """Kane & Levinson's ellipsoid as a superellipsoid of exponent 2 (p > 2 is flat at
-        the rest contact, where a run stops: docs/decisions.md §13)."""
+        """Kane & Levinson's ellipsoid as a superellipsoid of exponent 2.
+
+        p > 2 is flat at the rest contact, where a run stops (docs/decisions.md §13).
+        """
         return cls(KL_SEMI_AXES, KL_COM_OFFSET, 2.0)
 
     def kernel_fields(self) -> dict[str, Any]:
-        """The fields of the kernel parameter record this shape sets (``kernels.layout``)."""
+        """Give the fields of the kernel parameter record this shape sets.
+
+        Returns
+        -------
+        dict of str to object
+            Field name of ``kernels.layout`` -> value (SI).
+        """
         return {**super().kernel_fields(), "exponent": self.exponent}
 
     @property

@@ -128,39 +128,51 @@ def _check_as(schema_name: str, name: str, value: float) -> float:
 class Sweep:
     """A parameter sweep: every combination of ``vary`` (a grid) or the rows of ``points``.
 
-    Parameters
-    ----------
-    vary : name -> values, one grid axis each (dimension order as given), or a
-        sequence of :class:`Axis` or :class:`AxisSpec`
-    points : name -> values, all of one length: a list of points (dimension ``point``);
-        give ``vary`` or ``points``, not both
-    body : a :class:`Body`, a shipped body name or a TOML path
-    model : "sliding" or "rolling"
-    fixed : name -> value held for every point; names as in ``spec.PARAMETERS``, and
-        the options of ``spec.CHOICES`` (``friction_load``: "static" or "dynamic",
-        ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or "uniform",
-        ``contact``: "hybrid" (default), the stick–slip contact of the sliding model,
-        whose ``capture_speed`` [m/s] can be fixed or varied, or "sliding", the
-        regularised contact that always slides (docs/decisions.md §28: the stick–slip
-        contact is the faster of the two for sweeps and agrees with it point for point))
-    t_end : duration of each run [s]
-    method : integrator (default: the model's, radau5 for sliding); with the hybrid
-        contact also of the stick phases, which otherwise use dop853 (as ``simulate``)
-    rtol, atol : local error tolerances (default rtol 1e-8 for sweeps)
-    samples_per_second : density of the samples behind max tilt, the normal force
-        and the hysteresis band [1/s]
-    reversal_threshold : half-width of the spin's hysteresis band [rad/s]; default
-        ``analysis.reversal_bands``: 4 % of each point's initial |spin| (as
-        ``celtstone reproduce``), at least 0.01 rad/s
-    max_steps : step limit of each run
-    force : accept a sweep beyond ``budget.POINT_LIMIT`` points or
-        ``budget.STORE_LIMIT_BYTES`` (never beyond ``budget.HARD_POINT_LIMIT``)
-    progress : called with (objects built, objects to build) while the points are
-        validated
-
     The settings and the size (from the number of values alone, ``vary`` may hold
     unspaced :class:`AxisSpec`) are checked first, then every point is validated,
     before anything is computed; ``estimate`` holds the size and expected CPU time.
+
+    Parameters
+    ----------
+    vary : dict of str to array_like, or sequence of Axis or AxisSpec, optional
+        Name -> values, one grid axis each (dimension order as given).
+    points : dict of str to array_like, optional
+        Name -> values, all of one length: a list of points (dimension ``point``);
+        give ``vary`` or ``points``, not both.
+    body : Body, str or pathlib.Path, optional
+        A body, a shipped body name or a TOML path.
+    model : {"sliding", "rolling"}, optional
+        The model of every point.
+    fixed : dict of str to float or str, optional
+        Name -> value held for every point; names as in ``spec.PARAMETERS``, and the
+        options of ``spec.CHOICES`` (``friction_load``: "static" or "dynamic",
+        ``friction_law``: "pade" or "exact", ``contact_pressure``: "hertz" or
+        "uniform", ``contact``: "hybrid" (default), the stick–slip contact of the
+        sliding model, whose ``capture_speed`` [m/s] can be fixed or varied, or
+        "sliding", the regularised contact that always slides; docs/decisions.md §28:
+        the stick–slip contact is the faster of the two for sweeps and agrees with it
+        point for point).
+    t_end : float, optional
+        Duration of each run [s].
+    method : str, optional
+        Integrator (default: the model's, radau5 for sliding); with the hybrid contact
+        also of the stick phases, which otherwise use dop853 (as ``simulate``).
+    rtol, atol : float, optional
+        Local error tolerances (default rtol 1e-8 for sweeps).
+    samples_per_second : float, optional
+        Density of the samples behind max tilt, the normal force and the hysteresis
+        band [1/s].
+    reversal_threshold : float, optional
+        Half-width of the spin's hysteresis band [rad/s]; default
+        ``analysis.reversal_bands``: 4 % of each point's initial |spin| (as
+        ``celtstone reproduce``), at least 0.01 rad/s.
+    max_steps : int, optional
+        Step limit of each run.
+    force : bool, optional
+        Accept a sweep beyond ``budget.POINT_LIMIT`` points or
+        ``budget.STORE_LIMIT_BYTES`` (never beyond ``budget.HARD_POINT_LIMIT``).
+    progress : callable, optional
+        Called with (objects built, objects to build) while the points are validated.
     """
 
     def __init__(
@@ -298,7 +310,18 @@ class Sweep:
     # ----------------------------------------------------------------- provenance
 
     def spec(self, chunk_points: int = DEFAULT_CHUNK_POINTS) -> str:
-        """Canonical JSON of everything that determines the results and the store layout."""
+        """Write everything that determines the results and the store layout as JSON.
+
+        Parameters
+        ----------
+        chunk_points : int, optional
+            Points per block of the store.
+
+        Returns
+        -------
+        str
+            Canonical JSON (sorted keys): a store is resumed only by the same spec.
+        """
         body = self.base_body
         document = {
             "body": {
@@ -329,7 +352,19 @@ class Sweep:
         return json.dumps(document, sort_keys=True)
 
     def attrs(self, chunk_points: int = DEFAULT_CHUNK_POINTS) -> dict[str, Any]:
-        """Provenance attributes of the result Dataset (flat strings and numbers)."""
+        """Give the provenance attributes of the result Dataset.
+
+        Parameters
+        ----------
+        chunk_points : int, optional
+            As :meth:`spec`, recorded with the spec.
+
+        Returns
+        -------
+        dict of str to object
+            Flat strings and numbers: body, model, fixed and varied names, tolerances,
+            celtstone version.
+        """
         body = self.base_body
         model = self.builder.model
         return {
@@ -392,31 +427,39 @@ class Sweep:
     ) -> xr.Dataset:
         """Compute every point (or, with ``resume``, every point not yet in ``out``).
 
-        Parameters
-        ----------
-        out : Zarr store to write block by block; None keeps the results in memory
-        resume : continue the store ``out`` of the same sweep
-        overwrite : replace an existing ``out``
-        scheduler : address of a dask.distributed scheduler ("tcp://HOST:PORT");
-            None runs on threads of this process
-        workers : number of local threads, 1 to ``MAX_WORKERS`` (default: every core);
-            not with ``scheduler``
-        chunk_points : points per block, the unit of writing and resuming, 1 to
-            ``MAX_CHUNK_POINTS``
-        task_points : points per compiled call
-
         Every option is checked and the scheduler connected (within
         ``SCHEDULER_TIMEOUT_SECONDS``) before the store is created: a refused run
-        leaves nothing at ``out``.
-        progress : called with (points written, failures among them) after each block
-        on_start : called once with (points already done, points in all)
+        leaves nothing at ``out``. Ctrl-C (KeyboardInterrupt) stops after the blocks
+        already written; the store can then be resumed.
+
+        Parameters
+        ----------
+        out : str or pathlib.Path, optional
+            Zarr store to write block by block; None keeps the results in memory.
+        resume : bool, optional
+            Continue the store ``out`` of the same sweep.
+        overwrite : bool, optional
+            Replace an existing ``out``.
+        scheduler : str, optional
+            Address of a dask.distributed scheduler ("tcp://HOST:PORT"); None runs on
+            threads of this process.
+        workers : int, optional
+            Number of local threads, 1 to ``MAX_WORKERS`` (default: every core); not
+            with ``scheduler``.
+        chunk_points : int, optional
+            Points per block, the unit of writing and resuming, 1 to
+            ``MAX_CHUNK_POINTS``.
+        task_points : int, optional
+            Points per compiled call.
+        progress : callable, optional
+            Called with (points written, failures among them) after each block.
+        on_start : callable, optional
+            Called once with (points already done, points in all).
 
         Returns
         -------
         xarray.Dataset
-            result fields on the sweep dimensions, with provenance attributes.
-            Ctrl-C (KeyboardInterrupt) stops after the blocks already written; the
-            store can then be resumed.
+            Result fields on the sweep dimensions, with provenance attributes.
         """
         # every option is checked, and a cluster connected, before a store is created
         chunk_points, threads = check_run_options(scheduler, workers, chunk_points)

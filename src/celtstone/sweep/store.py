@@ -364,11 +364,24 @@ class SweepStore:
 def open_sweep(path: str | Path, *, allow_incomplete: bool = False) -> xr.Dataset:
     """Open a sweep store as an ``xarray.Dataset`` (loaded into memory).
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The Zarr store a :class:`Sweep` or ``celtstone sweep`` wrote.
+    allow_incomplete : bool, optional
+        Open a stopped sweep too: points not computed hold the fill values (NaN, -1,
+        "").
+
+    Returns
+    -------
+    xarray.Dataset
+        The result fields on the sweep dimensions, with provenance attributes.
+
     Raises
     ------
     CeltstoneError
-        if the store is incomplete (a sweep that was stopped) unless
-        ``allow_incomplete``: then points not computed hold the fill values (NaN, -1, "").
+        If the store is incomplete (a sweep that was stopped) and not
+        ``allow_incomplete``.
     """
     import xarray as xr
 
