@@ -498,7 +498,7 @@ def count_case(name: str) -> dict[str, Any]:
     TALLY.kinds.clear()
     TALLY.sites.clear()
     with counting(modules):
-        status = system.rhs(code, CountingFloat(0.0), y, params, dy)
+        status, _ = system.rhs(code, CountingFloat(0.0), y, params, dy)
     plain = [value for value in dy if type(value) is not CountingFloat and value != 0.0]
     if plain:
         raise RuntimeError(f"{name}: a rate left the counted path: {plain}")
@@ -569,7 +569,7 @@ def timing_worker(evaluations: int, repeats: int) -> dict[str, Any]:
         code, params, state = case(name)
         y = np.array(state)
         dy = np.zeros_like(y)
-        status = rhs(code, 0.0, y, params, dy)
+        status, _ = rhs(code, 0.0, y, params, dy)
         entry: dict[str, Any] = {"status": int(status), "dy": [value.hex() for value in dy]}
         for label, loop, index in variants:
             loop(code, y, params, dy, 10, index)  # compile

@@ -202,8 +202,9 @@ def test_every_friction_load_has_dynamics(option: FrictionLoad) -> None:
 def test_every_model_and_shape_has_a_right_hand_side(model: ModelCode, shape: ShapeCode) -> None:
     params = _record(shape)
     y, dy = initial_vector(STATE), np.empty(layout.N_STATE)
-    assert system.rhs(model.value, 0.0, y, params, dy) == layout.RHS_OK
-    assert _finite(dy, system.energy(model.value, y, params))
+    status, normal_force = system.rhs(model.value, 0.0, y, params, dy)
+    assert status == layout.RHS_OK
+    assert _finite(dy, normal_force, system.energy(model.value, y, params))
     assert _finite(system.phase_value(model.value, y, params, 1e-6))
 
 
@@ -253,7 +254,7 @@ def test_unknown_code_is_the_right_hand_sides_status(name: str, code: int) -> No
     model = code if name == "model" else ModelCode.SLIDING.value
     params = _record() if name == "model" else _record(**{name: code})
     y, dy = initial_vector(STATE), np.zeros(layout.N_STATE)
-    assert system.rhs(model, 0.0, y, params, dy) == layout.RHS_UNKNOWN_CODE
+    assert system.rhs(model, 0.0, y, params, dy)[0] == layout.RHS_UNKNOWN_CODE
     derived = np.empty((1, system.N_DIAGNOSTICS))
     system.diagnostics_series(model, y[None, :], params, derived)
     assert derived[0, system.D_STATUS] == layout.RHS_UNKNOWN_CODE

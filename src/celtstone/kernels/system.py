@@ -161,9 +161,13 @@ def rolling_resistance_power(model, n: Vec, omega: Vec, normal_force: float, par
 
 @inlined_kernel
 def rhs(model, t, y, params, dy):
-    """Right-hand side of the state equation; returns the status code."""
-    status, _, _, _ = evaluate(model, y, params, dy)
-    return status
+    """Right-hand side of the state equation; returns (status code, normal force N [N]).
+
+    The integrators pass the normal force of the evaluation at an accepted state on to
+    the driver's lift-off check, which so needs no evaluation of its own.
+    """
+    status, normal_force, _, _ = evaluate(model, y, params, dy)
+    return status, normal_force
 
 
 @kernel

@@ -17,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._step_control import smallest_step
@@ -94,7 +95,8 @@ def evaluate_stage(model, params, s, t, y, h, stages, scratch):
 def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error_terms):
     """One trial step of size h from (t, y), ``stages[0]`` = f(t, y) on entry.
 
-    Fills ``y_new`` and ``stages[12]`` = f(t + h, y_new); returns the scaled error norm.
+    Fills ``y_new`` and ``stages[12]`` = f(t + h, y_new); returns the scaled error norm
+    and the status code and normal force [N] of that last evaluation.
     """
     n = y.shape[0]
     for s in range(1, N_STAGES):
@@ -106,7 +108,7 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error
             y_new[j] += weight * stages[k, j]
     for j in range(n):
         y_new[j] = y[j] + h * y_new[j]
-    rhs(model, t + h, y_new, params, stages[N_STAGES])
+    code, normal_force = rhs(model, t + h, y_new, params, stages[N_STAGES])
     error_terms[:, :] = 0.0
     for k in range(N_STAGES + 1):
         weight5 = E5[k]
@@ -121,8 +123,8 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error
         error5 += (error_terms[0, j] / scale) ** 2
         error3 += (error_terms[1, j] / scale) ** 2
     if error5 == 0.0 and error3 == 0.0:
-        return 0.0
-    return abs(h) * error5 / math.sqrt((error5 + 0.01 * error3) * n)
+        return 0.0, code, normal_force
+    return abs(h) * error5 / math.sqrt((error5 + 0.01 * error3) * n), code, normal_force
 
 
 @inlined
@@ -131,7 +133,8 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     error norm is below 1 (SciPy's controller: factor 0.9 err^(-1/8) in [0.2, 10], no
     growth right after a rejection); the step never passes ``t_end``.
 
-    Returns (status, h_taken, h_next); ``y_new`` and ``f_new`` = f(t + h_taken, y_new).
+    Returns (status, h_taken, h_next, rhs status, normal force [N] at y_new); ``y_new`` and
+    ``f_new`` = f(t + h_taken, y_new).
     """
     stages = work.stages
     min_step = smallest_step(t)
@@ -139,13 +142,15 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     rejected = False
     h_next = h
     h_try = h
+    code = RHS_OK
+    normal_force = math.nan
     while True:
         if h < min_step:
             status = STATUS_STEP_TOO_SMALL
             break
         h_try = min(h, t_end - t)
         stages[0, :] = f
-        error = trial_step(
+        error, code, normal_force = trial_step(
             model,
             params,
             t,
@@ -179,7 +184,7 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         stats[STAT_REJECTED] += 1
         rejected = True
     f_new[:] = stages[N_STAGES]
-    return status, h_try, h_next
+    return status, h_try, h_next, code, normal_force
 
 
 @inlined

@@ -9,8 +9,9 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    numbers, arrays and NamedTuples of them only (item 11).
 2. **The system** is ``kernels.system.rhs(model, t, y, params, out)``: ``model`` a model
    code, ``params`` the kernel parameter record (opaque to the methods: they only pass it
-   on), ``y`` the state (length n), ``out`` receives dy/dt. A method calls nothing else
-   of the physics.
+   on), ``y`` the state (length n), ``out`` receives dy/dt; it returns the
+   right-hand-side status and the normal force [N]. A method calls nothing else of the
+   physics.
 3. ``ORDER`` (int): the method's order p, global error O(h^p) (the tests check the
    slope); ``ERROR_ORDER`` (int): the order q of its local error estimate, with which
    the driver's first step (Hairer's heuristic, ``_step_control.initial_step``)
@@ -32,7 +33,10 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    step. It fills ``y_new`` (the state at t + h_taken) and ``f_new`` = f(t + h_taken,
    y_new). With ``controls.adaptive`` False it takes h as given, once, and h_next = h.
    status is ``STATUS_SUCCESS``, or ``STATUS_STEP_TOO_SMALL`` once h falls below
-   ``_step_control.smallest_step(t)``; then y_new is undefined.
+   ``_step_control.smallest_step(t)``; then y_new is undefined. It also returns what
+   ``rhs`` returned for f_new, the right-hand-side status and normal force at y_new:
+   ``(status, h_taken, h_next, rhs_status, normal_force)``. The driver checks the
+   accepted state with them, without an evaluation of its own.
 7. ``dense(model, params, t, y, y_new, h, work, stats)`` is called once after each
    accepted step [t, t + h] and stores in ``work.dense`` (every workspace has this
    2-D array) the coefficients of the interpolant over it (it may evaluate f, as
@@ -68,6 +72,7 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import RHS_UNKNOWN_CODE
 from celtstone.solvers import _dop853 as dop853
 from celtstone.solvers import _radau as radau5
 from celtstone.solvers._compile import inlined
@@ -119,7 +124,8 @@ def start(method, model, params, t, y, f, controls, work, stats):
 
 @inlined
 def attempt(method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
-    """The method's ``attempt`` (contract item 6): (status, h_taken, h_next)."""
+    """The method's ``attempt`` (contract item 6): (status, h_taken, h_next, rhs status,
+    normal force [N])."""
     if method == METHOD_DOP853:
         return dop853.attempt(
             model, params, t, y, f, h, t_end, controls, work.dop853, y_new, f_new, stats
@@ -128,7 +134,7 @@ def attempt(method, model, params, t, y, f, h, t_end, controls, work, y_new, f_n
         return radau5.attempt(
             model, params, t, y, f, h, t_end, controls, work.radau5, y_new, f_new, stats
         )
-    return STATUS_UNKNOWN_CODE, h, h
+    return STATUS_UNKNOWN_CODE, h, h, RHS_UNKNOWN_CODE, np.nan
 
 
 @inlined

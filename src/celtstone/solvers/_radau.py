@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import N_DYNAMIC, N_READ
+from celtstone.kernels.layout import N_DYNAMIC, N_READ, RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._linalg import block_factor, block_solve
@@ -388,7 +388,8 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     shrink it by the predictive controller when the error norm exceeds 1; the step
     never passes ``t_end``.
 
-    Returns (status, h_taken, h_next); ``y_new`` and ``f_new`` = f(t + h_taken, y_new).
+    Returns (status, h_taken, h_next, rhs status, normal force [N] at y_new); ``y_new`` and
+    ``f_new`` = f(t + h_taken, y_new).
     """
     memory = work.memory[0]
     min_step = smallest_step(t)
@@ -426,8 +427,8 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
             continue
         break
     if status != STATUS_SUCCESS:
-        return status, h_try, h
-    h_next = accept(
+        return status, h_try, h, RHS_OK, math.nan
+    h_next, code, normal_force = accept(
         model,
         params,
         t,
@@ -443,7 +444,7 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         work,
         stats,
     )
-    return status, h_try, h_next
+    return status, h_try, h_next, code, normal_force
 
 
 @inlined
@@ -465,6 +466,8 @@ def accept(
 ):
     """After an accepted step: f_new, the next step size, and whether the Jacobian is
     evaluated anew (slow Newton convergence) or the LU factors kept (a small change of h).
+
+    Returns (h_next [s], rhs status, normal force [N] of the evaluation f_new).
     """
     memory = work.memory[0]
     recompute_jacobian = iterations > 2 and rate > 1e-3
@@ -476,7 +479,7 @@ def accept(
         factor = 1.0
     else:
         memory.lu_valid = False
-    rhs(model, t + h_taken, y_new, params, f_new)
+    code, normal_force = rhs(model, t + h_taken, y_new, params, f_new)
     stats[STAT_NFEV] += 1
     if recompute_jacobian:
         memory.split = jacobian(
@@ -489,7 +492,7 @@ def accept(
         memory.current_jacobian = False
     memory.h_abs_old = h_taken
     memory.error_norm_old = norm
-    return h_taken * factor if controls.adaptive else h
+    return (h_taken * factor if controls.adaptive else h), code, normal_force
 
 
 @inlined

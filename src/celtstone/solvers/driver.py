@@ -85,14 +85,13 @@ def fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
 
 
 @kernel
-def first_check(model, params, y, f, output, work):
+def first_check(model, params, y, f, output):
     """The first state: f(0, y), samples at times <= 0, and why the run cannot start.
 
     Returns (status, samples written, normal force [N]).
     """
-    code = rhs(model, 0.0, y, params, f)
+    code, normal_force = rhs(model, 0.0, y, params, f)
     output.stats[STAT_NFEV] += 1
-    normal_force = spin_and_normal_force(model, y, params, work)[1]
     output.final_state[:] = y
     n_samples = 0
     times = output.sample_times
@@ -155,7 +154,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     f_new = np.empty(n)
     point = np.empty(n)
     scratch = np.empty(n)
-    status, n_samples, normal_old = first_check(model, params, y, f, output, scratch)
+    status, n_samples, normal_old = first_check(model, params, y, f, output)
     if status == STATUS_SUCCESS and not methods.is_known(method):
         status = STATUS_UNKNOWN_CODE
     stats[STAT_SAMPLES_WRITTEN] = samples_before + n_samples
@@ -178,7 +177,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             status = STATUS_MAX_STEPS
             break
         steps += 1
-        status, h_taken, h_next = methods.attempt(
+        status, h_taken, h_next, code, normal_new = methods.attempt(
             method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
         )
         if status != STATUS_SUCCESS:
@@ -189,8 +188,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             break
         t_new = t_end if h_taken == t_end - t else t + h_taken
         stats[STAT_ACCEPTED] += 1
-        spin_new, normal_new, code = spin_and_normal_force(model, y_new, params, scratch)
-        stats[STAT_NFEV] += 1
+        spin_new = events.spin_of(y_new)
         if code != RHS_OK:
             status = rhs_failure(code)
             break
