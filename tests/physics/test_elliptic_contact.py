@@ -261,6 +261,6 @@ def test_leaving_the_range_during_a_run_is_a_status_not_a_nan() -> None:
     fields.update(contact_shape=1, effective_modulus=ELLIPSE.effective_modulus)
     thin = parameter_record(**fields)
     y = initial_vector(STATE)
-    assert rhs(MODEL_SLIDING, 0.0, y, thin, np.zeros_like(y)) == RHS_CONTACT_RANGE
+    assert rhs(MODEL_SLIDING, 0.0, y, thin, np.zeros_like(y))[0] == RHS_CONTACT_RANGE
     status = Status(rhs_failure(RHS_CONTACT_RANGE))
     assert status.label == "contact_range" and "B/A < 0.02" in status.message
