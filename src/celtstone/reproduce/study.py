@@ -356,8 +356,6 @@ def _realistic(body: str) -> Study:
 
 
 REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES)
-"""The studies of :data:`STUDIES` with the realistic contact: Hertz ellipse, exact law,
-rolling resistance and stick (docs/decisions.md §30)."""
 
 
 def study_for(body: str) -> Study:
