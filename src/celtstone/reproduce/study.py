@@ -312,7 +312,7 @@ STUDIES = (
     Study(body="kane_levinson_1982"),
     Study(body="toy_rattleback_10cm"),
 )
-"""The paper's studies: its settings (disk contact, Padé law) on each reproduced body."""
+"""One study per reproduced body, in its own contact (the paper's unless it names a variant)."""
 
 REALISTIC_ELASTIC_MODULUS = 3e9  # Pa, docs/decisions.md §29: a polymer stone on a polymer plate
 REALISTIC_POISSON_RATIO = 0.35  # 1, with E: K&L's circular Hertz radius 1.09 mm ≈ the paper's ε
