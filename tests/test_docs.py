@@ -57,6 +57,33 @@ def test_the_api_page_lists_every_public_name(site: Path) -> None:
         assert (site / page).is_file(), name
 
 
+def test_the_module_pages_list_every_public_name(site: Path) -> None:
+    """Each public module the API page links has a page that links every public name of
+    the module (its ``__all__``) to the page documenting that very object: the link's
+    title, imported, is the module's attribute (a re-exported name links the one page
+    of its object)."""
+    extension = _docs_module("celtstone_docs", DOCS / "_ext" / "celtstone_docs.py")
+    modules = extension.documented_modules()
+    assert {"celtstone.bodies", "celtstone.sweep", "celtstone.visual"} <= set(modules)
+    api = (site / "api.html").read_text(encoding="utf-8")
+    for name in modules:
+        assert f'href="api/{name}.html"' in api, name
+        page = site / "api" / f"{name}.html"
+        links = re.findall(r'href="([^"#]+)#[^"]*" title="([^"]+)"', page.read_text("utf-8"))
+        module = importlib.import_module(name)
+        public = module.__all__ if hasattr(module, "__all__") else extension.public_names(module)
+        for short in public:
+            value = getattr(module, short)
+            targets = [
+                href
+                for href, title in links
+                if title.rpartition(".")[2] == short
+                and getattr(importlib.import_module(title.rpartition(".")[0]), short) is value
+            ]
+            assert targets, f"{name}.{short}"
+            assert (page.parent / targets[0]).is_file(), f"{name}.{short}"
+
+
 def test_the_cli_page_is_every_commands_help(site: Path) -> None:
     cli = (site / "cli.html").read_text(encoding="utf-8")
     commands = _commands()
@@ -144,12 +171,17 @@ def test_the_tutorial_notebook_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPa
     assert sum("image/png" in o.get("data", {}) for o in outputs) >= 3
 
 
-def _inventories() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("inventories", DOCS / "_inventories" / "make.py")
+def _docs_module(name: str, path: Path) -> ModuleType:
+    """A script of docs/ (the inventories' writer, the extension), imported by path."""
+    spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def _inventories() -> ModuleType:
+    return _docs_module("inventories", DOCS / "_inventories" / "make.py")
 
 
 def test_the_shipped_inventories_are_what_make_py_writes() -> None:

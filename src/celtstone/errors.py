@@ -59,9 +59,21 @@ class ParameterError(CeltstoneError, ValueError):
 class BodyFileError(ParameterError):
     """A body file's content is refused: one line naming the file and the key.
 
-    ``name``, ``value``, ``allowed`` and ``hint`` are those of :class:`ParameterError`;
-    ``problem`` replaces the standard "NAME = VALUE is not allowed" text where the
-    key itself is the fault (unknown, missing).
+    Parameters
+    ----------
+    file : str
+        The body file (its path or the set's name).
+    name : str
+        The key, as in :class:`ParameterError`.
+    value : object
+        The value given.
+    allowed : str
+        The allowed range or set, in words.
+    hint : str, optional
+        What to do instead.
+    problem : str, optional
+        Replaces the standard "NAME = VALUE is not allowed" text where the key itself is
+        the fault (unknown, missing).
     """
 
     def __init__(

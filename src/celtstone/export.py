@@ -55,7 +55,9 @@ __all__ = [
 ]
 
 FORMATS = (".nc", ".csv")
+"""The suffixes a run can be written to: NetCDF (the whole run) and CSV (its table)."""
 OVERWRITE_HINT = "add --overwrite to replace it"
+"""The fix named by the error raised when an output file exists."""
 MIN_SAMPLES = 2  # a run to plot or export has a start and an end
 _RUN_ALLOWED = "an existing NetCDF file written by `celtstone run --out RUN.nc`"
 _TEMPORARY_SUFFIX = ".part"
@@ -107,14 +109,31 @@ def check_target(
     *,
     overwrite: bool = False,
 ) -> Path:
-    """``path`` as a :class:`Path` if it can be written: a suffix in ``formats``, an existing
-    directory, and no file there unless ``overwrite`` (never a directory). Call it before
-    a long computation whose result goes to ``path``.
+    """Check that ``path`` can be written before a long computation whose result goes there.
+
+    It needs a suffix in ``formats``, an existing directory, and no file there unless
+    ``overwrite`` (never a directory).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output file.
+    formats : sequence of str, optional
+        The suffixes allowed (default :data:`FORMATS`).
+    parameter : str, optional
+        The option or argument named in errors.
+    overwrite : bool, optional
+        Whether an existing file may be replaced.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path`` as a :class:`~pathlib.Path`.
 
     Raises
     ------
     ParameterError
-        naming ``parameter``, for an empty path, another suffix, a directory that does
+        Naming ``parameter``, for an empty path, another suffix, a directory that does
         not exist, an existing file (without ``overwrite``) or an existing directory.
     """
     allowed = "a file name ending in " + " or ".join(formats)
@@ -130,12 +149,24 @@ def check_target(
 
 
 def output_beside(run: str | Path, suffix: str) -> Path:
-    """The default output of a command on the run file ``run``: its name with ``suffix``.
+    """Name the default output of a command on the run file ``run``: its name with ``suffix``.
+
+    Parameters
+    ----------
+    run : str or pathlib.Path
+        The run file.
+    suffix : str
+        The output's suffix (``".png"``).
+
+    Returns
+    -------
+    pathlib.Path
+        The output beside the run.
 
     Raises
     ------
     ParameterError
-        naming ``run`` when it names no file (empty, ``.``, ``..``, ``/``).
+        Naming ``run`` when it names no file (empty, ``.``, ``..``, ``/``).
     """
     source = Path(run)
     if str(run) == "" or source.name in ("", ".", ".."):
@@ -166,12 +197,22 @@ def _is_alive(pid: int) -> bool:
 
 
 def remove_stale_temporaries(target: str | Path) -> list[Path]:
-    """Remove the temporaries of ``target`` left by processes that are gone; return them.
+    """Remove the temporaries of ``target`` left by processes that are gone.
 
     A temporary of ours is named ``.NAME.<pid>.<random>.part`` beside ``target``
     (a file, or a directory for a sweep store or a staging area). Only names of
     exactly that form whose process no longer exists are removed: never one of a
     live process, never any other file.
+
+    Parameters
+    ----------
+    target : str or pathlib.Path
+        The output whose temporaries are looked for.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The temporaries removed.
 
     Notes
     -----
@@ -204,14 +245,22 @@ def remove_stale_temporaries(target: str | Path) -> list[Path]:
 
 
 def replace_directory(source: Path, target: Path) -> None:
-    """Move the directory ``source`` to ``target`` whole (the same file system): an
-    earlier ``target`` is moved aside first and removed after, never mixed with the new
-    one's files.
+    """Move the directory ``source`` to ``target`` whole (the same file system).
+
+    An earlier ``target`` is moved aside first and removed after, never mixed with the
+    new one's files.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        The finished directory.
+    target : pathlib.Path
+        Where it goes.
 
     Raises
     ------
     OutputError
-        if a move fails (``target`` is then the earlier one, or absent if it had none).
+        If a move fails (``target`` is then the earlier one, or absent if it had none).
     """
     aside = target.with_name(f".{target.name}.{os.getpid()}.aside.part")
     try:
@@ -227,15 +276,25 @@ def replace_directory(source: Path, target: Path) -> None:
 
 
 def make_temporary_directory(target: str | Path) -> Path:
-    """A new empty directory ``.NAME.<pid>.<random>.part`` beside ``target``.
+    """Make a new empty directory ``.NAME.<pid>.<random>.part`` beside ``target``.
 
     Stale temporaries of ``target`` are removed first. The caller removes the
     directory (or renames it to ``target``) when done.
 
+    Parameters
+    ----------
+    target : str or pathlib.Path
+        The directory it stands in for.
+
+    Returns
+    -------
+    pathlib.Path
+        The new directory.
+
     Raises
     ------
     OutputError
-        if the directory cannot be made.
+        If the directory cannot be made.
     """
     path = Path(target)
     remove_stale_temporaries(path)
@@ -249,8 +308,20 @@ def make_temporary_directory(target: str | Path) -> Path:
 
 
 def output_error(target: str | Path, error: OSError) -> OutputError:
-    """``error`` met while writing ``target``, as an :class:`OutputError` naming ``target``
-    (never the temporary) and the cause."""
+    """Turn ``error`` met while writing ``target`` into an :class:`OutputError`.
+
+    Parameters
+    ----------
+    target : str or pathlib.Path
+        The output being written; the error names it, never the temporary.
+    error : OSError
+        The cause.
+
+    Returns
+    -------
+    OutputError
+        The error naming ``target`` and the cause.
+    """
     if isinstance(error, OutputError):
         return error
     cause = error.strerror or str(error) or type(error).__name__
@@ -283,12 +354,26 @@ def atomic_path(
     An existing ``path`` is refused unless ``overwrite`` (a directory always is);
     stale temporaries of ``path`` are removed first (:func:`remove_stale_temporaries`).
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output file.
+    overwrite : bool, optional
+        Whether an existing file may be replaced.
+    parameter : str, optional
+        The option or argument named in errors.
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary to write.
+
     Raises
     ------
     ParameterError
-        naming ``parameter``, for a directory that does not exist or a target in use.
+        Naming ``parameter``, for a directory that does not exist or a target in use.
     OutputError
-        if writing fails (an ``OSError`` in the ``with`` block or in the final move):
+        If writing fails (an ``OSError`` in the ``with`` block or in the final move):
         neither the target nor the temporary is left.
     """
     target = Path(path)
@@ -326,6 +411,13 @@ def to_csv(dataset: xr.Dataset, path: Path) -> None:
 
     Vector variables become ``omega_1``, ``omega_2``, ...; header comments carry
     the units.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A run.
+    path : pathlib.Path
+        The file written (directly: :func:`write` writes it whole or not at all).
     """
     columns = {"time": dataset["time"].values}
     units = {"time": dataset["time"].attrs.get("units", "")}
@@ -373,7 +465,19 @@ def _to_netcdf(dataset: xr.Dataset, temporary: Path, target: Path) -> None:
 def write(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = False) -> Path:
     """Write ``dataset`` to ``path`` (.nc NetCDF-4 or .csv), whole or not at all.
 
-    An existing file is refused unless ``overwrite``; see the module docstring.
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A run.
+    path : str or pathlib.Path
+        The file, with a suffix of :data:`FORMATS`.
+    overwrite : bool, optional
+        Whether an existing file may be replaced (it is refused otherwise).
+
+    Returns
+    -------
+    pathlib.Path
+        The NetCDF or CSV file written.
     """
     target = check_target(path, overwrite=overwrite)
     suffix = target.suffix.lower()
@@ -394,9 +498,22 @@ def write_table(
 ) -> Path:
     """Write ``table`` as CSV, whole or not at all, after ``# key: value`` header lines.
 
-    ``provenance`` names the body source, model, friction law, tolerances and the
-    celtstone version; :func:`read_table` reads the file back. An existing file is
-    refused unless ``overwrite``.
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The table.
+    path : str or pathlib.Path
+        The CSV file; :func:`read_table` reads it back.
+    provenance : Mapping
+        The header: the body source, model, friction law, tolerances and the celtstone
+        version.
+    overwrite : bool, optional
+        Whether an existing table may be replaced (it is refused otherwise).
+
+    Returns
+    -------
+    pathlib.Path
+        The CSV file written.
     """
     target = Path(path)
     with atomic_path(target, overwrite=overwrite) as temporary:
@@ -409,7 +526,20 @@ def write_table(
 
 
 def read_table(path: str | Path) -> tuple[pd.DataFrame, dict[str, str]]:
-    """A CSV written by :func:`write_table`: the table and its provenance header."""
+    """Read a CSV written by :func:`write_table`.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        The table.
+    provenance : dict of str to str
+        Its ``# key: value`` header.
+    """
     provenance: dict[str, str] = {}
     with open(path, encoding="utf-8") as stream:
         for line in stream:
@@ -423,8 +553,22 @@ def read_table(path: str | Path) -> tuple[pd.DataFrame, dict[str, str]]:
 
 
 def write_json(data: Any, path: str | Path, *, overwrite: bool = False) -> Path:
-    """Write ``data`` as indented JSON, whole or not at all (an existing file is refused
-    unless ``overwrite``)."""
+    """Write ``data`` as indented JSON, whole or not at all.
+
+    Parameters
+    ----------
+    data : object
+        Anything :func:`json.dumps` writes.
+    path : str or pathlib.Path
+        The file.
+    overwrite : bool, optional
+        Whether an existing file may be replaced (it is refused otherwise).
+
+    Returns
+    -------
+    pathlib.Path
+        The JSON file written.
+    """
     target = Path(path)
     text = json.dumps(data, indent=2, allow_nan=False) + "\n"
     with atomic_path(target, overwrite=overwrite) as temporary:
@@ -433,14 +577,25 @@ def write_json(data: Any, path: str | Path, *, overwrite: bool = False) -> Path:
 
 
 def read_run(path: str | Path) -> xr.Dataset:
-    """A run written by celtstone (``celtstone run --out RUN.nc``), loaded into memory;
-    the attributes of a file written before a rename read under their new names
+    """Read a run written by celtstone (``celtstone run --out RUN.nc``) into memory.
+
+    The attributes of a file written before a rename read under their new names
     (``schema.RENAMED_ATTRIBUTES``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The NetCDF file.
+
+    Returns
+    -------
+    xarray.Dataset
+        The run, loaded.
 
     Raises
     ------
     ParameterError
-        if ``path`` is not a readable NetCDF file with a celtstone run of at least
+        If ``path`` is not a readable NetCDF file with a celtstone run of at least
         two samples in it.
     """
     source = Path(path)

@@ -37,8 +37,22 @@ __all__ = [
 
 
 def averaged_spin(time: np.ndarray, spin: np.ndarray, window: float) -> np.ndarray:
-    """The spin's centred running mean over ``window`` [s] (the rocking average), at the
-    sample times; ``window`` 0 returns the spin itself. Shape and units of ``spin``."""
+    """Average the spin over a centred running window (the rocking average).
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Sample times [s], shape (k,), increasing.
+    spin : numpy.ndarray
+        The spin ω·n to average [rad/s], shape (k,).
+    window : float
+        Width of the running mean [s], >= 0; 0 returns the spin itself.
+
+    Returns
+    -------
+    numpy.ndarray
+        The averaged spin at the sample times [rad/s], shape (k,).
+    """
     time = np.ascontiguousarray(time, dtype=float)
     spin = np.ascontiguousarray(spin, dtype=float)
     if not (window >= 0.0 and np.isfinite(window)):
@@ -93,14 +107,29 @@ def reversal_times(
 
 
 REVERSAL_BAND_FRACTION = 0.04
-"""Default half-width of the hysteresis band, as a fraction of the initial |spin|
-(0.2 rad/s for the Kane & Levinson start at 5 rad/s)."""
+"""Default half-width of the hysteresis band, as a fraction of the initial |spin|.
+
+0.2 rad/s for the Kane & Levinson start at 5 rad/s.
+"""
 
 
 def reversal_band(initial_spin: float) -> float:
     """Default band half-width [rad/s]: ``REVERSAL_BAND_FRACTION`` |initial spin|.
 
-    Raises ParameterError for a start without spin (no sense to reverse).
+    Parameters
+    ----------
+    initial_spin : float
+        Spin ω·n at the start [rad/s], != 0.
+
+    Returns
+    -------
+    float
+        Half-width of the hysteresis band [rad/s].
+
+    Raises
+    ------
+    ParameterError
+        For a start without spin (no sense to reverse).
     """
     band = REVERSAL_BAND_FRACTION * abs(float(initial_spin))
     if not band > 0.0 or not np.isfinite(band):
@@ -113,15 +142,40 @@ REVERSAL_BAND_FLOOR = 0.01
 
 
 def reversal_bands(initial_spins: np.ndarray) -> np.ndarray:
-    """Default bands [rad/s] of many starts (sweeps): ``REVERSAL_BAND_FRACTION`` |spin|,
-    at least ``REVERSAL_BAND_FLOOR`` so that a start without spin still has a band."""
+    """Default bands of many starts (sweeps), at least ``REVERSAL_BAND_FLOOR``.
+
+    Parameters
+    ----------
+    initial_spins : numpy.ndarray
+        Spin ω·n at each start [rad/s], shape (p,).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``REVERSAL_BAND_FRACTION`` |spin|, at least ``REVERSAL_BAND_FLOOR`` so that a
+        start without spin still has a band [rad/s], shape (p,).
+    """
     spins = np.abs(np.asarray(initial_spins, dtype=float))
     return np.maximum(REVERSAL_BAND_FRACTION * spins, REVERSAL_BAND_FLOOR)
 
 
 def dataset_reversal_times(dataset: xr.Dataset, threshold: float | None = None) -> np.ndarray:
-    """Reversal times [s] of a run's dataset; default band from its initial spin, window
-    from its attribute ``reversal_window`` (0 in files written before it was recorded)."""
+    """Find the reversal times of a run's dataset.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A run (``Trajectory.dataset`` or a file read back); its attribute
+        ``reversal_window`` is the window (0 in files written before it was recorded).
+    threshold : float, optional
+        Half-width of the band [rad/s]; by default :func:`reversal_band` of the
+        initial spin.
+
+    Returns
+    -------
+    numpy.ndarray
+        Reversal times [s], shape (r,).
+    """
     spin = dataset["spin"].values
     band = reversal_band(spin[0]) if threshold is None else threshold
     crossings = dataset["spin_crossings"].values if "spin_crossings" in dataset else None

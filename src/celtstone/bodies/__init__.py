@@ -198,8 +198,19 @@ def _shape_values(file: str, table: Mapping[str, Any]) -> tuple[ShapeFile, dict[
 
 
 def shape_from_table(table: Mapping[str, Any], *, file: str = "the shape table") -> Shape:
-    """The shape a ``[shape]`` table declares (``kind`` and that kind's entries), validated
-    as in a body file; the inverse of ``shape.table()``.
+    """Build the shape a ``[shape]`` table declares; the inverse of ``shape.table()``.
+
+    Parameters
+    ----------
+    table : Mapping
+        The table: ``kind`` and that kind's entries, validated as in a body file.
+    file : str, optional
+        Where the table comes from, named in errors.
+
+    Returns
+    -------
+    Shape
+        The validated shape.
 
     Raises
     ------
@@ -226,6 +237,20 @@ def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = Non
     keys, array lengths); then the shape and the body check their values, which know
     the ranges in context (``com_offset`` inside the body); last, a value those checks
     took but that is not a TOML number (``true``, ``"1.0"``) is refused.
+
+    Parameters
+    ----------
+    name : str
+        The parameter set's name (``kane_levinson_1982``).
+    data : Mapping
+        The parsed TOML structure of a body file.
+    file : str, optional
+        Where it comes from, named in errors; default ``name``.
+
+    Returns
+    -------
+    Body
+        The validated body.
 
     Raises
     ------

@@ -314,6 +314,7 @@ class Superellipsoid(_AboutCentre):
 
 
 Shape = Ellipsoid | Paraboloid | Superellipsoid | ImplicitPolynomial | ImplicitFunction
+"""Any shape of a body: the union of the shape classes (a type, for annotations)."""
 
 SHAPES: dict[str, type[Shape]] = {
     cls.kind: cls

@@ -13,8 +13,15 @@ def effective_modulus(elastic_modulus: float, poisson_ratio: float) -> float:
 
     Parameters
     ----------
-    elastic_modulus : E, Young's modulus of body and plane [Pa], > 0
-    poisson_ratio : ν of body and plane [1], in (−1, 0.5)
+    elastic_modulus : float
+        E, Young's modulus of body and plane [Pa], > 0.
+    poisson_ratio : float
+        Poisson's ratio ν of body and plane [1], in (−1, 0.5).
+
+    Returns
+    -------
+    float
+        The effective modulus E* [Pa].
 
     Notes
     -----
@@ -29,10 +36,25 @@ def effective_modulus(elastic_modulus: float, poisson_ratio: float) -> float:
 def hertz_contact_radius(
     normal_force: float, equivalent_radius: float, elastic_modulus: float, poisson_ratio: float
 ) -> float:
-    """ε = (3 N R / (4 E*))^(1/3) [m] for a load N [N] > 0 and a radius R [m] > 0.
+    """Compute the radius ε = (3 N R / (4 E*))^(1/3) [m] of the Hertz contact disk.
 
-    R is the sphere's radius, or the equivalent radius sqrt(R1 R2) of an elliptic
-    contact (``docs/equations.md``); E* from :func:`effective_modulus`.
+    Parameters
+    ----------
+    normal_force : float
+        N, the load on the contact [N], > 0.
+    equivalent_radius : float
+        R, the sphere's radius, or the equivalent radius sqrt(R1 R2) of an elliptic
+        contact [m], > 0 (``docs/equations.md``).
+    elastic_modulus : float
+        E, Young's modulus of body and plane [Pa], > 0.
+    poisson_ratio : float
+        Poisson's ratio ν of body and plane [1], in (−1, 0.5); E* from
+        :func:`effective_modulus`.
+
+    Returns
+    -------
+    float
+        The contact radius ε [m].
     """
     load = schema.check("load", normal_force)
     radius = schema.check("equivalent_radius", equivalent_radius)

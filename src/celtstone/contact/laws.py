@@ -25,27 +25,45 @@ __all__ = [
 
 # names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
 FRICTION_LAWS = {law.name.lower(): law.value for law in FrictionLaw}
+"""Friction law name (``"pade"``, ``"exact"``) -> the kernels' integer code."""
 CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
+"""Contact pressure name (``"hertz"``, ``"uniform"``) -> the kernels' integer code."""
 CONTACT_SHAPES = {shape.name.lower(): shape.value for shape in ContactShape}
+"""Contact patch name (``"circle"``, ``"ellipse"``) -> the kernels' integer code."""
 
 # what each law and pressure is, in words (help texts; a test requires one per member)
 LAW_WORDS = {
     FrictionLaw.PADE: "Zhuravlev's Padé approximation, paper eq. 10",
     FrictionLaw.EXACT: "the Coulomb-Contensou integrals of paper section 2",
 }
+"""Each friction law in words, with its paper equation (help texts)."""
 PRESSURE_WORDS = {
     ContactPressure.HERTZ: "Hertz, paper eq. 2",
     ContactPressure.UNIFORM: "uniform on the disk",
 }
+"""Each contact pressure in words, with its paper equation (help texts)."""
 SHAPE_WORDS = {
     ContactShape.CIRCLE: "a disk of radius epsilon, the paper's",
     ContactShape.ELLIPSE: "the Hertz ellipse of the two principal curvatures; needs "
     "elastic_modulus and poisson_ratio",
 }
+"""Each contact patch shape in words (help texts)."""
 
 
 def choice_words(words: dict) -> str:
-    """``"pade (…) or exact (…)"``: each option's name and what it is."""
+    """Say each option's name and what it is: ``"pade (…) or exact (…)"``.
+
+    Parameters
+    ----------
+    words : dict
+        Member of a code enum -> its description (:data:`LAW_WORDS`,
+        :data:`PRESSURE_WORDS`, :data:`SHAPE_WORDS`).
+
+    Returns
+    -------
+    str
+        The options joined by "or".
+    """
     return " or ".join(f"{member.name.lower()} ({text})" for member, text in words.items())
 
 
@@ -56,13 +74,20 @@ def friction_functions(
 
     Parameters
     ----------
-    u : slip ratios [1], finite, >= 0; any shape
-    law : "pade" or "exact"
-    pressure : "hertz" (paper eq. 2) or "uniform"
+    u : numpy.ndarray or list of float or float
+        Slip ratios [1], finite, >= 0; any shape.
+    law : str, optional
+        ``"pade"`` (Zhuravlev's Padé approximation, paper eq. 10) or ``"exact"`` (the
+        Coulomb–Contensou integrals, paper section 2).
+    pressure : str, optional
+        ``"hertz"`` (paper eq. 2) or ``"uniform"``.
 
     Returns
     -------
-    force, moment : arrays of the shape of ``u`` [1]; |F| / (f N) and |M| / (f N ε)
+    force : numpy.ndarray
+        |F| / (f N) [1], the shape of ``u``.
+    moment : numpy.ndarray
+        |M| / (f N ε) [1], the shape of ``u``.
     """
     require_choice("friction_law", law, FRICTION_LAWS)
     require_choice("contact_pressure", pressure, CONTACT_PRESSURES)

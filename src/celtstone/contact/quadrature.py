@@ -97,14 +97,19 @@ def friction_integrals(
 
     Parameters
     ----------
-    u : slip ratio [1], finite, >= 0
-    pressure : "hertz" (paper eq. 2) or "uniform"
-    rtol : relative tolerance of each one-dimensional quadrature
+    u : float
+        Slip ratio [1], finite, >= 0.
+    pressure : str, optional
+        ``"hertz"`` (paper eq. 2) or ``"uniform"``.
+    rtol : float, optional
+        Relative tolerance of each one-dimensional quadrature.
 
     Returns
     -------
-    force : |F| / (f N) [1]
-    moment : |M| / (f N ε) [1]
+    force : float
+        |F| / (f N) [1].
+    moment : float
+        |M| / (f N ε) [1].
     """
     from scipy.integrate import quad  # on first use: SciPy's quadrature is slow to import
 

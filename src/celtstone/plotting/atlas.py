@@ -28,15 +28,30 @@ def plot_verdict_maps(
     y_label: str,
     title: str,
 ) -> Figure:
-    """A panel per entry of ``verdicts`` (a finding, or "all five"): each design's verdict
-    ("yes", "partly", "no") as the colour of its cell, and as a letter in it.
+    """Draw a panel per entry of ``verdicts``: each design's verdict as its cell's colour.
+
+    The verdict ("yes", "partly", "no") is also written as a letter in the cell.
 
     Parameters
     ----------
-    x_values, y_values : the slice's values of its two parameters
-    verdicts : name -> one verdict per design, x fastest (``len(x) * len(y)`` each)
-    x_label, y_label : the parameters in words, with units
-    title : the figure's title (wrapped to the figure's width)
+    x_values : sequence of float
+        The slice's values of its first parameter.
+    y_values : sequence of float
+        The slice's values of its second parameter.
+    verdicts : Mapping
+        Finding (or "all five") -> one verdict per design, x fastest
+        (``len(x) * len(y)`` each).
+    x_label : str
+        The first parameter in words, with its unit.
+    y_label : str
+        The second parameter in words, with its unit.
+    title : str
+        The figure's title (wrapped to the figure's width).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure

@@ -26,12 +26,25 @@ def plot_spin_comparison(
     threshold: float | None = None,
     columns: int = 2,
 ) -> Figure:
-    """Spin against time, one panel per group of runs overlaid; reversals marked.
+    """Draw spin against time, one panel per group of runs overlaid; reversals marked.
 
-    ``panels[i]`` holds the runs drawn in panel i (e.g. one friction coefficient
-    with N = m g and with the dynamic normal force); each run's reversal times
-    (band ``threshold`` [rad/s], default from its initial spin) are dotted lines
-    in its own colour.
+    Parameters
+    ----------
+    panels : sequence of sequence of xarray.Dataset
+        ``panels[i]`` holds the runs drawn in panel i (e.g. one friction coefficient
+        with N = m g and with the dynamic normal force).
+    title : str
+        The figure's title.
+    threshold : float, optional
+        Band of the reversals [rad/s], dotted lines in each run's colour; default from
+        each run's initial spin.
+    columns : int, optional
+        Panels per row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     from matplotlib.figure import Figure
 
@@ -67,10 +80,22 @@ def plot_spin_comparison(
 
 
 def plot_energy_budget(runs: Sequence[xr.Dataset], title: str) -> Figure:
-    """Energy against time; energy lost beside the friction work; their difference.
+    """Draw energy against time; energy lost beside the friction work; their difference.
 
     The third panel is the budget's residual |E(0) − E(t) − W(t)| [J] on a log
     scale: it shows the integrator's error, not physics.
+
+    Parameters
+    ----------
+    runs : sequence of xarray.Dataset
+        Sliding runs (they carry the friction work).
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     from matplotlib.figure import Figure
 

@@ -19,8 +19,17 @@ __all__ = ["FitPanel", "plot_fit"]
 
 @dataclass(frozen=True)
 class FitPanel:
-    """One series of a fit, as drawn: ``label`` with its plotted unit, ``measured`` and
-    ``fitted`` values already in that unit, shape (m,)."""
+    """One series of a fit, as drawn.
+
+    Parameters
+    ----------
+    label : str
+        The series' name with its plotted unit.
+    measured : numpy.ndarray
+        Measured values in that unit, shape (m,).
+    fitted : numpy.ndarray
+        Fitted model's values in that unit, shape (m,).
+    """
 
     label: str
     measured: np.ndarray
@@ -28,8 +37,22 @@ class FitPanel:
 
 
 def plot_fit(times: np.ndarray, panels: Sequence[FitPanel], title: str = "") -> Figure:
-    """Data (dots) and fitted model (line) against time [s], residuals (model − data)
-    beneath each series."""
+    """Draw data (dots) and fitted model (line) against time, residuals beneath each series.
+
+    Parameters
+    ----------
+    times : numpy.ndarray
+        Sample times [s], shape (m,).
+    panels : sequence of FitPanel
+        The series, one panel each; residuals are model − data.
+    title : str, optional
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(10.0, 1.0 + 3.6 * len(panels)), layout="constrained")

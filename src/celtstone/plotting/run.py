@@ -39,11 +39,23 @@ def _values(dataset: xr.Dataset, name: str) -> np.ndarray:
 
 
 def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
-    """Six panels of a run; reversals (hysteresis band ``threshold`` [rad/s]) marked.
+    """Draw six panels of a run; reversals marked.
 
     Panels: spin, tilt, energy (with the energy lost beside the friction work in
     sliding), slip speed and normal force against time, and the contact point's
     track on the plane.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A run (``Trajectory.dataset`` or :func:`celtstone.export.read_run`).
+    threshold : float, optional
+        Hysteresis band of the reversals [rad/s]; default from the initial spin.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     from matplotlib.figure import Figure
 

@@ -14,6 +14,7 @@ if TYPE_CHECKING:
 __all__ = ["FIGURE_FORMATS", "check_figure_target", "save_figure", "save_figure_formats"]
 
 FIGURE_FORMATS = (".png", ".svg")
+"""The suffixes a figure can be saved to."""
 DPI = 150
 
 
@@ -28,8 +29,20 @@ def check_figure_target(
 def save_figure(figure: Figure, path: str | Path, *, overwrite: bool = False) -> Path:
     """Save ``figure`` to ``path`` (.png at 150 dpi, or .svg) via a temporary file.
 
-    An existing file is refused unless ``overwrite``; a failed write raises
-    ``OutputError`` and leaves nothing behind.
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+    path : str or pathlib.Path
+        The PNG or SVG file (:data:`FIGURE_FORMATS`).
+    overwrite : bool, optional
+        Whether an existing file may be replaced; a failed write raises ``OutputError``
+        and leaves nothing.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
     """
     target = check_figure_target(path, overwrite=overwrite)
     with atomic_path(target, overwrite=overwrite) as temporary:
@@ -40,7 +53,24 @@ def save_figure(figure: Figure, path: str | Path, *, overwrite: bool = False) ->
 def save_figure_formats(
     figure: Figure, directory: Path, stem: str, *, overwrite: bool = False
 ) -> list[str]:
-    """Save ``figure`` as ``stem.png`` and ``stem.svg`` in ``directory``; relative names."""
+    """Save ``figure`` as ``stem.png`` and ``stem.svg`` in ``directory``.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+    directory : pathlib.Path
+        An existing directory.
+    stem : str
+        The files' name without suffix.
+    overwrite : bool, optional
+        Whether existing files may be replaced (they are refused otherwise).
+
+    Returns
+    -------
+    list of str
+        The files' names, relative to ``directory``.
+    """
     return [
         str(
             save_figure(figure, directory / f"{stem}{suffix}", overwrite=overwrite).relative_to(

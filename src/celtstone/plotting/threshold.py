@@ -18,12 +18,22 @@ __all__ = ["plot_threshold"]
 
 
 def plot_threshold(table: pd.DataFrame, title: str, boundaries: Sequence[float] = ()) -> Figure:
-    """Two panels against ``friction_coefficient``: first reversal time, final energy.
+    """Draw two panels against ``friction_coefficient``: first reversal time, final energy.
 
-    ``table`` needs the columns ``friction_coefficient`` [1], ``first_reversal_time``
-    [s] (NaN: no reversal), ``energy_final`` [J] and ``energy_rest`` [J];
-    ``boundaries`` are the bisected f where reversal appears or disappears, drawn
-    as vertical lines.
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Needs the columns ``friction_coefficient`` [1], ``first_reversal_time`` [s]
+        (NaN: no reversal), ``energy_final`` [J] and ``energy_rest`` [J].
+    title : str
+        The figure's title.
+    boundaries : sequence of float, optional
+        The bisected f where reversal appears or disappears [1], drawn as vertical lines.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     from matplotlib.figure import Figure
 

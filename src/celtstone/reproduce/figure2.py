@@ -32,7 +32,23 @@ def figure2_models(study: Study) -> list[Model]:
 
 
 def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
-    """Run, write data, figures and table of Figure 2 for ``study``; return the numbers."""
+    """Run Figure 2 of the paper for ``study``; write its data, figures and table.
+
+    Parameters
+    ----------
+    study : Study
+        The study: rolling, then sliding at each of its ``frictions`` with each of its
+        ``fig2_loads``, for ``fig2_t_end``.
+    out : pathlib.Path
+        The target's staging directory.
+    progress : Progress
+        Advanced once a run.
+
+    Returns
+    -------
+    dict
+        The numbers the findings are judged by (``data/fig2_KEY.json``).
+    """
     body = study.load_body()
     stem = f"fig2_{study.key}"
     data = out / "data"

@@ -18,7 +18,22 @@ __all__ = ["figure3"]
 
 
 def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
-    """Run, write data, figures and table of Figure 3 for ``study``; return the numbers."""
+    """Run Figure 3 of the paper for ``study``: a long run, rolling against sliding.
+
+    Parameters
+    ----------
+    study : Study
+        The study: its ``fig3_t_end`` and the sliding run's ``fig3_friction``.
+    out : pathlib.Path
+        Where its data, figures and table are written (the target's staging directory).
+    progress : Progress
+        Advanced after each of the two runs.
+
+    Returns
+    -------
+    dict
+        The numbers the findings are judged by (``data/fig3_KEY.json``).
+    """
     body = study.load_body()
     stem = f"fig3_{study.key}"
     data = out / "data"

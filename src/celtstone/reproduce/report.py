@@ -325,7 +325,18 @@ def _comparison(results: dict[str, dict[str, dict[str, Any]]]) -> list[str]:
 
 
 def render_report(out: Path) -> str:
-    """The report's Markdown from the numbers in ``out/data``."""
+    """Render the report's Markdown from the numbers in ``out/data``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The reproduction's directory; the numbers are read from its ``data``.
+
+    Returns
+    -------
+    str
+        The report.
+    """
     results = collect(out)
     fig2 = results.get("fig2", {})
     fig3 = results.get("fig3", {})
@@ -407,7 +418,18 @@ def render_report(out: Path) -> str:
 
 
 def write_report(out: Path) -> Path:
-    """Write ``out/report.md`` whole or not at all (it replaces the previous report)."""
+    """Write ``out/report.md`` whole or not at all (it replaces the previous report).
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The reproduction's directory, where ``report.md`` is written.
+
+    Returns
+    -------
+    pathlib.Path
+        The report's path.
+    """
     target = out / "report.md"
     with atomic_path(target, overwrite=True) as temporary:
         temporary.write_text(render_report(out), encoding="utf-8")

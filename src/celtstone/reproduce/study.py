@@ -39,6 +39,7 @@ __all__ = [
 ]
 
 TARGETS = ("fig2", "fig3", "threshold")
+"""The targets of one study: the paper's Figures 2 and 3 and the friction threshold."""
 PAPER_FRICTIONS = (0.35, 0.25, 0.15)  # the paper's Figure 2
 PAPER_CONTACT_RADIUS = 0.001  # eps [m], paper section 4
 
@@ -49,34 +50,59 @@ class Study:
 
     Parameters
     ----------
-    body : shipped body name or .toml path
-    omega : initial angular velocity in body axes [rad/s]
-    euler_angles : initial Euler angles (α, β) [deg]
-    contact_radius : ε [m] (paper: 1 mm)
-    frictions : f of the Figure 2 analogue [1]
-    fig2_t_end : length of the Figure 2 runs [s]
-    fig3_t_end : length of the Figure 3 runs [s] (>= 3 reversals in rolling)
-    fig3_friction : f of the long sliding run [1]
-    threshold_grid : (start, stop, count) of the f grid [1]
-    threshold_t_end : length of each threshold run [s]
-    bisection_tolerance : width of the final f bracket [1]
-    rtol, atol : integrator tolerances
-    reduced : True for the shortened form made by :func:`reduced` (tests, ``--quick``)
-    variant : name of the contact variant, "" for the paper's idealisation (the
-        disk of radius ε, Padé law, N = m g); it suffixes :attr:`key`
-    contact_shape : "circle" (the paper's disk) or "ellipse" (the Hertz ellipse at
-        the current contact point, docs/decisions.md §29)
-    elastic_modulus : E of stone and plane [Pa], or None for the fixed ε
-    poisson_ratio : ν of stone and plane [1], or None (given with E)
-    friction_law : "pade" (paper eq. 10, 12) or "exact"
-    friction_load : the normal force of the friction law in the threshold and
-        Figure 3 runs: "static" (N = m g, the paper's) or "dynamic"; Figure 2 runs both
-    rolling_resistance : λ, rolling-friction length [m] of both models (0: none)
-    fig2_loads : the friction loads of the Figure 2 runs (the paper's: both), which
-        include ``friction_load``
-    targets : the targets this study runs (the paper's: all of :data:`TARGETS`)
-    contact : "sliding" (the paper's regularised sliding contact) or "hybrid" (the
-        stick–slip contact, ``celtstone.hybrid``)
+    body : str
+        Shipped body name or .toml path.
+    omega : tuple of float
+        Initial angular velocity in body axes [rad/s].
+    euler_angles : tuple of float
+        Initial Euler angles (α, β) [deg].
+    contact_radius : float
+        Contact radius ε [m] (paper: 1 mm).
+    frictions : tuple of float
+        Friction coefficients f of the Figure 2 analogue [1].
+    fig2_t_end : float
+        Length of the Figure 2 runs [s].
+    fig3_t_end : float
+        Length of the Figure 3 runs [s] (>= 3 reversals in rolling).
+    fig3_friction : float
+        Friction coefficient f of the long sliding run [1].
+    threshold_grid : tuple of (float, float, int)
+        (start, stop, count) of the f grid [1].
+    threshold_t_end : float
+        Length of each threshold run [s].
+    bisection_tolerance : float
+        Width of the final f bracket [1].
+    rtol : float
+        Relative tolerance of the integrator.
+    atol : float
+        Absolute tolerance of the integrator.
+    reduced : bool
+        True for the shortened form made by :func:`reduced` (tests, ``--quick``).
+    variant : str
+        Name of the contact variant, "" for the paper's idealisation (the disk of
+        radius ε, Padé law, N = m g); it suffixes :attr:`key`.
+    contact_shape : str
+        "circle" (the paper's disk) or "ellipse" (the Hertz ellipse at the current
+        contact point, docs/decisions.md §29).
+    elastic_modulus : float or None
+        E of stone and plane [Pa], or None for the fixed ε.
+    poisson_ratio : float or None
+        Poisson's ratio ν of stone and plane [1], or None (given with E).
+    friction_law : str
+        "pade" (paper eq. 10, 12) or "exact".
+    friction_load : str
+        The normal force of the friction law in the threshold and Figure 3 runs:
+        "static" (N = m g, the paper's) or "dynamic"; Figure 2 runs both.
+    rolling_resistance : float
+        Rolling-friction length λ [m] of both models (0: none).
+    fig2_loads : tuple of str
+        The friction loads of the Figure 2 runs (the paper's: both), which include
+        ``friction_load``.
+    targets : tuple of str
+        The targets this study runs (the paper's: all of :data:`TARGETS`).
+    contact : str
+        "sliding" (the paper's regularised sliding contact) or "hybrid" (the stick–slip
+        contact, ``celtstone.hybrid``).
     """
 
     body: str
@@ -132,8 +158,10 @@ class Study:
 
     @property
     def key(self) -> str:
-        """Names the study's files and report column: the body, ``BODY+VARIANT`` for a
-        contact other than the paper's."""
+        """Name of the study's files and report column.
+
+        The body, or ``BODY+VARIANT`` for a contact other than the paper's.
+        """
         return f"{self.body_name}+{self.variant}" if self.variant else self.body_name
 
     @property
@@ -147,7 +175,13 @@ class Study:
         return InitialState(omega=self.omega, euler_angles=self.euler_angles)
 
     def load_body(self) -> Body:
-        """The study's body."""
+        """Load the study's body.
+
+        Returns
+        -------
+        Body
+            The body.
+        """
         return load_body(self.body)
 
     @property
@@ -156,13 +190,31 @@ class Study:
         return reversal_band(float(np.dot(self.omega, self.initial_state.vertical)))
 
     def friction_grid(self) -> np.ndarray:
-        """The threshold's grid of f [1]."""
+        """Make the threshold's grid of f.
+
+        Returns
+        -------
+        numpy.ndarray
+            The friction coefficients [1], shape (count,).
+        """
         start, stop, count = self.threshold_grid
         return np.linspace(start, stop, int(count))
 
     def sliding(self, friction: float, friction_load: str | None = None) -> SlidingModel:
-        """The study's sliding model at friction coefficient ``friction`` with the
-        friction load ``friction_load`` (default: the study's)."""
+        """Make the study's sliding model at one friction coefficient.
+
+        Parameters
+        ----------
+        friction : float
+            Friction coefficient f [1].
+        friction_load : str, optional
+            The friction load ("static" or "dynamic"); default the study's.
+
+        Returns
+        -------
+        SlidingModel
+            The model.
+        """
         if self.contact not in CONTACTS:
             raise ParameterError("contact", self.contact, " or ".join(CONTACTS))
         return CONTACTS[self.contact](
@@ -177,11 +229,23 @@ class Study:
         )
 
     def rolling(self) -> RollingModel:
-        """The rolling model without damping, with the study's rolling resistance."""
+        """Make the rolling model without damping, with the study's rolling resistance.
+
+        Returns
+        -------
+        RollingModel
+            The model.
+        """
         return RollingModel(rolling_resistance=self.rolling_resistance)
 
     def contact_words(self) -> str:
-        """The contact in a few words (figure titles): "ε = 1 mm" for the paper's."""
+        """Say the contact in a few words (figure titles).
+
+        Returns
+        -------
+        str
+            "ε = 1 mm" for the paper's contact.
+        """
         if self.contact_shape == "circle" and self.elastic_modulus is None:
             words = f"ε = {self.contact_radius * 1e3:g} mm"
         else:
@@ -196,8 +260,14 @@ class Study:
         return words
 
     def contact_settings(self) -> dict[str, str | float]:
-        """The contact's settings for table headers: ε and the law for the paper's,
-        every setting that differs from it for a variant."""
+        """List the contact's settings for table headers.
+
+        Returns
+        -------
+        dict of str to str or float
+            The contact radius ε and the law for the paper's contact, every setting that
+            differs from it for a variant.
+        """
         if self.is_paper_contact:
             return {
                 "contact_radius_m": self.contact_radius,
@@ -216,7 +286,13 @@ class Study:
         }
 
     def describe(self) -> str:
-        """One line for reports: body, start, contact (and its variant's settings)."""
+        """Say the study in one line for reports.
+
+        Returns
+        -------
+        str
+            Body, start, contact (and its variant's settings).
+        """
         line = ("REDUCED (--quick) " if self.reduced else "") + (
             f"{self.body}, ω0 = {list(self.omega)} rad/s (body axes), Euler angles α, β = "
             f"{list(self.euler_angles)} deg, "
@@ -236,6 +312,7 @@ STUDIES = (
     Study(body="kane_levinson_1982"),
     Study(body="toy_rattleback_10cm"),
 )
+"""One study per reproduced body, in its own contact (the paper's unless it names a variant)."""
 
 REALISTIC_ELASTIC_MODULUS = 3e9  # Pa, docs/decisions.md §29: a polymer stone on a polymer plate
 REALISTIC_POISSON_RATIO = 0.35  # 1, with E: K&L's circular Hertz radius 1.09 mm ≈ the paper's ε
@@ -282,7 +359,18 @@ REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES)
 
 
 def study_for(body: str) -> Study:
-    """The shipped study of ``body``, or a default study for any other body."""
+    """Find the shipped study of ``body``, or make a default study for any other body.
+
+    Parameters
+    ----------
+    body : str
+        Shipped body name or .toml path; a shipped study's body gets its settings.
+
+    Returns
+    -------
+    Study
+        The paper's contact on the body.
+    """
     for study in STUDIES:
         if study.body == body:
             return study
@@ -290,15 +378,40 @@ def study_for(body: str) -> Study:
 
 
 def realistic_study_for(body: str) -> Study:
-    """The realistic contact of :data:`REALISTIC_STUDIES` for any ``body``."""
+    """Make the realistic contact of :data:`REALISTIC_STUDIES` for any ``body``.
+
+    Parameters
+    ----------
+    body : str
+        Shipped body name or .toml path.
+
+    Returns
+    -------
+    Study
+        The study of variant "realistic" on the body.
+    """
     return _realistic(body)
 
 
 def reduced(study: Study, scale: float = 0.25, grid_count: int = 6) -> Study:
-    """``study`` with runs ``scale`` times as long and a ``grid_count``-point f grid.
+    """Shorten ``study`` for tests and smoke runs.
 
-    For tests and smoke runs: the physics is unchanged, the statements about
-    late times (Figure 3) may not hold in the shortened runs.
+    The physics is unchanged; the statements about late times (Figure 3) may not hold
+    in the shortened runs.
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    scale : float, optional
+        Length of the runs, as a fraction of the study's.
+    grid_count : int, optional
+        Points of the f grid.
+
+    Returns
+    -------
+    Study
+        The shortened study (``reduced`` True).
     """
     start, stop, _ = study.threshold_grid
     return dataclasses.replace(

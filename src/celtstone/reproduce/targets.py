@@ -79,9 +79,21 @@ def _utc_now() -> str:
 
 
 def run_identity(targets: Sequence[str], studies: Sequence[Study]) -> dict[str, Any]:
-    """What identifies one ``reproduce`` call in each target's numbers: a unique ``id``,
-    the UTC start time, the celtstone version, the targets, bodies and studies (keys)
-    asked for."""
+    """Identify one ``reproduce`` call in each target's numbers.
+
+    Parameters
+    ----------
+    targets : sequence of str
+        The targets asked for.
+    studies : sequence of Study
+        The studies asked for.
+
+    Returns
+    -------
+    dict
+        A unique ``id``, the UTC start time, the celtstone version, the targets, bodies
+        and studies (keys).
+    """
     started = _utc_now()
     return {
         "id": f"{started.replace('-', '').replace(':', '')}-{secrets.token_hex(3)}",
@@ -177,15 +189,32 @@ def reproduce(
     progress: bool = True,
     atlas: FamilyTarget | None = None,
 ) -> Path:
-    """Run ``targets`` (``fig2``, ``fig3``, ``threshold``, ``atlas`` or ``all``) for each
-    study; ``atlas`` (``celtstone.atlas.target.AtlasTarget``) runs once, after them, and
-    ``all`` includes it when it is given.
+    """Run ``targets`` for each study and rebuild the report.
 
     Writes figures, tables and NetCDF runs into ``out`` and rebuilds
-    ``out/report.md`` from every target's numbers found there; returns its path.
-    Each target reaches ``out`` whole or not at all (see the module docstring): an
-    interrupted run leaves the finished targets and nothing of the others. A
-    target's files from an earlier run are replaced by the new ones.
+    ``out/report.md`` from every target's numbers found there. Each target reaches
+    ``out`` whole or not at all (see the module docstring): an interrupted run leaves
+    the finished targets and nothing of the others. A target's files from an earlier
+    run are replaced by the new ones.
+
+    Parameters
+    ----------
+    targets : sequence of str
+        ``fig2``, ``fig3``, ``threshold``, ``atlas`` or ``all``.
+    out : str or pathlib.Path, optional
+        The directory written.
+    studies : sequence of Study, optional
+        The studies (default the paper's and the realistic ones).
+    progress : bool, optional
+        Whether to show a progress bar.
+    atlas : FamilyTarget, optional
+        The atlas (``celtstone.atlas.target.AtlasTarget``), run once after the studies;
+        ``all`` includes it when it is given.
+
+    Returns
+    -------
+    pathlib.Path
+        The report ``out/report.md``.
     """
     chosen = _targets(targets, atlas)
     directory = Path(out)

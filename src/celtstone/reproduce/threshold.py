@@ -128,7 +128,22 @@ def threshold_numbers(
 
 
 def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
-    """Run the f grid and the bisections; write CSV, figure and numbers."""
+    """Find the friction threshold of reversal: run the f grid and the bisections.
+
+    Parameters
+    ----------
+    study : Study
+        The study.
+    out : pathlib.Path
+        The target's staging directory; its CSV, figure and numbers are written there.
+    progress : Progress
+        Reports each run.
+
+    Returns
+    -------
+    dict
+        The numbers the findings are judged by (``data/threshold_KEY.json``).
+    """
     import pandas as pd
 
     body = study.load_body()

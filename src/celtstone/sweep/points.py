@@ -83,18 +83,25 @@ def _value(path: str, line: int, column: int, name: str, text: str) -> float:
 
 
 def read_points(path: str, *, force: bool = False) -> dict[str, list[float]]:
-    """Columns of the CSV file ``path``: parameter name -> one value per point.
+    """Read the points of a sweep from the columns of a CSV file.
 
     Parameters
     ----------
-    path : the file
-    force : accept more rows than ``budget.POINT_LIMIT`` (never more than
-        ``budget.HARD_POINT_LIMIT``); reading stops at the first row beyond the limit
+    path : str
+        The CSV file, one column per parameter name.
+    force : bool, optional
+        Accept more rows than ``budget.POINT_LIMIT`` (never more than
+        ``budget.HARD_POINT_LIMIT``); reading stops at the first row beyond the limit.
+
+    Returns
+    -------
+    dict of str to list of float
+        Parameter name -> one value per point.
 
     Raises
     ------
     ParameterError
-        naming the file, the line and the column of the first fault.
+        Naming the file, the line and the column of the first fault.
     """
     rows = _rows(path)
     first = next(rows, None)

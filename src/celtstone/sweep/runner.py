@@ -51,9 +51,12 @@ __all__ = [
 ]
 
 DEFAULT_RTOL = 1e-8  # sliding runs agree with rtol 1e-10 to about 1e-6 rad/s in the final spin
+"""A sweep's default relative tolerance of the integrator."""
 DEFAULT_ATOL = 1e-12
+"""A sweep's default absolute tolerance of the integrator (units of each state component)."""
 DEFAULT_CONTACT = "hybrid"  # of the sliding model: faster than "sliding", same results (§28)
 SAMPLES_PER_SECOND = 200.0  # as simulate(): max tilt, normal force and the band are sampled
+"""Samples per simulated second [1/s] at which a sweep reads each run's results."""
 DEFAULT_CHUNK_POINTS = 256  # points per block (Zarr chunk)
 DEFAULT_TASK_POINTS = 8  # points per compiled call
 MAX_CHUNK_POINTS = 1_000_000  # a block is held in memory and is what an interruption loses

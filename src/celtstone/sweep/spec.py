@@ -132,6 +132,8 @@ PARAMETERS: dict[str, SweepParameter] = {
         _p("euler_beta", STATE, "euler_angles", "initial Euler angle beta"),
     ]
 }
+"""Every name a sweep can vary (body, model and initial-state numbers) -> its group, unit
+and meaning."""
 
 # fixed settings that are not numbers (``--set`` only), with their options: the model's
 # named options (models.SETTINGS) and the contact of the sliding model
@@ -159,7 +161,15 @@ def check_name(name: str) -> SweepParameter:
 
 @dataclass(frozen=True)
 class Axis:
-    """One varied parameter and its values (SI, the unit of ``PARAMETERS[name]``)."""
+    """One varied parameter and its values.
+
+    Parameters
+    ----------
+    name : str
+        A name of :data:`PARAMETERS`.
+    values : tuple of float
+        Its values, in the unit of ``PARAMETERS[name]`` (SI).
+    """
 
     name: str
     values: tuple[float, ...]
@@ -216,11 +226,24 @@ def _spaced(name: str, start: float, stop: float, count: int) -> tuple[float, ..
 
 @dataclass(frozen=True)
 class AxisSpec:
-    """A grid axis as written, its values not made yet: its name and count are known
-    cheaply, so a sweep is sized (``budget``) before it is built.
+    """A grid axis as written, its values not made yet.
 
-    Either ``listed`` holds the values, or ``count`` values run from ``start`` to
+    Its name and count are known cheaply, so a sweep is sized (``budget``) before it is
+    built. Either ``listed`` holds the values, or ``count`` values run from ``start`` to
     ``stop`` (ends included).
+
+    Parameters
+    ----------
+    name : str
+        A name of :data:`PARAMETERS`.
+    count : int
+        Number of values.
+    start : float
+        First value, in the unit of ``PARAMETERS[name]`` (SI).
+    stop : float
+        Last value, in the same unit.
+    listed : tuple of float or None
+        The values, when they are listed rather than spaced.
     """
 
     name: str
@@ -230,14 +253,31 @@ class AxisSpec:
     listed: tuple[float, ...] | None = None
 
     def axis(self) -> Axis:
-        """The axis with its values."""
+        """Make the axis with its values.
+
+        Returns
+        -------
+        Axis
+            The axis.
+        """
         if self.listed is not None:
             return Axis(self.name, self.listed)
         return Axis(self.name, _spaced(self.name, self.start, self.stop, self.count))
 
 
 def parse_axis_spec(text: str) -> AxisSpec:
-    """Parse ``name=start:stop:count`` or ``name=v1,v2,...`` without spacing the values."""
+    """Parse ``name=start:stop:count`` or ``name=v1,v2,...`` without spacing the values.
+
+    Parameters
+    ----------
+    text : str
+        The axis as written (``--grid``); its values are counted, not made.
+
+    Returns
+    -------
+    AxisSpec
+        The axis, its values not made yet.
+    """
     name, sep, rest = text.partition("=")
     name = name.strip().replace("-", "_")
     if not sep or not rest.strip():
@@ -258,14 +298,39 @@ def parse_axis_spec(text: str) -> AxisSpec:
 
 
 def parse_axis(text: str) -> Axis:
-    """Parse ``name=start:stop:count`` (evenly spaced, ends included) or ``name=v1,v2,...``."""
+    """Parse ``name=start:stop:count`` (evenly spaced, ends included) or ``name=v1,v2,...``.
+
+    Parameters
+    ----------
+    text : str
+        The axis as written (``--grid``), e.g. ``friction_coefficient=0.1:0.5:5``.
+
+    Returns
+    -------
+    Axis
+        The axis with its values.
+    """
     return parse_axis_spec(text).axis()
 
 
 def parse_setting(text: str) -> tuple[str, float | str]:
-    """Parse a fixed setting ``name=value``: a number, or an option of ``CHOICES``
-    (``friction_load=static|dynamic``, ``friction_law=pade|exact``,
-    ``contact_pressure=hertz|uniform``, ``contact=sliding|hybrid``)."""
+    """Parse a fixed setting ``name=value``: a number, or an option of ``CHOICES``.
+
+    The options are ``friction_load=static|dynamic``, ``friction_law=pade|exact``,
+    ``contact_pressure=hertz|uniform`` and ``contact=sliding|hybrid``.
+
+    Parameters
+    ----------
+    text : str
+        The setting as written (``--set``).
+
+    Returns
+    -------
+    name : str
+        The setting's name.
+    value : float or str
+        Its number (SI) or option.
+    """
     name, sep, value = text.partition("=")
     name = name.strip().replace("-", "_")
     if not sep or not value.strip():

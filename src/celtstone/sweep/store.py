@@ -69,6 +69,7 @@ RESULT_FIELDS: dict[str, tuple[str, Any, str, str]] = {
     )
     for field in batch.RESULT_FIELDS
 }
+"""Every result a sweep stores per point -> (dtype, fill value, unit, long name)."""
 MASK = "completed"
 FORMAT = "celtstone-sweep-1"
 _METADATA = "zarr.json"

@@ -65,8 +65,23 @@ _MP4_CRF = 25  # x264 quality: imageio's default (quality 5 of 10) in ffmpeg's t
 
 @dataclass(frozen=True)
 class VideoInfo:
-    """What was written: ``path``, ``frames`` count, ``fps`` [1/s], ``speed`` (simulated
-    seconds per playback second), ``size`` (width, height) [px] and ``bytes``."""
+    """What was written.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The video file.
+    frames : int
+        Number of frames.
+    fps : float
+        Frames per second of playback [1/s].
+    speed : float
+        Simulated seconds per second of playback.
+    size : tuple of int
+        (width, height) [px].
+    bytes : int
+        The file's size [bytes].
+    """
 
     path: Path
     frames: int
@@ -389,16 +404,23 @@ def animate_comparison(
 
     Parameters
     ----------
-    datasets : runs (``Trajectory.dataset`` or files read by ``load_run``)
-    labels : one panel title per run
-    path : output file, .mp4 or .gif
-    speed : simulated seconds per second of playback (1 = real time), > 0
-    fps : frames per second of playback, in (0, 30] for mp4 (default 30),
-        (0, 20] for gif (default 20; rounded down to a whole-centisecond delay)
-    size : (width, height) [px] of the whole video; default 768 × 576 for one run
-        (480 × 360 for gif), 640 (400) px wide per panel for several
-    overwrite : replace ``path`` if it is a file (never a directory); without it an
-        existing ``path`` is refused before any frame is drawn
+    datasets : sequence of xarray.Dataset
+        The runs (``Trajectory.dataset`` or files read by :func:`load_run`).
+    labels : sequence of str
+        One panel title per run.
+    path : str or pathlib.Path
+        Output file, .mp4 or .gif.
+    speed : float, optional
+        Simulated seconds per second of playback (1 = real time), > 0.
+    fps : float, optional
+        Frames per second of playback, in (0, 30] for mp4 (default 30), (0, 20] for gif
+        (default 20; rounded down to a whole-centisecond delay).
+    size : tuple of int, optional
+        (width, height) [px] of the whole video; default 768 × 576 for one run
+        (480 × 360 for gif), 640 (400) px wide per panel for several.
+    overwrite : bool, optional
+        Replace ``path`` if it is a file (never a directory); without it an existing
+        ``path`` is refused before any frame is drawn.
 
     Returns
     -------
@@ -469,8 +491,27 @@ def animate(
 ) -> VideoInfo:
     """Animate one run in 3-D: shaded body, plane, contact track and read-out.
 
-    See :func:`animate_comparison` for the parameters; ``label`` defaults to the
-    model and body of the run.
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        The run (``Trajectory.dataset`` or a file read by :func:`load_run`).
+    path : str or pathlib.Path
+        Output file, .mp4 or .gif.
+    speed : float, optional
+        Simulated seconds per second of playback (1 = real time), > 0.
+    fps : float, optional
+        Frames per second of playback, as in :func:`animate_comparison`.
+    size : tuple of int, optional
+        (width, height) [px]; default 768 × 576 (480 × 360 for gif).
+    label : str, optional
+        The title; default the model and body of the run.
+    overwrite : bool, optional
+        Replace ``path`` if it is a file (never a directory).
+
+    Returns
+    -------
+    VideoInfo
+        The frame count and rate actually used.
     """
     title = label if label is not None else default_label(dataset)
     return animate_comparison(

@@ -39,11 +39,15 @@ __all__ = [
 FPS_MAX = 30.0
 FPS_MIN = 10.0
 VIDEO_FPS_LIMITS = {".mp4": FPS_MAX, ".gif": 20.0}
+"""Video suffix -> most frames per second of playback (gif delays are whole centiseconds)."""
 # frame delays a format can store [s]: gif counts in centiseconds
 VIDEO_TICKS = {".mp4": 0.0, ".gif": 0.01}
 VIDEO_FRAME_LIMITS = {".mp4": 1800, ".gif": 300}
+"""Video suffix -> most frames of a video."""
 PAGE_FRAME_LIMIT = 3000
+"""Most frames of the interactive page (at most 30 per simulated second)."""
 PLOT_BUCKETS = 1000
+"""Buckets of a thinned plot series: each keeps its minimum and maximum (2 points)."""
 
 
 @dataclass(frozen=True)

@@ -47,8 +47,18 @@ def check_run(dataset: xr.Dataset, name: str = "run") -> xr.Dataset:
 
 
 def load_run(path: str | Path) -> xr.Dataset:
-    """The run saved at ``path`` (NetCDF), loaded into memory (``export.read_run``) and
-    checked for what drawing needs."""
+    """Load the run saved at ``path`` (NetCDF) and check it holds what drawing needs.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The NetCDF file (``celtstone run --out RUN.nc``).
+
+    Returns
+    -------
+    xarray.Dataset
+        The run, loaded into memory (:func:`celtstone.export.read_run`).
+    """
     return check_run(read_run(path))
 
 

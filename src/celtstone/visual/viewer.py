@@ -33,6 +33,7 @@ __all__ = ["PAGE_SIZE_LIMIT", "PageInfo", "check_page_target", "page_data", "wri
 # 13 characters a number: 3000 frames x 14 numbers (0.55 MB) + 4 plots x 2000 points
 # x 2 (0.21 MB) + the mesh (0.11 MB) + the template (16 kB) = 0.88 MB.
 PAGE_SIZE_LIMIT = 1_000_000
+"""The interactive page of any run stays below this size [bytes]."""
 _DATA_MARK = "/*__CELTSTONE_DATA__*/"
 _TITLE_MARK = "__CELTSTONE_TITLE__"
 _DIGITS = 6  # significant digits of the inlined numbers
@@ -43,8 +44,19 @@ PLOTS = ("spin", "tilt", "energy", "slip_speed")
 
 @dataclass(frozen=True)
 class PageInfo:
-    """What was written: ``path``, animation ``frames``, ``plot_points`` (most in a
-    series) and ``bytes``."""
+    """What was written.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The page.
+    frames : int
+        Number of animation frames.
+    plot_points : int
+        Most points in a plotted series.
+    bytes : int
+        The file's size [bytes].
+    """
 
     path: Path
     frames: int
@@ -161,8 +173,21 @@ def write_viewer(
 ) -> PageInfo:
     """Write the interactive page of a run to ``path`` (.html), whole or not at all.
 
-    An existing ``path`` is refused unless ``overwrite`` (a directory always is); a
-    failed write raises ``OutputError`` and leaves nothing behind.
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        The run (``Trajectory.dataset`` or a file read by :func:`load_run`).
+    path : str or pathlib.Path
+        Output file, .html.
+    label : str, optional
+        The title; default the model and body of the run.
+    overwrite : bool, optional
+        Replace ``path`` if it is a file; a directory is always refused.
+
+    Returns
+    -------
+    PageInfo
+        What was written; a failed write raises ``OutputError`` and leaves nothing.
     """
     target = check_page_target(path, overwrite=overwrite)
     page, data = render_page(dataset, label)
