@@ -17,9 +17,11 @@ Run again, the script recomputes nothing stored and keeps the costs of the call 
 computed the runs (``cost.long_runs_computed``: the runs this call computed).
 
 ``--store`` copies the summary and the table into the package
-(``src/celtstone/atlas/data/``), where the atlas target reads them for the report.
+(``src/celtstone/atlas/data/long_run_search_BOX.*``), where the atlas target reads them
+for the report.
 
-    .venv/bin/python benchmarks/atlas_search.py --count 240 --seed 15 --workers 2 --full 6
+    .venv/bin/python benchmarks/atlas_search.py --count 240 --seed 15 --workers 2 --full 4 --store
+    .venv/bin/python benchmarks/atlas_search.py --box refined --count 60 --seed 16 --full 3 --store
 """
 
 from __future__ import annotations
@@ -35,6 +37,8 @@ from typing import Any
 from celtstone.atlas import compute_atlas
 from celtstone.atlas.fields import ATLAS_STUDY, write_atlas
 from celtstone.atlas.search import (
+    SEARCH_BOXES,
+    STORED_SEARCHES,
     closest_points,
     contact_study,
     search_dataset,
@@ -48,7 +52,6 @@ from celtstone.integrate import version
 from celtstone.reproduce.findings import FINDINGS
 
 DESIGN_FIELDS = ("length", "width_ratio", "height_ratio", "misalignment", "mass_fraction")
-PACKAGE_DATA = Path(__file__).resolve().parents[1] / "src" / "celtstone" / "atlas" / "data"
 
 
 def _cost(start_wall: float, start_cpu: float) -> dict[str, float]:
@@ -75,21 +78,22 @@ def main() -> None:
     parser.add_argument("--count", type=int, default=240)
     parser.add_argument("--seed", type=int, default=15)
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--out", default="results/atlas_search")
+    parser.add_argument("--box", default="wide", choices=list(SEARCH_BOXES))
+    parser.add_argument("--out", default=None, help="default results/atlas_search_BOX")
     parser.add_argument("--full", type=int, default=0, help="all five for 2N closest points")
     parser.add_argument("--store", action="store_true", help="copy summary and table in")
     args = parser.parse_args()
-    out = Path(args.out)
+    out = Path(args.out or f"results/atlas_search_{args.box}")
     out.mkdir(parents=True, exist_ok=True)
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     load_start = round(os.getloadavg()[0], 2)
     wall, cpu = time.perf_counter(), sum(os.times()[:2])
 
     previous = _previous(out / "search_summary.json")
-    points = search_points(args.count, args.seed)
+    points = search_points(args.count, args.seed, args.box)
     stored = _stored_runs(out)
     numbers = search_long_runs(points, out=out, workers=args.workers, progress=print)
-    dataset = search_dataset(points, numbers, seed=args.seed)
+    dataset = search_dataset(points, numbers, seed=args.seed, box=args.box)
     summary = search_summary(dataset)
     summary["cost"] = {"date": started, "load_average_start": load_start, **_cost(wall, cpu)}
     summary["cost"].update(workers=args.workers, long_runs_computed=_stored_runs(out) - stored)
@@ -99,7 +103,7 @@ def main() -> None:
     write_atlas(dataset, out / "search.zarr", overwrite=True)
     header = {
         "software": f"celtstone {version()}",
-        "search": f"Latin hypercube, {args.count} points, seed {args.seed} "
+        "search": f"Latin hypercube, {args.count} points, seed {args.seed}, box {args.box} "
         "(celtstone.atlas.search, docs/decisions.md §32)",
         "study": ATLAS_STUDY.describe(),
         "verdict": "long_run by celtstone.reproduce.findings.JUDGES",
@@ -139,9 +143,9 @@ def main() -> None:
         print(json.dumps(full, indent=1))
     write_json(summary, out / "search_summary.json", overwrite=True)
     if args.store:
-        PACKAGE_DATA.mkdir(exist_ok=True)
-        shutil.copy(out / "search_summary.json", PACKAGE_DATA / "long_run_search.json")
-        shutil.copy(out / "search.csv", PACKAGE_DATA / "long_run_search.csv")
+        STORED_SEARCHES[args.box].parent.mkdir(exist_ok=True)
+        shutil.copy(out / "search_summary.json", STORED_SEARCHES[args.box])
+        shutil.copy(out / "search.csv", STORED_SEARCHES[args.box].with_suffix(".csv"))
 
 
 if __name__ == "__main__":

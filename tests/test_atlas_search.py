@@ -20,6 +20,7 @@ from celtstone.atlas.family import StoneDesign, largest_misalignment
 from celtstone.atlas.fields import ATLAS_STUDY, write_atlas
 from celtstone.atlas.search import (
     SEARCH_AXES,
+    SEARCH_BOXES,
     SEARCH_CONTACTS,
     SearchPoint,
     contact_study,
@@ -63,6 +64,16 @@ def test_the_points_are_a_latin_hypercube_of_buildable_stones() -> None:
         assert design.misalignment <= largest_misalignment(design.width_ratio, design.mass_fraction)
     contacts = [p.contact for p in points]
     assert all(contacts.count(name) == count // len(SEARCH_CONTACTS) for name in SEARCH_CONTACTS)
+
+
+def test_each_box_keeps_its_points_inside() -> None:
+    for box, axes in SEARCH_BOXES.items():
+        for point in search_points(6, seed=1, box=box):
+            for name, (lowest, highest, _) in axes.items():
+                value = getattr(point.design, name)
+                assert lowest * (1 - 1e-3) <= value <= highest * (1 + 1e-3), (box, name)
+    with pytest.raises(ParameterError, match="box"):
+        search_points(6, seed=1, box="huge")
 
 
 @pytest.mark.parametrize(("width_ratio", "mass_fraction"), [(0.2, 0.0802), (0.12, 0.5), (0.6, 1)])

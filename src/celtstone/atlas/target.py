@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 from celtstone.atlas.family import StoneDesign
 from celtstone.atlas.fields import ATLAS_STUDY, compute_atlas, write_atlas
-from celtstone.atlas.search import stored_search
+from celtstone.atlas.search import stored_searches
 from celtstone.errors import ParameterError
 from celtstone.export import write_table
 from celtstone.integrate import version
@@ -274,7 +274,7 @@ class AtlasTarget:
             "designs": [_design_numbers(dataset, k) for k in range(len(designs))],
             "slices": slices,
             "store": "atlas.zarr",
-            "search": stored_search(),
+            "searches": stored_searches(),
             "figures": figures,
             "table": slices[0]["table"] if slices else "",
         }

@@ -153,8 +153,8 @@ def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
     for piece in result["slices"]:
         images = [f for f in piece["figures"] if f.endswith(".png")]
         lines += [f"![{Path(f).stem}]({f})" for f in images]
-    if result.get("search"):
-        lines += search_lines(result["search"])
+    for search in result.get("searches", []):
+        lines += search_lines(search)
     lines += [
         "",
         f"Data: `{result['store']}` (every design's numbers), "
@@ -199,11 +199,12 @@ def search_lines(search: Mapping[str, Any]) -> list[str]:
     axes = "; ".join(_axis_words(k, v) for k, v in search["axes"].items())
     lines = [
         "",
-        "### The search for the long-run finding",
+        f"### The search for the long-run finding: the {search['box']} box",
         "",
         f"The long run is the finding no grid met, and the cheapest (two 50 s runs a design), "
-        f"so it was searched alone over **{total} designs** (`benchmarks/atlas_search.py`, a "
-        f"Latin hypercube with seed {search['seed']}, run {cost['date']}: {cost['wall_s']:g} s "
+        f"so it was searched alone over **{total} designs** (`benchmarks/atlas_search.py "
+        f"--box {search['box']}`, a Latin hypercube with seed {search['seed']}, run "
+        f"{cost['date']}: {cost['wall_s']:g} s "
         f"wall, {cost['cpu_s']:g} s CPU on {cost['workers']} threads, load average "
         f"{cost['load_average_start']:g} at the start, {cost['load_average_1min']:g} at the end; "
         f"{search['software']}). Axes: {axes}; c/a below the rest-stability bound, δ at most "
