@@ -22,6 +22,7 @@ for the report.
 
     .venv/bin/python benchmarks/atlas_search.py --count 240 --seed 15 --workers 2 --full 4 --store
     .venv/bin/python benchmarks/atlas_search.py --box refined --count 60 --seed 16 --full 3 --store
+    .venv/bin/python benchmarks/atlas_search.py --box stone --count 30 --seed 17 --full 15 --store
 """
 
 from __future__ import annotations
@@ -106,6 +107,8 @@ def main() -> None:
         "search": f"Latin hypercube, {args.count} points, seed {args.seed}, box {args.box} "
         "(celtstone.atlas.search, docs/decisions.md §32)",
         "study": ATLAS_STUDY.describe(),
+        "contact": "per row: eps_1mm (the study's), or hertz_pmma_glass, hertz_pmma_pmma "
+        "(the study with the Hertz radius of the pair, celtstone.atlas.hertz_study)",
         "verdict": "long_run by celtstone.reproduce.findings.JUDGES",
     }
     write_table(search_table(dataset), out / "search.csv", header, overwrite=True)
