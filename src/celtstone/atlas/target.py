@@ -13,7 +13,9 @@ and writes
 * ``atlas_SLICE.csv``, one row per design of the slice: its parameters, the numbers the
   judges read, each finding's verdict (provenance header, ``export.write_table``);
 * ``atlas_SLICE.png`` / ``.svg``, a panel per finding and one for all five;
-* ``data/atlas_atlas.json``, the numbers the report's section 7 is written from.
+* ``data/atlas_atlas.json``, the numbers the report's section 7 is written from, with the
+  stored summaries of the searches for the long-run finding (``atlas.search``,
+  ``benchmarks/atlas_search.py``), which the section states after the grid's verdicts.
 """
 
 from __future__ import annotations
