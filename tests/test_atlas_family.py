@@ -146,3 +146,40 @@ def test_a_material_pair_gives_the_model_its_effective_modulus() -> None:
     assert same.effective_modulus == pytest.approx(pmma.elastic_modulus / (2 * (1 - 0.35**2)))
     with pytest.raises(cs.ParameterError, match="plane"):
         MaterialPair("pmma", "granite")
+
+
+def test_the_atlas_stone_follows_from_its_derivation_and_its_design() -> None:
+    """``atlas_stone_25cm`` (docs/bodies.md): its mass, G and inertia are the independent
+    integration's of its [derivation] table, its design's, and the design is the one the
+    stored refined search found with all five findings "yes" (PMMA on glass)."""
+    import tomllib
+    from importlib import resources
+
+    from celtstone.atlas.search import STORED_SEARCHES, stored_search
+    from celtstone.reproduce.study import ATLAS_STONE_STUDY
+
+    text = resources.files("celtstone.bodies").joinpath("data/atlas_stone_25cm.toml")
+    derivation = tomllib.loads(text.read_text(encoding="utf-8"))["derivation"]
+    body = cs.load_body("atlas_stone_25cm")
+    design = StoneDesign(0.2461, 0.5074, 0.1331, 1.336, 0.1222)
+    assert tuple(derivation["semi_axes"]) == design.semi_axes == body.shape.semi_axes
+    assert derivation["point_mass"] == pytest.approx(design.point_mass, rel=1e-15)
+    assert tuple(derivation["point_mass_position"]) == design.point_mass_position
+    mass, centre, inertia = _integrated(design)
+    assert body.mass == pytest.approx(mass, rel=1e-9)
+    assert body.shape.com_offset == pytest.approx(-centre[2], rel=1e-8)
+    np.testing.assert_allclose(body.inertia_array, inertia, rtol=1e-8, atol=1e-15)
+    assert math.degrees(body.misalignment_angle) == pytest.approx(design.misalignment)
+    search = stored_search(STORED_SEARCHES["refined"])
+    assert search is not None
+    found = [
+        d
+        for d in search["full"]
+        if all(v == "yes" for v in d["verdicts"].values()) and d["name"] == design.name
+    ]
+    assert [d["contact"] for d in found] == ["hertz_pmma_glass"]
+    # the study's E and ν are those of the atlas's PMMA-on-glass pair
+    settings = MaterialPair("pmma", "glass").model_settings()
+    assert ATLAS_STONE_STUDY.elastic_modulus == pytest.approx(settings["elastic_modulus"])
+    assert ATLAS_STONE_STUDY.poisson_ratio == settings["poisson_ratio"]
+    assert ATLAS_STONE_STUDY.contact == "hybrid"

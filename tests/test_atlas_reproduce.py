@@ -15,6 +15,7 @@ import pytest
 import xarray as xr
 
 from celtstone.atlas import fields
+from celtstone.atlas.search import stored_searches
 from celtstone.atlas.target import ATLAS_GRIDS, AtlasGrid, AtlasSlice, AtlasTarget
 from celtstone.cli.main import main
 from celtstone.cli.reproduce import ATLAS_GRID_WORDS
@@ -84,6 +85,11 @@ def test_report_counts_are_the_stores(atlas_out: Path) -> None:
     if holds == 0:
         assert "No design of this grid satisfies all five findings" in section
     assert "](atlas_tiny.png)" in section
+    for search in stored_searches():  # the searches of record, from their stored summaries
+        assert f"### The search for the long-run finding: the {search['box']} box" in section
+        assert f"over **{search['points']} designs**" in section
+        yes = search["verdicts"]["yes"]
+        assert f'holds ("yes") for {yes} of {search["points"]} designs' in section
 
 
 def test_atlas_counts_of_hand_made_verdicts() -> None:

@@ -36,6 +36,7 @@ __all__ = [
     "MaterialPair",
     "StoneDesign",
     "half_ellipsoid_inertia",
+    "largest_misalignment",
 ]
 
 LENGTH_RANGE = (0.05, 0.40)  # L [m], issue 15: stones from 5 cm to 40 cm
@@ -157,6 +158,24 @@ def half_ellipsoid_inertia(
     return mass, depth, inertia
 
 
+def _rim_y(half_width: float) -> float:
+    """The largest y0 [m] of masses at x0 = 0.6 a within the rim margin, for half-width b."""
+    return half_width * math.sqrt(RIM_FRACTION**2 - POINT_MASS_X_FRACTION**2)
+
+
+def largest_misalignment(width_ratio: float, mass_fraction: float) -> float:
+    """The largest δ [deg] two masses of fraction κ can make within the rim margin of a
+    top of width ratio b/a (the masses at y0 on the rim margin; module docstring).
+
+    Independent of L, c/a and ρ: every term of tan 2δ = 4 μ x0 y0 / (K − 2 μ y0²) scales
+    as m_s a². Not capped by ``MISALIGNMENT_RANGE``.
+    """
+    a, b = 1.0, float(width_ratio)  # lengths in units of a, masses in units of m_s
+    x0, y_max, mu = POINT_MASS_X_FRACTION * a, _rim_y(b), float(mass_fraction)
+    stiffness = (a**2 - b**2) / 5.0 + 2.0 * mu * x0**2  # K / m_s
+    return 0.5 * math.degrees(math.atan2(4.0 * mu * x0 * y_max, stiffness - 2 * mu * y_max**2))
+
+
 def _in_range(name: str, value: float, low: float, high: float, unit: str) -> float:
     number = float(value)
     if not (math.isfinite(number) and low <= number <= high):
@@ -255,11 +274,8 @@ class StoneDesign:
         ratio = stiffness / (2.0 * mu)
         # y0 = (−x0 + sqrt(x0² + t² K/(2μ))) / t, written without the cancellation
         y0 = slope * ratio / (x0 + math.sqrt(x0**2 + slope**2 * ratio))
-        y_max = b * math.sqrt(RIM_FRACTION**2 - POINT_MASS_X_FRACTION**2)
-        if y0 > y_max:
-            largest = 0.5 * math.degrees(
-                math.atan2(4.0 * mu * x0 * y_max, stiffness - 2 * mu * y_max**2)
-            )
+        if y0 > _rim_y(b):
+            largest = largest_misalignment(self.width_ratio, self.mass_fraction)
             raise ParameterError(
                 "misalignment",
                 self.misalignment,

@@ -569,23 +569,25 @@ def atlas_dataset(
     )
 
 
-def _is_atlas_store(path: Path) -> bool:
+def _is_atlas_store(path: Path, store_format: str = ATLAS_FORMAT) -> bool:
     metadata = path / "zarr.json"
     try:
         document = json.loads(metadata.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return False
     return (
-        isinstance(document, dict) and document.get("attributes", {}).get("format") == ATLAS_FORMAT
+        isinstance(document, dict) and document.get("attributes", {}).get("format") == store_format
     )
 
 
 def write_atlas(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = False) -> Path:
     """Write ``dataset`` as a Zarr store at ``path``, whole or not at all: built in a
     temporary directory beside it, then moved in. An existing path is replaced only with
-    ``overwrite`` and only if it is an atlas store (``format`` = ``celtstone-atlas-1``)."""
+    ``overwrite`` and only if it is a store of the dataset's ``format`` (default
+    ``celtstone-atlas-1``; a search store's is ``celtstone-atlas-search-1``)."""
     target = Path(path)
-    if os.path.lexists(target) and not (overwrite and _is_atlas_store(target)):
+    store_format = str(dataset.attrs.get("format", ATLAS_FORMAT))
+    if os.path.lexists(target) and not (overwrite and _is_atlas_store(target, store_format)):
         raise ParameterError(
             "out",
             str(target),

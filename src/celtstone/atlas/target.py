@@ -13,7 +13,9 @@ and writes
 * ``atlas_SLICE.csv``, one row per design of the slice: its parameters, the numbers the
   judges read, each finding's verdict (provenance header, ``export.write_table``);
 * ``atlas_SLICE.png`` / ``.svg``, a panel per finding and one for all five;
-* ``data/atlas_atlas.json``, the numbers the report's section 7 is written from.
+* ``data/atlas_atlas.json``, the numbers the report's section 7 is written from, with the
+  stored summaries of the searches for the long-run finding (``atlas.search``,
+  ``benchmarks/atlas_search.py``), which the section states after the grid's verdicts.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from celtstone.atlas.family import StoneDesign
 from celtstone.atlas.fields import ATLAS_STUDY, compute_atlas, write_atlas
+from celtstone.atlas.search import stored_searches
 from celtstone.errors import ParameterError
 from celtstone.export import write_table
 from celtstone.integrate import version
@@ -273,6 +276,7 @@ class AtlasTarget:
             "designs": [_design_numbers(dataset, k) for k in range(len(designs))],
             "slices": slices,
             "store": "atlas.zarr",
+            "searches": stored_searches(),
             "figures": figures,
             "table": slices[0]["table"] if slices else "",
         }

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from celtstone.reproduce.study import (
+    REALISTIC_STUDIES,
     STUDIES,
     TARGETS,
     Study,
@@ -16,14 +17,21 @@ from celtstone.reproduce.study import (
     study_for,
 )
 
-CONTACTS: dict[str, tuple[str, Callable[[str], Study]]] = {
-    "paper": ("the paper's idealisation: a disk of radius 1 mm, Padé law", study_for),
+CONTACTS: dict[str, tuple[str, Callable[[str], Study], tuple[Study, ...]]] = {
+    "paper": (
+        "each body's shipped study: the paper's idealisation, a disk of radius 1 mm, Padé "
+        "law (atlas_stone_25cm: the Hertz disk of PMMA on glass it was found with)",
+        study_for,
+        STUDIES,
+    ),
     "realistic": (
         "the elliptic Hertz contact, exact law, rolling resistance",
         realistic_study_for,
+        REALISTIC_STUDIES,
     ),
 }
-"""The contacts a reproduction can run: words for the help, and the study of a body."""
+"""The contacts a reproduction can run: words for the help, the study of a body, and the
+studies whose bodies it runs without ``--body``."""
 
 ATLAS_GRID_WORDS = {
     "coarse": "4 designs (L = 0.1, 0.2 m × δ = 2, 4°), about 1.5 min on 2 cores",
@@ -57,7 +65,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         choices=(*CONTACTS, "all"),
         default="all",
         help="contact of the runs: "
-        + "; ".join(f"{name}: {words}" for name, (words, _) in CONTACTS.items())
+        + "; ".join(f"{name}: {words}" for name, (words, _, _) in CONTACTS.items())
         + "; all: both, side by side in the report (default: all)",
     )
     parser.add_argument(
@@ -81,9 +89,12 @@ def handle(args: argparse.Namespace) -> int:
     from celtstone.atlas.target import AtlasTarget, atlas_grid
     from celtstone.reproduce.targets import reproduce
 
-    bodies = args.body or [study.body for study in STUDIES]
     contacts = list(CONTACTS) if args.contact == "all" else [args.contact]
-    studies = [CONTACTS[contact][1](name) for contact in contacts for name in bodies]
+    studies = [
+        CONTACTS[contact][1](name)
+        for contact in contacts
+        for name in (args.body or [study.body for study in CONTACTS[contact][2]])
+    ]
     for study in studies:
         study.load_body()  # an unknown body fails before any run
     if args.quick:

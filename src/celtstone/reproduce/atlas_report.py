@@ -14,7 +14,7 @@ from typing import Any
 
 from celtstone.reproduce.findings import FINDINGS
 
-__all__ = ["PARAMETER_WORDS", "VERDICTS", "atlas_counts", "atlas_section"]
+__all__ = ["PARAMETER_WORDS", "VERDICTS", "atlas_counts", "atlas_section", "search_lines"]
 
 VERDICTS = ("yes", "partly", "no")
 TITLE = "## 7. For which stones does the paper hold?"
@@ -153,6 +153,8 @@ def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
     for piece in result["slices"]:
         images = [f for f in piece["figures"] if f.endswith(".png")]
         lines += [f"![{Path(f).stem}]({f})" for f in images]
+    for search in result.get("searches", []):
+        lines += search_lines(search)
     lines += [
         "",
         f"Data: `{result['store']}` (every design's numbers), "
@@ -161,4 +163,119 @@ def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
         "(`celtstone.reproduce.findings`) on that design's runs.",
         "",
     ]
+    return lines
+
+
+CONTACT_WORDS = {
+    # a contact of the search (celtstone.atlas.search.SEARCH_CONTACTS) in the report
+    "eps_1mm": "ε = 1 mm",
+    "hertz_pmma_glass": "Hertz, PMMA on glass",
+    "hertz_pmma_pmma": "Hertz, PMMA on PMMA",
+}
+_SHORT_WORDS = {"length": "L", "width_ratio": "b/a", "height_ratio": "c/a", "misalignment": "δ"}
+
+
+def _axis_words(name: str, axis: Sequence[Any]) -> str:
+    low, high, scale = axis
+    words = f"{PARAMETER_WORDS[name]} {low:g} … {high:g}"
+    return words + (" (log-uniform)" if scale == "log" else "")
+
+
+def _interval(value: float | None) -> str:
+    return "–" if value is None else f"{value:.3g}"
+
+
+def _short_design(parameters: Mapping[str, float]) -> str:
+    words = [f"{_SHORT_WORDS[k]} = {parameters[k]:.3g}" for k in _SHORT_WORDS]
+    return ", ".join([*words, f"κ = {parameters['mass_fraction']:.3g}"])
+
+
+def search_lines(search: Mapping[str, Any]) -> list[str]:
+    """The subsection on the search for the long-run finding, from its stored summary
+    (``celtstone.atlas.search.search_summary``, written by ``benchmarks/atlas_search.py``):
+    its coverage and cost, the verdicts per contact, the closest points and, where they
+    were run, all five findings of the best ones."""
+    total, verdicts, cost = search["points"], search["verdicts"], search["cost"]
+    axes = "; ".join(_axis_words(k, v) for k, v in search["axes"].items())
+    lines = [
+        "",
+        f"### The search for the long-run finding: the {search['box']} box",
+        "",
+        f"The long run is the finding no grid met, and the cheapest (two 50 s runs a design), "
+        f"so it was searched alone over **{total} designs** (`benchmarks/atlas_search.py "
+        f"--box {search['box']}`, a Latin hypercube with seed {search['seed']}, run "
+        f"{cost['date']}: {cost['wall_s']:g} s "
+        f"wall, {cost['cpu_s']:g} s CPU on {cost['workers']} threads, load average "
+        f"{cost['load_average_start']:g} at the start, {cost['load_average_1min']:g} at the end; "
+        f"{search['software']}). Axes: {axes}; c/a below the rest-stability bound, δ at most "
+        "the largest the masses make; the contact a sixth axis, a third of the designs each. "
+        "Each long run is judged by the judge of section 5.",
+        "",
+        f'**The long run holds ("yes") for {verdicts["yes"]} of {total} designs** '
+        f"(partly {verdicts['partly']}, no {verdicts['no']}). At least three held reversals: "
+        f"rolling {search['rolling_three']}, sliding {search['sliding_three']}, both "
+        f"{search['both_three']}. The sliding run has more held reversals than the rolling "
+        f"one in {search['sliding_more']} designs, and its mean interval after the second "
+        f"reversal is the shorter in {search['sliding_quicker_on_average']} (of the "
+        f"{search['both_three']} where both have three). The rolling run's shortest interval "
+        "after the second reversal over the sliding run's longest (the judge asks for above 1) "
+        f"is at most {_interval(search['largest_interval_ratio'])}; the ratio of their mean "
+        f"intervals at most {_interval(search['largest_mean_ratio'])}. Most held sliding "
+        "reversals in 50 s: "
+        + ", ".join(
+            f"{CONTACT_WORDS.get(name, name)} {count}"
+            for name, count in search["most_sliding"].items()
+        )
+        + ".",
+        "",
+        "| contact | designs | yes | partly | no |",
+        "|---|---|---|---|---|",
+    ]
+    for name, row in search["contacts"].items():
+        lines.append(
+            f"| {CONTACT_WORDS.get(name, name)} | {row['points']} | {row['yes']} | "
+            f"{row['partly']} | {row['no']} |"
+        )
+    lines += [
+        "",
+        "The closest designs: the first by verdict (then by the shortest rolling interval "
+        "over the longest sliding one after the second reversal, then by the sliding "
+        "reversals), and the closest of those with three reversals in both runs (by that "
+        "ratio: above 1 every sliding interval is the shorter, as the judge reads the "
+        "paper's Figure 3):",
+        "",
+        "| design | contact | reversals rolling / sliding | shortest rolling interval [s] "
+        "| longest sliding interval [s] | mean intervals rolling / sliding [s] | long run |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for point in search["best"]:
+        counts = point["reversals"]
+        lines.append(
+            f"| {_short_design(point['parameters'])} | "
+            f"{CONTACT_WORDS.get(point['contact'], point['contact'])} | "
+            f"{counts['rolling']} / {counts['sliding']} | "
+            f"{_interval(point['rolling_shortest_interval'])} | "
+            f"{_interval(point['sliding_longest_interval'])} | "
+            f"{_interval(point['mean_interval']['rolling'])} / "
+            f"{_interval(point['mean_interval']['sliding'])} | {point['long_run']} |"
+        )
+    full = search.get("full", [])
+    if full:
+        findings = list(FINDINGS)
+        holding = sum(all(d["verdicts"][f] == "yes" for f in findings) for d in full)
+        lines += [
+            "",
+            f"All five findings of the {len(full)} closest (`compute_atlas`, the atlas's "
+            f"study in each one's contact): all five hold for **{holding}**.",
+            "",
+            "| design | contact | " + " | ".join(findings) + " |",
+            "|---|---|" + "---|" * len(findings),
+        ]
+        for design in full:
+            lines.append(
+                f"| {_short_design(design['parameters'])} | "
+                f"{CONTACT_WORDS.get(design['contact'], design['contact'])} | "
+                + " | ".join(design["verdicts"][f] for f in findings)
+                + " |"
+            )
     return lines

@@ -308,9 +308,28 @@ class Study:
         )
 
 
+PMMA_ON_GLASS_MODULUS = 5740609496.810772
+"""E [Pa] of a model whose E* = E / (2(1 − ν²)) with ν = 0.35 is that of PMMA (E = 3 GPa,
+ν = 0.35) on soda-lime glass (72 GPa, 0.22): ``celtstone.atlas.MaterialPair("pmma",
+"glass").model_settings()`` (the atlas declares the materials; the layers keep it from
+being imported here, and tests/test_atlas_family.py checks the two equal)."""
+PMMA_POISSON_RATIO = 0.35  # ν of the stone, as the atlas's MaterialPair passes it
+
+ATLAS_STONE_STUDY = Study(
+    body="atlas_stone_25cm",
+    variant="hertz-pmma-glass",
+    contact="hybrid",
+    elastic_modulus=PMMA_ON_GLASS_MODULUS,
+    poisson_ratio=PMMA_POISSON_RATIO,
+)
+"""The atlas's stone (docs/bodies.md) in the contact it was found with: ε the Hertz radius
+of PMMA on glass (circular), Zhuravlev's Padé law, N = m g, the stick–slip contact, as
+the atlas's study (docs/decisions.md §32); start, lengths and grids the paper study's."""
+
 STUDIES = (
     Study(body="kane_levinson_1982"),
     Study(body="toy_rattleback_10cm"),
+    ATLAS_STONE_STUDY,
 )
 """One study per reproduced body, in its own contact (the paper's unless it names a variant)."""
 
@@ -355,7 +374,9 @@ def _realistic(body: str) -> Study:
     )
 
 
-REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES)
+REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES if study.is_paper_contact)
+"""The realistic contact for each body of a paper-contact study (the atlas's stone has its
+own contact: no second variant of it)."""
 
 
 def study_for(body: str) -> Study:
