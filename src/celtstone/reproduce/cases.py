@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -15,6 +17,7 @@ from celtstone.errors import FrictionBoundWarning
 from celtstone.export import write, write_json, write_table
 from celtstone.integrate import simulate, version
 from celtstone.models import Model
+from celtstone.reproduce.parallel import map_in_threads
 from celtstone.reproduce.study import Study
 from celtstone.trajectory import Trajectory
 
@@ -81,20 +84,46 @@ def run_case(study: Study, body: Body, model: Model, t_end: float, path: Path | 
     The compiled loop runs in a worker thread (a progress callback makes ``simulate`` do
     so) so that Ctrl-C and SIGTERM stop a reproduction within a tenth of a second, not
     when the run in progress ends."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", FrictionBoundWarning)
-        trajectory = simulate(
-            model,
-            body,
-            study.initial_state,
-            t_end,
-            rtol=study.rtol,
-            atol=study.atol,
-            progress=_keep_signals_live,
-        )
+    with quiet_friction_bound():
+        trajectory = simulate_case(study, body, model, t_end)
     if path is not None:
         write(trajectory.dataset, path)
     return trajectory
+
+
+@contextmanager
+def quiet_friction_bound() -> Iterator[None]:
+    """The warning filters of a reproduction's runs: the paper's static load exceeding
+    Coulomb's bound is not warned (:func:`run_case`). Set around a whole
+    ``parallel.map_in_threads`` of :func:`simulate_case` (the filters are the process's)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FrictionBoundWarning)
+        yield
+
+
+def run_cases(
+    study: Study, body: Body, models: list[Model], t_end: float, paths: list[Path]
+) -> Iterator[Trajectory]:
+    """:func:`run_case` of each model, the runs side by side on the cores
+    (``parallel.map_in_threads``), yielded in order, each written to its path here."""
+    with quiet_friction_bound():
+        runs = map_in_threads(lambda model: simulate_case(study, body, model, t_end), models)
+        for trajectory, path in zip(runs, paths, strict=True):
+            write(trajectory.dataset, path)
+            yield trajectory
+
+
+def simulate_case(study: Study, body: Body, model: Model, t_end: float) -> Trajectory:
+    """The run of :func:`run_case` without its warning filters (safe on several threads)."""
+    return simulate(
+        model,
+        body,
+        study.initial_state,
+        t_end,
+        rtol=study.rtol,
+        atol=study.atol,
+        progress=_keep_signals_live,
+    )
 
 
 def _keep_signals_live(time: float) -> None:

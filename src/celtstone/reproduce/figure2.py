@@ -13,7 +13,7 @@ from typing import Any
 
 from celtstone.models import FRICTION_LOAD_OPTIONS, Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
+from celtstone.reproduce.cases import case_name, run_cases, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.visual import animate_comparison
@@ -55,11 +55,12 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     data.mkdir(parents=True, exist_ok=True)
     datasets = {}
     cases = []
-    for model in figure2_models(study):
+    models = figure2_models(study)
+    paths = [data / f"{stem}_{case_name(model)}.nc" for model in models]
+    progress.set_description(f"{stem}: runs")
+    runs = run_cases(study, body, models, study.fig2_t_end, paths)
+    for model, path, trajectory in zip(models, paths, runs, strict=True):
         name = case_name(model)
-        progress.set_description(f"{stem}: {name}")
-        path = data / f"{stem}_{name}.nc"
-        trajectory = run_case(study, body, model, study.fig2_t_end, path)
         datasets[name] = trajectory.dataset
         cases.append(
             {

@@ -9,8 +9,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from celtstone.models import Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import case_name, run_case, save_results, summarise
+from celtstone.reproduce.cases import case_name, run_cases, save_results, summarise
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
@@ -40,11 +41,12 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     data.mkdir(parents=True, exist_ok=True)
     datasets = []
     cases = []
-    for model in (study.rolling(), study.sliding(study.fig3_friction)):
+    models: list[Model] = [study.rolling(), study.sliding(study.fig3_friction)]
+    paths = [data / f"{stem}_{case_name(model)}.nc" for model in models]
+    progress.set_description(f"{stem}: runs")
+    runs = run_cases(study, body, models, study.fig3_t_end, paths)
+    for model, path, trajectory in zip(models, paths, runs, strict=True):
         name = case_name(model)
-        progress.set_description(f"{stem}: {name}")
-        path = data / f"{stem}_{name}.nc"
-        trajectory = run_case(study, body, model, study.fig3_t_end, path)
         datasets.append(trajectory.dataset)
         cases.append(
             {

@@ -18,7 +18,14 @@ import numpy as np
 from celtstone.bodies import Body
 from celtstone.export import write_json, write_table
 from celtstone.plotting import plot_threshold, save_figure_formats
-from celtstone.reproduce.cases import provenance, run_case, study_identity, summarise
+from celtstone.reproduce.cases import (
+    provenance,
+    quiet_friction_bound,
+    simulate_case,
+    study_identity,
+    summarise,
+)
+from celtstone.reproduce.parallel import map_in_threads
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
@@ -47,7 +54,8 @@ def bisection_steps(width: float, tolerance: float) -> int:
 
 
 def _point(study: Study, body: Body, friction: float, source: str) -> dict[str, Any]:
-    trajectory = run_case(study, body, study.sliding(friction), study.threshold_t_end, None)
+    """One threshold run at ``friction`` [1] and its row (inside ``quiet_friction_bound``)."""
+    trajectory = simulate_case(study, body, study.sliding(friction), study.threshold_t_end)
     case = summarise(trajectory, body, study.band)
     first = case["first_reversal_time"]
     return {
@@ -66,15 +74,12 @@ def _point(study: Study, body: Body, friction: float, source: str) -> dict[str, 
 
 
 def _bisect(
-    study: Study,
-    body: Body,
-    low: dict[str, Any],
-    high: dict[str, Any],
-    rows: list,
-    progress: Progress,
-) -> dict[str, Any]:
-    """Shrink [low, high] (opposite outcomes) to the tolerance; record every run."""
+    study: Study, body: Body, low: dict[str, Any], high: dict[str, Any]
+) -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """Shrink [low, high] (opposite outcomes) to the tolerance: the boundary and the rows
+    of its runs."""
     start = (low["friction_coefficient"], high["friction_coefficient"])
+    rows = []
     while high["friction_coefficient"] - low["friction_coefficient"] > study.bisection_tolerance:
         middle = _point(
             study,
@@ -83,12 +88,11 @@ def _bisect(
             "bisection",
         )
         rows.append(middle)
-        progress.update(1)
         if middle["reverses"] == low["reverses"]:
             low = middle
         else:
             high = middle
-    return boundary(start, low, high)
+    return boundary(start, low, high), rows
 
 
 def boundary(
@@ -151,18 +155,28 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
     rows: list[dict[str, Any]] = []
-    for friction in study.friction_grid():
-        progress.set_description(f"{stem}: f = {friction:.3g}")
-        rows.append(_point(study, body, friction, "grid"))
-        progress.update(1)
-    grid_rows = list(rows)
-    pairs = [(a, b) for a, b in itertools.pairwise(grid_rows) if a["reverses"] != b["reverses"]]
-    if progress.total is not None:
-        widths = [b["friction_coefficient"] - a["friction_coefficient"] for a, b in pairs]
-        progress.total += sum(bisection_steps(w, study.bisection_tolerance) for w in widths)
-        progress.refresh()
-    progress.set_description(f"{stem}: bisection")
-    boundaries = [_bisect(study, body, a, b, rows, progress) for a, b in pairs]
+    progress.set_description(f"{stem}: f grid")
+    # the grid's runs, then the bisections of its brackets, side by side on the cores
+    with quiet_friction_bound():
+        for row in map_in_threads(
+            lambda friction: _point(study, body, friction, "grid"), study.friction_grid()
+        ):
+            rows.append(row)
+            progress.update(1)
+        grid_rows = list(rows)
+        pairs = [(a, b) for a, b in itertools.pairwise(grid_rows) if a["reverses"] != b["reverses"]]
+        if progress.total is not None:
+            widths = [b["friction_coefficient"] - a["friction_coefficient"] for a, b in pairs]
+            progress.total += sum(bisection_steps(w, study.bisection_tolerance) for w in widths)
+            progress.refresh()
+        progress.set_description(f"{stem}: bisection")
+        boundaries = []
+        for found, bisection_rows in map_in_threads(
+            lambda pair: _bisect(study, body, *pair), pairs
+        ):
+            boundaries.append(found)
+            rows.extend(bisection_rows)
+            progress.update(len(bisection_rows))
     table = pd.DataFrame(rows, columns=list(_COLUMNS)).sort_values("friction_coefficient")
     header = provenance(
         study,
