@@ -10,8 +10,9 @@ CPU time and time per run of ``celtstone.fit`` on one thread per core with the J
 columns started beside each residual (the default), on one thread per core without that,
 and on one thread (the serial-vs-parallel comparison); then the plain baseline: SciPy's
 ``least_squares`` with its own serial 2-point Jacobian around ``cs.simulate``, same
-bounds, scales and tolerances. Each line gives the load average before it: the machine is
-shared. Target (issue 14): under 20 s on the 2-core machine.
+bounds, scales and tolerances. Each line gives the load average before it and the CPU
+time other processes took meanwhile: the machine is shared. Target (issue 14): under 20 s
+on the 2-core machine.
 
 Run with ``make bench`` or ``python benchmarks/bench_fit.py``.
 """
@@ -51,15 +52,27 @@ def record(body: cs.Body) -> cs.Record:
     )
 
 
+def machine_cpu() -> float:
+    """CPU time [s] all processes on the machine have used since boot (Linux; else NaN)."""
+    try:
+        fields = Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]
+    except OSError:
+        return float("nan")
+    user, nice, system, _idle, _iowait, irq, softirq, steal = map(int, fields[:8])
+    return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+
+
 def fitted(
     body: cs.Body, data: cs.Record, workers: int, speculate: bool
-) -> tuple[cs.FitResult, float, float]:
-    """The fit, its wall time [s] and this process's CPU time [s] (all threads); without
-    ``speculate`` the Jacobian's columns wait for ``jac`` (the fit's ``Runs`` replaced)."""
+) -> tuple[cs.FitResult, float, float, float]:
+    """The fit, its wall time [s], this process's CPU time [s] (all threads) and other
+    processes' CPU time meanwhile [s]; without ``speculate`` the Jacobian's columns wait
+    for ``jac`` (the fit's ``Runs`` replaced)."""
     with mock.patch.object(solve, "Runs", partial(Runs, speculate=speculate)):
-        began, cpu = time.perf_counter(), time.process_time()
+        began, cpu, machine = time.perf_counter(), time.process_time(), machine_cpu()
         result = cs.fit(data, body, "sliding", FREE, start=START, workers=workers)
-        return result, time.perf_counter() - began, time.process_time() - cpu
+        cpu = time.process_time() - cpu
+        return result, time.perf_counter() - began, cpu, machine_cpu() - machine - cpu
 
 
 def baseline(body: cs.Body, data: cs.Record, result: cs.FitResult) -> tuple[int, float, np.ndarray]:
@@ -112,7 +125,7 @@ def main() -> None:
     }
     for variant, (workers, speculate) in variants.items():
         load = os.getloadavg()[0]  # the machine is shared: other jobs slow the threads
-        result, wall, cpu = fitted(body, data, workers, speculate)
+        result, wall, cpu, others = fitted(body, data, workers, speculate)
         results[variant] = (result, wall)
         values = ", ".join(
             f"{n} = {v:.6g} ± {e:.2g}"
@@ -121,7 +134,8 @@ def main() -> None:
         print(
             f"  celtstone.fit on {workers} thread(s), {variant}: {result.runs} runs "
             f"({result.speculative_runs_wasted} wasted), {wall:.2f} s wall, {cpu:.2f} s CPU, "
-            f"{wall / result.runs:.3f} s/run (load average {load:.2f} before); {values}"
+            f"{wall / result.runs:.3f} s/run (load average {load:.2f} before, other "
+            f"processes {others:.1f} s CPU meanwhile); {values}"
         )
     parallel_wall = results["speculative"][1]
     for variant in ("not speculative", "serial"):
