@@ -64,7 +64,8 @@ class FitResult:
     starts : each start's outcome, the user's (or default) start first
     runs, failed_runs : simulations made, and those that stopped early or raised
     speculative_runs_wasted : those of the runs that were Jacobian columns started beside
-        a residual (``fitting.runs``) at a step the optimiser then rejected
+        a residual (``fitting.runs``) at a point whose Jacobian was never asked for (a
+        step the optimiser rejected, a start's last trial)
     wall_time : seconds the fit took [s]
     trajectory : the run at the best values, sampled at the record's times
     profile : the profile likelihood of one parameter, if asked for

@@ -1,9 +1,10 @@
 """``fit``: weighted least squares of a record by the simulator, from several starts.
 
 SciPy's ``least_squares`` (trust-region reflective, bounded) minimises ½ Σ r² over the
-free numbers; the forward-difference Jacobian's runs go in parallel on threads
-(``fitting.runs``); starts besides the user's are drawn by Latin hypercube within the
-bounds (log-uniform where the bounds span a decade or more), seeded.
+free numbers; the forward-difference Jacobian's runs go in parallel on threads, as many
+as there are idle threads started beside each residual (``fitting.runs``); starts besides
+the user's are drawn by Latin hypercube within the bounds (log-uniform where the bounds
+span a decade or more), seeded.
 """
 
 from __future__ import annotations
