@@ -1,6 +1,6 @@
 """Fitting a measured motion: synthetic recovery with honest standard errors, parameters
-that the data cannot tell apart, failed runs, the parallel Jacobian, the profile
-likelihood, and ``celtstone fit``'s output directory.
+that the data cannot tell apart, failed runs, the parallel and speculative Jacobian, the
+profile likelihood, and ``celtstone fit``'s output directory.
 
 The oracle is a run with known parameters plus Gaussian noise of a known level: the fit
 must find the parameters within its own standard errors and the noise level it was given.
@@ -120,6 +120,10 @@ def test_pure_pivoting_leaves_only_the_product(kane_levinson: cs.Body) -> None:
     )
 
 
+# the short runs' friction-bound warnings (the fit silences them in its trial runs)
+QUIET = pytest.mark.filterwarnings("ignore::celtstone.errors.FrictionBoundWarning")
+
+
 def _problem(kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]) -> Problem:
     times, spin = kl_spin
     record = cs.make_record(times[:101], {"spin": spin[:101]})
@@ -151,17 +155,95 @@ def test_a_failed_run_gives_large_finite_residuals_and_is_counted(
     assert (runs.count, runs.failed) == (1, 1)
 
 
+@QUIET
 def test_parallel_jacobian_equals_the_serial_one(
     kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]
 ) -> None:
     problem = _problem(kane_levinson, kl_spin)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", cs.FrictionBoundWarning)
-        with Runs(problem, workers=1) as serial, Runs(problem, workers=2) as parallel:
-            np.testing.assert_array_equal(
-                serial.jacobian(problem.start), parallel.jacobian(problem.start)
-            )
-            assert serial.count == parallel.count == 3
+    with Runs(problem, workers=1) as serial, Runs(problem, workers=2) as parallel:
+        np.testing.assert_array_equal(
+            serial.jacobian(problem.start), parallel.jacobian(problem.start)
+        )
+        assert serial.count == parallel.count == 3
+
+
+def _jacobian_runs(runs: Runs, x: np.ndarray) -> tuple[np.ndarray, int]:
+    """The Jacobian at ``x`` and the runs it took."""
+    before = runs.count
+    return runs.jacobian(x), runs.count - before
+
+
+@QUIET
+@pytest.mark.parametrize("workers", [2, 3])
+def test_speculative_columns_are_taken_at_the_same_point_only(
+    kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray], workers: int
+) -> None:
+    """Residuals at x run beside workers − 1 of the Jacobian's columns there; the Jacobian
+    at x takes them (a hit) and equals the serial one bit for bit; at another point they
+    are not used (a miss), and counted as wasted once a new point replaces them."""
+    problem = _problem(kane_levinson, kl_spin)
+    x, other = problem.start, problem.start * np.array([1.1, 0.9])
+    ahead = min(workers - 1, 2)  # columns run beside a residual
+    with Runs(problem, workers=1) as serial, Runs(problem, workers=workers) as runs:
+        expected = serial.jacobian(x)
+        residuals = runs.residuals(x, columns=[0, 1])
+        np.testing.assert_array_equal(residuals, serial.residuals(x))
+        assert (runs.count, runs.wasted) == (1 + ahead, ahead)  # not asked for yet
+        hit, hit_runs = _jacobian_runs(runs, x.copy())  # the same bytes, another array
+        np.testing.assert_array_equal(hit, expected)
+        assert (hit_runs, runs.wasted) == (2 - ahead, 0)
+        # a rejected step: residuals at `other`, then the next residuals elsewhere
+        runs.residuals(other, columns=[0, 1])
+        runs.residuals(x, columns=[1])  # column 1 alone ahead
+        assert runs.wasted == ahead + 1  # `other`'s, and x's until the Jacobian asks
+        _, miss_runs = _jacobian_runs(runs, x + 1e-12)  # not the same bytes
+        assert miss_runs == 3 and runs.wasted == ahead + 1
+        again, again_runs = _jacobian_runs(runs, x)
+        np.testing.assert_array_equal(again, expected)
+        assert (again_runs, runs.wasted) == (1, ahead)  # column 0 run now
+        runs.use(problem)  # a new problem: nothing kept
+        assert runs.wasted == ahead
+        # x and its columns ahead, the rest; `other` and x again; a miss; column 0
+        assert runs.count == (1 + ahead) + (2 - ahead) + (1 + ahead) + 2 + 3 + 1
+
+
+@QUIET
+def test_not_speculating_runs_only_the_residual(
+    kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]
+) -> None:
+    problem = _problem(kane_levinson, kl_spin)
+    with Runs(problem, workers=2, speculate=False) as runs:
+        runs.residuals(problem.start, columns=[0, 1])
+        assert (runs.count, runs.wasted) == (1, 0)
+        assert _jacobian_runs(runs, problem.start)[1] == 2
+
+
+def test_a_speculative_fit_takes_the_serial_fits_path(
+    kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]
+) -> None:
+    """Speculation changes no number of a fit: the same optimum bit for bit, and the
+    serial fit's runs plus the wasted ones."""
+    times, spin = kl_spin
+    noisy = spin + np.random.default_rng(3).normal(0.0, NOISE, spin.size)
+    record = cs.make_record(times[:101], {"spin": noisy[:101]})
+    free = ["friction_coefficient", "contact_radius"]
+    fits = [
+        cs.fit(
+            record,
+            kane_levinson,
+            "sliding",
+            free,
+            start={"friction_coefficient": 0.6, "contact_radius": 3e-3},
+            fixed={"omega3": -5.0},
+            workers=workers,
+        )
+        for workers in (1, 2)
+    ]
+    serial, speculative = fits
+    np.testing.assert_array_equal(speculative.values, serial.values)
+    assert serial.speculative_runs_wasted == 0
+    assert speculative.runs == serial.runs + speculative.speculative_runs_wasted
+    assert speculative.summary()["speculative_runs_wasted"] > 0  # a step was rejected
 
 
 def test_profile_interval_of_a_near_linear_parameter(

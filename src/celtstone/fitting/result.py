@@ -63,6 +63,9 @@ class FitResult:
     uncertainty : standard errors, correlation, rank
     starts : each start's outcome, the user's (or default) start first
     runs, failed_runs : simulations made, and those that stopped early or raised
+    speculative_runs_wasted : those of the runs that were Jacobian columns started beside
+        a residual (``fitting.runs``) at a point whose Jacobian was never asked for (a
+        step the optimiser rejected, a start's last trial)
     wall_time : seconds the fit took [s]
     trajectory : the run at the best values, sampled at the record's times
     profile : the profile likelihood of one parameter, if asked for
@@ -77,6 +80,7 @@ class FitResult:
     starts: tuple[StartOutcome, ...]
     runs: int
     failed_runs: int
+    speculative_runs_wasted: int
     wall_time: float
     trajectory: Trajectory
     profile: Profile | None = None
@@ -160,6 +164,7 @@ class FitResult:
             "record": problem.record.describe(),
             "runs": self.runs,
             "failed_runs": self.failed_runs,
+            "speculative_runs_wasted": self.speculative_runs_wasted,
             "wall_time": self.wall_time,
             "starts": [s.summary(names) for s in self.starts],
             "starts_converged": sum(s.converged for s in self.starts),

@@ -1,9 +1,10 @@
 """``fit``: weighted least squares of a record by the simulator, from several starts.
 
 SciPy's ``least_squares`` (trust-region reflective, bounded) minimises ½ Σ r² over the
-free numbers; the forward-difference Jacobian's runs go in parallel on threads
-(``fitting.runs``); starts besides the user's are drawn by Latin hypercube within the
-bounds (log-uniform where the bounds span a decade or more), seeded.
+free numbers; the forward-difference Jacobian's runs go in parallel on threads, as many
+as there are idle threads started beside each residual (``fitting.runs``); starts besides
+the user's are drawn by Latin hypercube within the bounds (log-uniform where the bounds
+span a decade or more), seeded.
 """
 
 from __future__ import annotations
@@ -82,7 +83,7 @@ def _minimise(
         return x
 
     result = least_squares(
-        lambda sub: runs.residuals(full(sub)),
+        lambda sub: runs.residuals(full(sub), columns),
         np.clip(x0[columns], problem.lower[columns], problem.upper[columns]),
         jac=lambda sub: runs.jacobian(full(sub), columns),
         bounds=(problem.lower[columns], problem.upper[columns]),
@@ -183,7 +184,8 @@ def fit(
     profile : a free name whose profile likelihood interval to compute
     rtol, atol : the runs' tolerances
     method : integrator, default the model's
-    workers : threads for the Jacobian's runs (default: one per core)
+    workers : threads for the runs (default: one per core): the Jacobian's columns, and
+        beside each residual as many of them as there are threads besides it
     progress : called after each residual evaluation with (runs so far, cost)
 
     Returns
@@ -240,7 +242,7 @@ def fit(
                 spread.standard_errors[index],
                 spread.residual_variance,
             )
-        count, failed = runs.count, runs.failed
+        count, failed, wasted = runs.count, runs.failed, runs.wasted
     trajectory = problem.run(values)
     residuals = problem.residuals(trajectory)
     texts = tuple(spread.warnings(problem.names))
@@ -255,6 +257,7 @@ def fit(
         starts=tuple(outcomes),
         runs=count + 1,
         failed_runs=failed + (not trajectory.ok),
+        speculative_runs_wasted=wasted,
         wall_time=time.perf_counter() - began,
         trajectory=trajectory,
         profile=profiled,
