@@ -83,8 +83,4 @@ numpydoc_validation_checks = {
 # Data (MODELS, DEFAULT_RTOL, ...) and constructors that are object.__init__ are added to
 # the exclusions by celtstone_docs: numpydoc checks a value's docstring as a function's
 # (the page shows the docstring written under it).
-numpydoc_validation_exclude = {
-    # fitting/** belongs to issue 14's work in progress (fit14): validated when it lands,
-    # with its module page (celtstone_docs.NOT_YET)
-    r"^celtstone\.(fit|FitResult|Record|make_record|read_record)(\.|$)",
-}
+numpydoc_validation_exclude: set[str] = set()

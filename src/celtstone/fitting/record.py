@@ -37,11 +37,16 @@ class Record:
 
     Parameters
     ----------
-    times : sample times from the first sample [s], shape (m,), increasing, times[0] = 0
-    series : series name (``SERIES``) -> values in its SI unit, shape (m,)
-    start_time : time of the first sample in the file [s]
-    source : where it came from (a file name, or "arrays")
-    columns : series name -> the header it was read from
+    times : numpy.ndarray
+        Sample times from the first sample [s], shape (m,), increasing, times[0] = 0.
+    series : mapping of str to numpy.ndarray
+        Series name (``SERIES``) -> values in its SI unit, shape (m,).
+    start_time : float
+        Time of the first sample in the file [s].
+    source : str
+        Where it came from (a file name, or "arrays").
+    columns : mapping of str to str
+        Series name -> the header it was read from.
     """
 
     times: np.ndarray
@@ -56,7 +61,14 @@ class Record:
         return sum(values.size for values in self.series.values())
 
     def describe(self) -> dict[str, Any]:
-        """The record in the summary: source, columns, sample count, time span [s]."""
+        """Describe the record for a fit's summary.
+
+        Returns
+        -------
+        dict
+            Source, series with their units and columns, sample count, start time and
+            duration [s].
+        """
         return {
             "source": self.source,
             "series": {
@@ -92,10 +104,26 @@ def make_record(
     source: str = "arrays",
     columns: Mapping[str, str] | None = None,
 ) -> Record:
-    """A checked :class:`Record` from arrays in SI (rad/s, rad; ``SERIES``).
+    """Make a checked :class:`Record` from arrays in SI (rad/s, rad; ``SERIES``).
 
     Times are shifted to start at 0 (the model starts at the first sample); a yaw series
     is unwrapped.
+
+    Parameters
+    ----------
+    times : sequence of float or numpy.ndarray
+        Sample times [s], strictly increasing, at least 2.
+    series : mapping of str to array_like
+        Series name (``SERIES``) -> values in its SI unit, one per time.
+    source : str
+        Where the data came from, kept in the record.
+    columns : mapping of str to str, optional
+        Series name -> the header it was read from.
+
+    Returns
+    -------
+    Record
+        The record, times from 0.
 
     Raises
     ------
@@ -204,14 +232,22 @@ def read_record(
 
     Parameters
     ----------
-    path : a CSV file with a header row (comma, semicolon or tab separated)
-    columns : ``NAME[UNIT]=HEADER`` strings, or a mapping NAME -> HEADER: which column holds
+    path : str or pathlib.Path
+        A CSV file with a header row (comma, semicolon or tab separated).
+    columns : sequence of str or mapping of str to str
+        ``NAME[UNIT]=HEADER`` strings, or a mapping NAME -> HEADER: which column holds
         ``time`` [s] (default: the first column) and each series of ``SERIES``; the unit
         is ``[UNIT]``, else the header's own ``(unit)``, else the series' default
-        (rad/s for rates, rad for yaw, deg for tilt)
-    sensor_rotation : the gyroscope's axes in body axes (``fitting.sensor``), for phyphox's
-        export: its ``Gyroscope x/y/z (rad/s)`` columns become omega1..3 when no series is
-        mapped by ``columns``; default: the sensor's axes are the body's
+        (rad/s for rates, rad for yaw, deg for tilt).
+    sensor_rotation : str or sequence of float, optional
+        The gyroscope's axes in body axes (``fitting.sensor``), for phyphox's export: its
+        ``Gyroscope x/y/z (rad/s)`` columns become omega1..3 when no series is mapped by
+        ``columns``; default: the sensor's axes are the body's.
+
+    Returns
+    -------
+    Record
+        The checked record (:func:`make_record`), in SI.
     """
     source = Path(path)
     if not source.is_file():

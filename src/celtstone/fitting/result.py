@@ -56,20 +56,34 @@ class FitResult:
 
     Parameters
     ----------
-    problem : what was fitted (record, body, model, free and fixed numbers, weights)
-    values : best values [units of ``problem.free``], shape (p,)
-    cost : ½ Σ r² at the best values [1]
-    residuals : weighted residuals there [1], shape (m,)
-    uncertainty : standard errors, correlation, rank
-    starts : each start's outcome, the user's (or default) start first
-    runs, failed_runs : simulations made, and those that stopped early or raised
-    speculative_runs_wasted : those of the runs that were Jacobian columns started beside
-        a residual (``fitting.runs``) at a point whose Jacobian was never asked for (a
-        step the optimiser rejected, a start's last trial)
-    wall_time : seconds the fit took [s]
-    trajectory : the run at the best values, sampled at the record's times
-    profile : the profile likelihood of one parameter, if asked for
-    warnings : the identifiability warnings issued
+    problem : Problem
+        What was fitted (record, body, model, free and fixed numbers, weights).
+    values : numpy.ndarray
+        Best values [units of ``problem.free``], shape (p,).
+    cost : float
+        ½ Σ r² at the best values [1].
+    residuals : numpy.ndarray
+        Weighted residuals there [1], shape (m,).
+    uncertainty : Uncertainty
+        Standard errors, correlation, rank.
+    starts : tuple of StartOutcome
+        Each start's outcome, the user's (or default) start first.
+    runs : int
+        Simulations made.
+    failed_runs : int
+        Those of the runs that stopped early or raised.
+    speculative_runs_wasted : int
+        Those of the runs that were Jacobian columns started beside a residual
+        (``fitting.runs``) at a point whose Jacobian was never asked for (a step the
+        optimiser rejected, a start's last trial).
+    wall_time : float
+        Time the fit took [s].
+    trajectory : Trajectory
+        The run at the best values, sampled at the record's times.
+    profile : Profile or None
+        The profile likelihood of one parameter, if asked for.
+    warnings : tuple of str
+        The identifiability warnings issued.
     """
 
     problem: Problem
@@ -88,18 +102,27 @@ class FitResult:
 
     @property
     def names(self) -> tuple[str, ...]:
+        """Names of the free numbers, in the order of :attr:`values`."""
         return self.problem.names
 
     @property
     def standard_errors(self) -> np.ndarray:
+        """Standard errors of :attr:`values` [their units]; inf where undetermined."""
         return self.uncertainty.standard_errors
 
     @property
     def correlation(self) -> np.ndarray:
+        """Correlation matrix of the free numbers [1], shape (p, p)."""
         return self.uncertainty.correlation
 
     def series_residuals(self) -> dict[str, np.ndarray]:
-        """Series name -> model − data at the best values [unit of the series]."""
+        """Split the residuals by series, unweighted.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Series name -> model − data at the best values [unit of the series].
+        """
         sigma = self.problem.sigma
         parts, start = {}, 0
         for name, measured in self.problem.record.series.items():
@@ -108,8 +131,14 @@ class FitResult:
         return parts
 
     def noise_estimates(self) -> dict[str, float]:
-        """Series name -> the noise σ the residuals imply [unit of the series]: their RMS
-        corrected for the fitted degrees of freedom: RMS · sqrt(m / (m − p))."""
+        """Estimate each series' noise from its residuals.
+
+        Returns
+        -------
+        dict of str to float
+            Series name -> the noise σ the residuals imply [unit of the series]: their
+            RMS corrected for the fitted degrees of freedom, RMS · sqrt(m / (m − p)).
+        """
         ratio = self.problem.n_residuals / self.problem.degrees_of_freedom
         return {
             name: float(np.sqrt(np.mean(r**2) * ratio))
@@ -117,7 +146,13 @@ class FitResult:
         }
 
     def summary(self) -> dict[str, Any]:
-        """The JSON summary (SI units; inf and NaN as null)."""
+        """Summarise the fit for ``summary.json``.
+
+        Returns
+        -------
+        dict
+            The JSON summary (SI units; inf and NaN as null).
+        """
         problem, u = self.problem, self.uncertainty
         names = problem.names
         units = {p.name: p.unit for p in problem.free}

@@ -165,28 +165,45 @@ def fit(
 
     Parameters
     ----------
-    record : the measured motion (:func:`read_record`, :func:`make_record`)
-    body : a :class:`Body`, a shipped body's name or a body file
-    model : "rolling" or "sliding"
-    free : names to fit: model settings (``friction_coefficient`` f [1],
-        ``contact_radius`` ε [m], ``rolling_resistance`` λ [m], ``damping`` σ [N m s],
-        ...), the initial state (``omega1..3`` [rad/s], ``initial_spin`` [rad/s],
-        ``euler_alpha``, ``euler_beta`` [deg]) or body numbers (``celtstone sweep`` names)
-    bounds : name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS``
-    start : name -> first start [its unit]; default the fixed or model's default value,
-        for the initial rates the record's first sample
-    fixed : name -> value of numbers and options held (``celtstone sweep --set`` names);
-        the initial state defaults to the record's first sample of omega1..3 or spin
-    sigma : series name -> noise scale σ_s weighting it [its SI unit]; default estimated
-        from the data (``fitting.problem.noise_scale``)
-    starts : number of starts, the first being ``start`` (>= 1)
-    seed : seed of the drawn starts
-    profile : a free name whose profile likelihood interval to compute
-    rtol, atol : the runs' tolerances
-    method : integrator, default the model's
-    workers : threads for the runs (default: one per core): the Jacobian's columns, and
-        beside each residual as many of them as there are threads besides it
-    progress : called after each residual evaluation with (runs so far, cost)
+    record : Record
+        The measured motion (:func:`read_record`, :func:`make_record`).
+    body : Body or str or pathlib.Path
+        A body, a shipped body's name or a body file.
+    model : str
+        "rolling" or "sliding".
+    free : sequence of str
+        Names to fit: model settings (``friction_coefficient`` f [1], ``contact_radius``
+        ε [m], ``rolling_resistance`` λ [m], ``damping`` σ [N m s], ...), the initial
+        state (``omega1..3`` [rad/s], ``initial_spin`` [rad/s], ``euler_alpha``,
+        ``euler_beta`` [deg]) or body numbers (``celtstone sweep`` names).
+    bounds : mapping of str to (float, float), optional
+        Name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS``.
+    start : mapping of str to float, optional
+        Name -> first start [its unit]; default the fixed or the model's default value,
+        for the initial rates the record's first sample.
+    fixed : mapping of str to float or str, optional
+        Name -> value of the numbers and options held (``celtstone sweep --set`` names);
+        the initial state defaults to the record's first sample of omega1..3 or spin.
+    sigma : mapping of str to float, optional
+        Series name -> noise scale σ_s weighting it [its SI unit]; default estimated
+        from the data (``fitting.problem.noise_scale``).
+    starts : int
+        Number of starts, the first being ``start`` (>= 1).
+    seed : int or None
+        Seed of the drawn starts.
+    profile : str or None
+        A free name whose profile likelihood interval to compute.
+    rtol : float
+        Relative tolerance of the runs.
+    atol : float
+        Absolute tolerance of the runs.
+    method : str or None
+        Integrator, default the model's.
+    workers : int or None
+        Threads for the runs (default: one per core): the Jacobian's columns, and
+        beside each residual as many of them as there are threads besides it.
+    progress : callable or None
+        Called after each residual evaluation with (runs so far, cost).
 
     Returns
     -------
