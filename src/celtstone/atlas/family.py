@@ -51,8 +51,21 @@ GRAVITY = 9.81  # m/s², as every shipped body
 
 @dataclass(frozen=True)
 class Material:
-    """An isotropic material: density ρ [kg/m³], Young's modulus E [Pa], Poisson's ratio
-    ν [1], and where the numbers come from."""
+    """An isotropic material and where its numbers come from.
+
+    Parameters
+    ----------
+    name : str
+        The key in :data:`MATERIALS` (``"pmma"``, ``"glass"``).
+    density : float
+        Density ρ [kg/m³].
+    elastic_modulus : float
+        Young's modulus E [Pa].
+    poisson_ratio : float
+        Poisson's ratio ν [1].
+    source : str
+        Where the numbers come from.
+    """
 
     name: str
     density: float
@@ -82,13 +95,28 @@ MATERIALS: dict[str, Material] = {
         ),
     )
 }
+"""The materials of stone and plane by name: cast acrylic (``pmma``) and soda-lime glass
+(``glass``), each with its source."""
 
 
 @dataclass(frozen=True)
 class MaterialPair:
-    """A stone of material ``stone`` on a plane of material ``plane`` (names of
-    :data:`MATERIALS`), for the Hertz contact radius.
+    """A stone of one material on a plane of another, for the Hertz contact radius.
 
+    Parameters
+    ----------
+    stone : str, default "pmma"
+        The stone's material, a name of :data:`MATERIALS`.
+    plane : str, default "glass"
+        The plane's material, a name of :data:`MATERIALS`.
+
+    Raises
+    ------
+    ParameterError
+        When either is not a name of :data:`MATERIALS`.
+
+    Notes
+    -----
     The sliding model takes one E and ν for stone and plane, E* = E / (2(1 − ν²))
     (``contact.effective_modulus``); :meth:`model_settings` gives the pair's
     E* = 1 / ((1 − ν1²)/E1 + (1 − ν2²)/E2) (Johnson 1985, ch. 4) in that form, with
@@ -112,8 +140,14 @@ class MaterialPair:
         return 1.0 / compliance
 
     def model_settings(self) -> dict[str, float]:
-        """``elastic_modulus`` [Pa] and ``poisson_ratio`` [1] of a sliding model whose E*
-        is the pair's."""
+        """The settings of a sliding model whose E* is the pair's.
+
+        Returns
+        -------
+        dict of str to float
+            ``elastic_modulus`` E = 2(1 − ν²) E* [Pa] and ``poisson_ratio`` ν of the
+            stone [1].
+        """
         nu = MATERIALS[self.stone].poisson_ratio
         modulus = 2.0 * (1.0 - nu**2) * self.effective_modulus
         # the model's own E* of these numbers is the pair's (to round-off)
@@ -127,15 +161,29 @@ def half_ellipsoid_inertia(
     point_mass: float,
     position: tuple[float, float],
 ) -> tuple[float, float, tuple[tuple[float, float, float], ...]]:
-    """Mass [kg], depth h of G below the centre O [m] and central inertia tensor
-    [kg m²] of the lower half of an ellipsoid plus two point masses on its flat top.
+    """Mass, centre of mass and inertia of a half-ellipsoid with two point masses on top.
+
+    The lower half (z <= 0) of an ellipsoid, the masses on its flat top.
 
     Parameters
     ----------
-    semi_axes : (a, b, c) of the full ellipsoid [m]
-    density : ρ of the solid [kg/m³]
-    point_mass : μ, each of the two masses [kg]
-    position : (x0, y0), the masses sit at (x0, y0, 0) and (−x0, −y0, 0) [m]
+    semi_axes : tuple of 3 float
+        Semi-axes (a, b, c) of the full ellipsoid [m].
+    density : float
+        Density ρ of the solid [kg/m³].
+    point_mass : float
+        Mass μ of each of the two point masses [kg].
+    position : tuple of 2 float
+        Position (x0, y0) [m]: the masses sit at (x0, y0, 0) and (−x0, −y0, 0).
+
+    Returns
+    -------
+    mass : float
+        Mass m = m_s + 2μ [kg].
+    depth : float
+        Depth h of the centre of mass G below the centre O [m].
+    inertia : tuple of 3 tuples of 3 float
+        Central inertia tensor in body axes [kg m²], shape (3, 3).
 
     Notes
     -----
@@ -197,16 +245,30 @@ class StoneDesign:
 
     Parameters
     ----------
-    length : L = 2a, the stone's length [m], in [0.05, 0.40]
-    width_ratio : b / a [1], in (0, 1): the flat top's half-width b = width_ratio · a
-    height_ratio : c / a [1], > 0: the depth c = height_ratio · a; the rest must be stable
-        (the transverse radius of curvature b²/c above G's height c − h), which bounds it
-    misalignment : δ, the angle from the geometric long axis to the long principal axis
-        [deg], in [0.2, 10], made by the point masses (module docstring)
-    mass_fraction : κ = μ / m_s, each point mass over the solid's mass [1], in (0, 1];
-        default the toy's (1 g on 12.46 g)
-    density : ρ of the solid [kg/m³], > 0; default PMMA, 1190
+    length : float
+        Length L = 2a of the stone [m], in [0.05, 0.40].
+    width_ratio : float
+        Ratio b/a [1], in (0, 1): the flat top's half-width b = width_ratio · a.
+    height_ratio : float
+        Ratio c/a [1], > 0: the depth c = height_ratio · a. The rest must be stable (the
+        transverse radius of curvature b²/c above G's height c − h), which bounds it.
+    misalignment : float
+        Angle δ from the geometric long axis to the long principal axis [deg], in
+        [0.2, 10], made by the point masses (module docstring).
+    mass_fraction : float, default the toy's
+        Ratio κ = μ / m_s of each point mass to the solid's mass [1], in (0, 1]; the
+        toy's is 1 g on 12.46 g.
+    density : float, default 1190
+        Density ρ of the solid [kg/m³], > 0; the default is PMMA's.
 
+    Raises
+    ------
+    ParameterError
+        When a parameter is out of its range, the stone would not rest upright, or the
+        masses cannot make δ within the rim (naming the largest δ they can).
+
+    Notes
+    -----
     The toy rattleback is ``StoneDesign(0.1, 0.2, 0.2, δ_toy)`` with δ_toy = 2.2006°
     (``tests/test_atlas_family.py``).
     """
@@ -247,13 +309,13 @@ class StoneDesign:
 
     @property
     def shell_mass(self) -> float:
-        """m_s = ρ (2/3) π a b c [kg], the solid half-ellipsoid."""
+        """Mass m_s = ρ (2/3) π a b c of the solid half-ellipsoid [kg]."""
         a, b, c = self.semi_axes
         return self.density * (2.0 / 3.0) * math.pi * a * b * c
 
     @property
     def point_mass(self) -> float:
-        """μ = κ m_s [kg], each of the two masses."""
+        """Mass μ = κ m_s of each of the two point masses [kg]."""
         return self.mass_fraction * self.shell_mass
 
     @property
@@ -293,7 +355,14 @@ class StoneDesign:
         )
 
     def body(self) -> Body:
-        """The stone as a :class:`Body`: an ellipsoid shape with G h below its centre."""
+        """The stone as a body.
+
+        Returns
+        -------
+        Body
+            An ellipsoid shape with G at depth h below its centre, the mass and central
+            inertia of :func:`half_ellipsoid_inertia`.
+        """
         mass, depth, inertia = half_ellipsoid_inertia(
             self.semi_axes, self.density, self.point_mass, self.point_mass_position
         )

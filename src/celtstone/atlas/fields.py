@@ -99,9 +99,21 @@ _MAX_REVERSALS = 64  # reversal times kept per long run in the store (the count 
 
 
 def judge_design(numbers: Mapping[str, dict[str, Any]]) -> dict[str, Any]:
-    """Every finding's :class:`~celtstone.reproduce.findings.Verdict` from one design's
-    numbers ``{"fig2": ..., "threshold": ..., "fig3": ...}`` (the dicts ``celtstone
-    reproduce`` writes, with the keys its judges read), by the report's judges."""
+    """Every finding's verdict on one design, by the report's judges.
+
+    Parameters
+    ----------
+    numbers : mapping of str to dict
+        The design's numbers ``{"fig2": ..., "threshold": ..., "fig3": ...}``: the dicts
+        ``celtstone reproduce`` writes, with the keys its judges read
+        (:func:`atlas_numbers`).
+
+    Returns
+    -------
+    dict of str to Verdict
+        Each finding of ``reproduce.findings.JUDGES`` and its
+        :class:`~celtstone.reproduce.findings.Verdict`.
+    """
     verdicts = {}
     for finding, (target, judge) in JUDGES.items():
         verdicts[finding] = judge(numbers[target])
@@ -391,8 +403,31 @@ def atlas_numbers(
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> list[dict[str, dict[str, Any]]]:
-    """Each design's numbers ``{"fig2": ..., "threshold": ..., "fig3": ...}``, the dicts
-    of ``celtstone reproduce`` with the keys its judges read (module docstring)."""
+    """Each design's numbers for the judges, computed with the settings of ``study``.
+
+    The work of :func:`compute_atlas`, whose parameters these are, without the dataset.
+
+    Parameters
+    ----------
+    designs : sequence of StoneDesign
+        The stones.
+    study : Study, default ATLAS_STUDY
+        The runs' settings.
+    out : pathlib.Path, optional
+        The directory of the sweeps' stores and the long runs' numbers, or None.
+    workers, scheduler : int or str, optional
+        Local threads, or a ``dask.distributed`` scheduler for the sweeps.
+    resume, overwrite : bool, default False
+        Keep the finished sweeps and long runs in ``out``, or replace them.
+    progress : callable, optional
+        Told each stage as it starts.
+
+    Returns
+    -------
+    list of dict
+        Per design, ``{"fig2": ..., "threshold": ..., "fig3": ...}``: the dicts of
+        ``celtstone reproduce`` with the keys its judges read (module docstring).
+    """
     bodies = [design.body() for design in designs]
     options: dict[str, Any] = {"resume": resume, "overwrite": overwrite}
     options.update({"workers": workers} if scheduler is None else {"scheduler": scheduler})
@@ -420,10 +455,25 @@ def _padded(rows: Sequence[Sequence[float]], width: int) -> np.ndarray:
 def atlas_dataset(
     designs: Sequence[StoneDesign], numbers: Sequence[Mapping[str, dict[str, Any]]], study: Study
 ) -> xr.Dataset:
-    """The atlas as a Dataset on dimension ``design``: the design's parameters
-    (coordinates, with units), what the stone is (mass, G, point masses), the numbers the
-    judges read, and per finding of ``FINDINGS`` its verdict ``FINDING`` ("yes",
-    "partly", "no") and our number in words ``FINDING_ours``."""
+    """The atlas as a Dataset on dimension ``design``.
+
+    Parameters
+    ----------
+    designs : sequence of StoneDesign
+        The stones.
+    numbers : sequence of mapping of str to dict
+        Each design's numbers, in the same order (:func:`atlas_numbers`).
+    study : Study
+        The settings the numbers were computed with, recorded in the attributes.
+
+    Returns
+    -------
+    xarray.Dataset
+        The design's parameters (coordinates, with units), what the stone is (mass, G,
+        point masses), the numbers the judges read, and per finding of ``FINDINGS`` its
+        verdict ``FINDING`` ("yes", "partly", "no") and our number in words
+        ``FINDING_ours``.
+    """
     import xarray as xr
 
     from celtstone.integrate import version
@@ -581,10 +631,30 @@ def _is_atlas_store(path: Path, store_format: str = ATLAS_FORMAT) -> bool:
 
 
 def write_atlas(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = False) -> Path:
-    """Write ``dataset`` as a Zarr store at ``path``, whole or not at all: built in a
-    temporary directory beside it, then moved in. An existing path is replaced only with
-    ``overwrite`` and only if it is a store of the dataset's ``format`` (default
-    ``celtstone-atlas-1``; a search store's is ``celtstone-atlas-search-1``)."""
+    """Write an atlas as a Zarr store, whole or not at all.
+
+    The store is built in a temporary directory beside ``path``, then moved in.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        The atlas (:func:`atlas_dataset`) or a search's table.
+    path : str or pathlib.Path
+        The store written.
+    overwrite : bool, default False
+        Replace an existing ``path``, only if it is a store of the dataset's ``format``
+        (default ``celtstone-atlas-1``; a search store's is ``celtstone-atlas-search-1``).
+
+    Returns
+    -------
+    pathlib.Path
+        The store written.
+
+    Raises
+    ------
+    ParameterError
+        When ``path`` exists and is not replaced.
+    """
     target = Path(path)
     store_format = str(dataset.attrs.get("format", ATLAS_FORMAT))
     if os.path.lexists(target) and not (overwrite and _is_atlas_store(target, store_format)):
@@ -624,20 +694,35 @@ def compute_atlas(
 
     Parameters
     ----------
-    designs : the stones, at least one
-    study : the runs' settings (start, contact, lengths, f grid); its ``body`` is unused
-    out : a directory for the sweeps' stores, the long runs' numbers and ``atlas.zarr``;
-        None keeps everything in memory
-    workers : local threads (default: every core); scheduler : a dask.distributed
-        scheduler "tcp://HOST:PORT" for the sweeps (the long runs stay local)
-    resume : continue an atlas in ``out`` (every finished sweep and long run is kept)
-    overwrite : replace the stores and files of an earlier atlas in ``out``
-    progress : called with a few words as each stage starts
+    designs : sequence of StoneDesign
+        The stones, at least one.
+    study : Study, default ATLAS_STUDY
+        The runs' settings (start, contact, run lengths, f grid); its ``body`` is unused.
+    out : str or pathlib.Path, optional
+        A directory for the sweeps' stores, the long runs' numbers and ``atlas.zarr``;
+        None keeps everything in memory.
+    workers : int, optional
+        Local threads (default: every core).
+    scheduler : str, optional
+        A ``dask.distributed`` scheduler ``"tcp://HOST:PORT"`` for the sweeps, instead of
+        local threads (the long runs stay local).
+    resume : bool, default False
+        Continue an atlas in ``out``: every finished sweep and long run is kept.
+    overwrite : bool, default False
+        Replace the stores and files of an earlier atlas in ``out``.
+    progress : callable, optional
+        Called with a few words as each stage starts.
 
     Returns
     -------
     xarray.Dataset
-        :func:`atlas_dataset` of the designs
+        The :func:`atlas_dataset` of the designs.
+
+    Raises
+    ------
+    ParameterError
+        When ``designs`` is empty, or ``out`` holds files and neither ``resume`` nor
+        ``overwrite`` is given.
     """
     if not designs:
         raise ParameterError("designs", list(designs), "at least one StoneDesign")
@@ -665,9 +750,25 @@ def compute_atlas(
 
 
 def hertz_study(study: Study, pair: MaterialPair) -> Study:
-    """``study`` with ε the Hertz radius of the stone on the plane of ``pair`` (the
-    circular contact of radius (3 N R_eq / (4 E*))^(1/3), ``SlidingModel`` with E and ν)
-    instead of the fixed ε: the atlas's second contact axis (issue 15, item 1)."""
+    """A study whose contact radius ε is the Hertz radius of a pair of materials.
+
+    The atlas's second contact axis (issue 15, item 1): ε the radius
+    (3 N R_eq / (4 E*))^(1/3) of the circular Hertz contact of the stone on the plane
+    (``SlidingModel`` with E and ν), instead of the fixed ε.
+
+    Parameters
+    ----------
+    study : Study
+        The study whose contact is replaced.
+    pair : MaterialPair
+        The materials of stone and plane.
+
+    Returns
+    -------
+    Study
+        ``study`` with the pair's ``elastic_modulus`` and ``poisson_ratio``
+        (:meth:`MaterialPair.model_settings`) and a ``variant`` naming the pair.
+    """
     settings = pair.model_settings()
     return dataclasses.replace(
         study,
