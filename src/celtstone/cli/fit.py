@@ -100,7 +100,10 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rtol", default=None, help="the runs' relative tolerance (default 1e-8)")
     parser.add_argument("--atol", default=None, help="the runs' absolute tolerance (default 1e-10)")
     parser.add_argument(
-        "--workers", default=None, help="threads for the Jacobian's runs (default: one per core)"
+        "--workers",
+        default=None,
+        help="threads for the runs: the Jacobian's columns, started beside each residual "
+        "(default: one per core)",
     )
     parser.add_argument(
         "--out", default=None, metavar="DIR", help="write summary.json, fit.png|svg, run.nc"
@@ -217,7 +220,8 @@ def _text(summary: dict) -> str:
             f"{s['sigma_source']})"
         )
     lines.append(
-        f"  cost {summary['cost']:.6g}; {summary['runs']} runs ({summary['failed_runs']} failed) "
+        f"  cost {summary['cost']:.6g}; {summary['runs']} runs ({summary['failed_runs']} failed, "
+        f"{summary['speculative_runs_wasted']} speculative wasted) "
         f"in {summary['wall_time']:.3g} s; {summary['starts_reaching_best']} of "
         f"{len(summary['starts'])} starts reached the best"
     )
