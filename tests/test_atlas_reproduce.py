@@ -11,6 +11,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -144,3 +145,19 @@ def test_slices_refuse_what_is_no_design_parameter() -> None:
     with pytest.raises(ParameterError, match="slice"):
         AtlasSlice("x", "length", (0.1,), "length", (0.2,))
     assert re.fullmatch(r"[a-z_]+", ATLAS_GRIDS["coarse"].slices[0].name)
+
+
+def test_the_stone_grid_is_a_map_through_the_shipped_stone() -> None:
+    """``--atlas-grid stone``: κ × δ at 0.95, 1, 1.05 of the stone's; its centre is the
+    shipped ``atlas_stone_25cm`` and its contact the Hertz disk of PMMA on glass."""
+    from celtstone import load_body
+    from celtstone.atlas.target import STONE_ATLAS
+
+    designs = STONE_ATLAS.designs()
+    assert len(designs) == 9
+    shipped = load_body("atlas_stone_25cm")
+    centre = designs[4].body()
+    assert centre.mass == pytest.approx(shipped.mass, rel=1e-9)
+    assert np.allclose(centre.inertia, shipped.inertia, rtol=1e-9, atol=0.0)
+    assert STONE_ATLAS.study.contact == "hybrid" and STONE_ATLAS.study.elastic_modulus
+    assert STONE_ATLAS.study.variant.endswith("hertz-pmma-glass")

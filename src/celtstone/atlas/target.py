@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from celtstone.atlas.family import StoneDesign
-from celtstone.atlas.fields import ATLAS_STUDY, compute_atlas, write_atlas
-from celtstone.atlas.search import stored_searches
+from celtstone.atlas.family import MaterialPair, StoneDesign
+from celtstone.atlas.fields import ATLAS_STUDY, compute_atlas, hertz_study, write_atlas
+from celtstone.atlas.search import ATLAS_STONE_DESIGN, stored_searches
 from celtstone.errors import ParameterError
 from celtstone.export import write_table
 from celtstone.integrate import version
@@ -160,7 +160,31 @@ FINE_ATLAS = AtlasGrid(
 at its best L and δ, with :data:`~celtstone.atlas.fields.ATLAS_STUDY` (both friction loads,
 a 13-point threshold grid bisected to Δf = 0.005)."""
 
-ATLAS_GRIDS = {grid.name: grid for grid in (COARSE_ATLAS, FINE_ATLAS)}
+_STONE = ATLAS_STONE_DESIGN
+STONE_ATLAS = AtlasGrid(
+    name="stone",
+    slices=(
+        AtlasSlice(
+            "stone_mass_misalignment",
+            "mass_fraction",
+            tuple(round(_STONE["mass_fraction"] * k, 4) for k in (0.95, 1.0, 1.05)),
+            "misalignment",
+            tuple(round(_STONE["misalignment"] * k, 4) for k in (0.95, 1.0, 1.05)),
+            tuple(
+                (name, value)
+                for name, value in _STONE.items()
+                if name not in ("mass_fraction", "misalignment")
+            ),
+        ),
+    ),
+    study=hertz_study(ATLAS_STUDY, MaterialPair("pmma", "glass")),
+)
+"""``--atlas-grid stone``: 9 designs, κ × δ at 0.95, 1 and 1.05 times the atlas stone's
+(``atlas_stone_25cm``, docs/bodies.md), its L, b/a and c/a, with the Hertz contact of PMMA
+on glass it was found with and :data:`~celtstone.atlas.fields.ATLAS_STUDY`'s runs: a map
+through the region where all five findings hold (decisions §32)."""
+
+ATLAS_GRIDS = {grid.name: grid for grid in (COARSE_ATLAS, FINE_ATLAS, STONE_ATLAS)}
 DEFAULT_ATLAS_GRID = COARSE_ATLAS.name
 
 

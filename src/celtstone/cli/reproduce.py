@@ -36,6 +36,8 @@ studies whose bodies it runs without ``--body``."""
 ATLAS_GRID_WORDS = {
     "coarse": "4 designs (L = 0.1, 0.2 m × δ = 2, 4°), about 1.5 min on 2 cores",
     "fine": "25 designs (L × δ 4 × 4 and b/a × c/a 3 × 3), about 9 min on 2 cores",
+    "stone": "9 designs (κ × δ at 0.95, 1, 1.05 times the atlas stone's, Hertz PMMA on "
+    "glass), about 2 min on 2 cores",
 }
 """The grids of ``--atlas-grid`` (``celtstone.atlas.target.ATLAS_GRIDS``, tested equal)
 in words, so that ``--help`` imports no atlas."""
