@@ -18,6 +18,7 @@ from celtstone.export import write, write_json, write_table
 from celtstone.integrate import simulate, version
 from celtstone.models import Model
 from celtstone.reproduce.parallel import map_in_threads
+from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.trajectory import Trajectory
 
@@ -29,7 +30,7 @@ __all__ = [
     "ENERGY_MONOTONE_TOLERANCE",
     "case_name",
     "provenance",
-    "run_case",
+    "run_cases",
     "save_results",
     "study_identity",
     "summarise",
@@ -74,47 +75,61 @@ def study_identity(study: Study) -> dict[str, Any]:
     return {"key": study.key, "variant": study.variant, "contact": study.contact_settings()}
 
 
-def run_case(study: Study, body: Body, model: Model, t_end: float, path: Path | None) -> Trajectory:
-    """Simulate ``model`` from the study's start to ``t_end`` [s]; write ``path`` (.nc).
-
-    The static friction load exceeding Coulomb's bound is the paper's own approximation,
-    which the reproduction follows on purpose: not warned here, but recorded in the
-    case's summary (``max_friction_bound_ratio``).
-
-    The compiled loop runs in a worker thread (a progress callback makes ``simulate`` do
-    so) so that Ctrl-C and SIGTERM stop a reproduction within a tenth of a second, not
-    when the run in progress ends."""
-    with quiet_friction_bound():
-        trajectory = simulate_case(study, body, model, t_end)
-    if path is not None:
-        write(trajectory.dataset, path)
-    return trajectory
-
-
 @contextmanager
 def quiet_friction_bound() -> Iterator[None]:
     """The warning filters of a reproduction's runs: the paper's static load exceeding
-    Coulomb's bound is not warned (:func:`run_case`). Set around a whole
-    ``parallel.map_in_threads`` of :func:`simulate_case` (the filters are the process's)."""
+    Coulomb's bound is the paper's own approximation, which the reproduction follows on
+    purpose: not warned, but recorded in each case's summary (``max_friction_bound_ratio``).
+    Set around a whole ``parallel.map_in_threads`` of :func:`simulate_case` (the filters
+    are the process's)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", FrictionBoundWarning)
         yield
 
 
 def run_cases(
-    study: Study, body: Body, models: list[Model], t_end: float, paths: list[Path]
-) -> Iterator[Trajectory]:
-    """:func:`run_case` of each model, the runs side by side on the cores
-    (``parallel.map_in_threads``), yielded in order, each written to its path here."""
+    study: Study,
+    body: Body,
+    models: list[Model],
+    t_end: float,
+    out: Path,
+    stem: str,
+    progress: Progress,
+) -> tuple[list[xr.Dataset], list[dict[str, Any]]]:
+    """Run each model from the study's start to ``t_end`` [s], the runs side by side on
+    the cores (``parallel.map_in_threads``); write each to ``out/data/STEM_CASE.nc`` and
+    summarise it.
+
+    The compiled loop runs in a worker thread (a progress callback makes ``simulate`` do
+    so) and the threads take no new run once stopped, so that Ctrl-C and SIGTERM stop a
+    reproduction within a tenth of a second, not when the runs in progress end.
+
+    Returns the runs' datasets and their cases (case name, file relative to ``out``,
+    :func:`summarise`), in the order of ``models``; ``progress`` is advanced once a run.
+    """
+    progress.set_description(f"{stem}: runs")
+    data = out / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    datasets, cases = [], []
     with quiet_friction_bound():
         runs = map_in_threads(lambda model: simulate_case(study, body, model, t_end), models)
-        for trajectory, path in zip(runs, paths, strict=True):
+        for model, trajectory in zip(models, runs, strict=True):
+            path = data / f"{stem}_{case_name(model)}.nc"
             write(trajectory.dataset, path)
-            yield trajectory
+            datasets.append(trajectory.dataset)
+            cases.append(
+                {
+                    "case": case_name(model),
+                    "file": str(path.relative_to(out)),
+                    **summarise(trajectory, body, study.band),
+                }
+            )
+            progress.update(1)
+    return datasets, cases
 
 
 def simulate_case(study: Study, body: Body, model: Model, t_end: float) -> Trajectory:
-    """The run of :func:`run_case` without its warning filters (safe on several threads)."""
+    """One run of :func:`run_cases`, without its warning filters (safe on several threads)."""
     return simulate(
         model,
         body,
@@ -127,7 +142,7 @@ def simulate_case(study: Study, body: Body, model: Model, t_end: float) -> Traje
 
 
 def _keep_signals_live(time: float) -> None:
-    """Progress callback of :func:`run_case`: reports nothing; its presence keeps the
+    """Progress callback of :func:`simulate_case`: reports nothing; its presence keeps the
     main thread free to take signals while the compiled loop runs."""
 
 

@@ -13,7 +13,7 @@ from typing import Any
 
 from celtstone.models import FRICTION_LOAD_OPTIONS, Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import case_name, run_cases, save_results, summarise
+from celtstone.reproduce.cases import case_name, run_cases, save_results
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.visual import animate_comparison
@@ -51,25 +51,9 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """
     body = study.load_body()
     stem = f"fig2_{study.key}"
-    data = out / "data"
-    data.mkdir(parents=True, exist_ok=True)
-    datasets = {}
-    cases = []
     models = figure2_models(study)
-    paths = [data / f"{stem}_{case_name(model)}.nc" for model in models]
-    progress.set_description(f"{stem}: runs")
-    runs = run_cases(study, body, models, study.fig2_t_end, paths)
-    for model, path, trajectory in zip(models, paths, runs, strict=True):
-        name = case_name(model)
-        datasets[name] = trajectory.dataset
-        cases.append(
-            {
-                "case": name,
-                "file": str(path.relative_to(out)),
-                **summarise(trajectory, body, study.band),
-            }
-        )
-        progress.update(1)
+    runs, cases = run_cases(study, body, models, study.fig2_t_end, out, stem, progress)
+    datasets = {case_name(model): run for model, run in zip(models, runs, strict=True)}
     panels = [[datasets["rolling"]]] + [
         [datasets[case_name(study.sliding(f, load))] for load in study.fig2_loads]
         for f in study.frictions

@@ -11,7 +11,7 @@ from typing import Any
 
 from celtstone.models import Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import case_name, run_cases, save_results, summarise
+from celtstone.reproduce.cases import run_cases, save_results
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 
@@ -37,25 +37,8 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """
     body = study.load_body()
     stem = f"fig3_{study.key}"
-    data = out / "data"
-    data.mkdir(parents=True, exist_ok=True)
-    datasets = []
-    cases = []
     models: list[Model] = [study.rolling(), study.sliding(study.fig3_friction)]
-    paths = [data / f"{stem}_{case_name(model)}.nc" for model in models]
-    progress.set_description(f"{stem}: runs")
-    runs = run_cases(study, body, models, study.fig3_t_end, paths)
-    for model, path, trajectory in zip(models, paths, runs, strict=True):
-        name = case_name(model)
-        datasets.append(trajectory.dataset)
-        cases.append(
-            {
-                "case": name,
-                "file": str(path.relative_to(out)),
-                **summarise(trajectory, body, study.band),
-            }
-        )
-        progress.update(1)
+    datasets, cases = run_cases(study, body, models, study.fig3_t_end, out, stem, progress)
     title = (
         f"Figure 3 analogue, {study.key}: long run, rolling and sliding f = {study.fig3_friction:g}"
     )

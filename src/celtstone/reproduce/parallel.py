@@ -2,7 +2,7 @@
 
 The compiled loop releases the GIL, so runs on threads run side by side. The threads are
 daemons and take no new run once the caller stops reading (an error, Ctrl-C, SIGTERM):
-the command stops within a tenth of a second, as a single run does (``cases.run_case``),
+the command stops within a tenth of a second, as a single run does (``cases.simulate_case``),
 instead of waiting for the queued runs (what ``concurrent.futures``' pools do on exit).
 """
 
