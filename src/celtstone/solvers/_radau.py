@@ -132,10 +132,18 @@ def start(model, params, t, y, f, controls, work, stats):
     """Newton's tolerance from rtol (as SciPy's) and the Jacobian at the first state."""
     memory = work.memory[0]
     memory.newton_tolerance = max(10.0 * EPS / controls.rtol, min(0.03, math.sqrt(controls.rtol)))
+    evaluate_jacobian(model, params, t, y, f, work, stats)
+
+
+@inlined
+def evaluate_jacobian(model, params, t, y, f, work, stats):
+    """The Jacobian at (t, y), f = f(t, y), into ``work.jacobian``, its block split into
+    the memory, marked current and counted."""
+    memory = work.memory[0]
     memory.split = jacobian(model, params, t, y, f, work.jacobian, work.scratch, work.column)
+    memory.current_jacobian = True
     stats[STAT_NJEV] += 1
     stats[STAT_NFEV] += N_READ
-    memory.current_jacobian = True
 
 
 @kernel
@@ -339,12 +347,7 @@ def newton(model, params, t, y, f, h, controls, work, stats):
         if not converged:
             if memory.current_jacobian:
                 break
-            memory.split = jacobian(
-                model, params, t, y, f, work.jacobian, work.scratch, work.column
-            )
-            stats[STAT_NJEV] += 1
-            stats[STAT_NFEV] += N_READ
-            memory.current_jacobian = True
+            evaluate_jacobian(model, params, t, y, f, work, stats)
             memory.lu_valid = False
             predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
     return converged, iterations, rate
@@ -482,12 +485,7 @@ def accept(
     code, normal_force = rhs(model, t + h_taken, y_new, params, f_new)
     stats[STAT_NFEV] += 1
     if recompute_jacobian:
-        memory.split = jacobian(
-            model, params, t + h_taken, y_new, f_new, work.jacobian, work.scratch, work.column
-        )
-        stats[STAT_NJEV] += 1
-        stats[STAT_NFEV] += N_READ
-        memory.current_jacobian = True
+        evaluate_jacobian(model, params, t + h_taken, y_new, f_new, work, stats)
     else:
         memory.current_jacobian = False
     memory.h_abs_old = h_taken
