@@ -36,6 +36,7 @@ __all__ = [
     "MaterialPair",
     "StoneDesign",
     "half_ellipsoid_inertia",
+    "highest_height_ratio",
     "largest_misalignment",
 ]
 
@@ -211,6 +212,16 @@ def _rim_y(half_width: float) -> float:
     return half_width * math.sqrt(RIM_FRACTION**2 - POINT_MASS_X_FRACTION**2)
 
 
+def highest_height_ratio(width_ratio: float, mass_fraction: float) -> float:
+    """The c/a [1] below which a stone of width ratio b/a and mass fraction κ rests upright.
+
+    Rest is stable across when b²/c > c − h, with G's depth h = (3c/8) m_s/m and
+    m_s/m = 1/(1 + 2κ), which gives c/a < (b/a)/sqrt(1 − 3/8 · m_s/m).
+    """
+    shell_share = 1.0 / (1.0 + 2.0 * mass_fraction)
+    return width_ratio / math.sqrt(1.0 - 3.0 / 8.0 * shell_share)
+
+
 def largest_misalignment(width_ratio: float, mass_fraction: float) -> float:
     """The largest δ [deg] two masses of fraction κ can make within the rim margin of a
     top of width ratio b/a (the masses at y0 on the rim margin; module docstring).
@@ -288,9 +299,7 @@ class StoneDesign:
         width = float(self.width_ratio)
         if not (math.isfinite(width) and 0.0 < width < 1.0):
             raise ParameterError("width_ratio", self.width_ratio, "a number in (0, 1)")
-        # rest stable across: b²/c > c − h with h = (3c/8) m_s/m, so c/a below this bound
-        shell_share = 1.0 / (1.0 + 2.0 * self.mass_fraction)
-        highest = width / math.sqrt(1.0 - 3.0 / 8.0 * shell_share)
+        highest = highest_height_ratio(width, self.mass_fraction)
         height = float(self.height_ratio)
         if not (math.isfinite(height) and 0.0 < height < highest):
             raise ParameterError(

@@ -39,6 +39,7 @@ from celtstone.atlas.family import (
     MISALIGNMENT_RANGE,
     MaterialPair,
     StoneDesign,
+    highest_height_ratio,
     largest_misalignment,
 )
 from celtstone.atlas.fields import ATLAS_STUDY, _long_runs, hertz_study
@@ -165,12 +166,6 @@ def _scaled(unit: float, low: float, high: float, scale: str) -> float:
     return float(low + unit * (high - low))
 
 
-def _height_bound(width_ratio: float, mass_fraction: float) -> float:
-    """c/a below which the stone rests upright (``StoneDesign``: b²/c > c − h)."""
-    shell_share = 1.0 / (1.0 + 2.0 * mass_fraction)
-    return width_ratio / math.sqrt(1.0 - 3.0 / 8.0 * shell_share)
-
-
 def _point(unit: Sequence[float], axes: Mapping[str, tuple[float, float, str]]) -> SearchPoint:
     """The search point of one row of the unit hypercube (module docstring)."""
     values = {
@@ -179,7 +174,8 @@ def _point(unit: Sequence[float], axes: Mapping[str, tuple[float, float, str]]) 
     }
     low, high, _ = axes["height_ratio"]
     top = min(
-        high, STABILITY_MARGIN * _height_bound(values["width_ratio"], values["mass_fraction"])
+        high,
+        STABILITY_MARGIN * highest_height_ratio(values["width_ratio"], values["mass_fraction"]),
     )
     values["height_ratio"] = _scaled(unit[2], low, top, "linear")
     low, high, _ = axes["misalignment"]
