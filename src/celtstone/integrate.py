@@ -149,26 +149,7 @@ def simulate(
     concerns = plausibility.concerns(body, contact_settings(model))
     for concern in concerns:
         warnings.warn(str(concern), PlausibilityWarning, stacklevel=2)
-    attrs: dict[str, str | float | int] = {
-        "title": f"celtstone {model.name} run of {body.name}",
-        "software": "celtstone",
-        "celtstone_version": version(),
-        "body": body.name,
-        "body_source": body.source,
-        "body_notes": body.notes,
-        "body_mass": body.mass,
-        "body_gravity": body.gravity,
-        "body_inertia": str(np.array(body.inertia).tolist()),
-        **body.shape.attributes(),  # kind, numbers, and the table that rebuilds it
-        "initial_omega": str(list(initial_state.omega)),
-        "initial_euler_angles_deg": str(list(initial_state.euler_angles)),
-        "t_end": t_end,
-        "method": method_name,
-        "rtol": rtol,
-        "atol": atol,
-        "reversal_window": body.rocking_period,  # s, the spin's rocking average
-        **model.attributes(),
-    }
+    attrs = _run_attributes(model, body, initial_state, t_end, method_name, rtol, atol)
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
@@ -243,6 +224,39 @@ def simulate(
     )
     _warn_friction_bound(trajectory)
     return trajectory
+
+
+def _run_attributes(
+    model: Model,
+    body: Body,
+    initial_state: InitialState,
+    t_end: float,
+    method_name: str,
+    rtol: float,
+    atol: float,
+) -> dict[str, str | float | int]:
+    """The attributes of a run's Dataset: software, body (and the table that rebuilds its
+    shape), start, integrator and model settings; :func:`simulate` adds the outcome."""
+    return {
+        "title": f"celtstone {model.name} run of {body.name}",
+        "software": "celtstone",
+        "celtstone_version": version(),
+        "body": body.name,
+        "body_source": body.source,
+        "body_notes": body.notes,
+        "body_mass": body.mass,
+        "body_gravity": body.gravity,
+        "body_inertia": str(np.array(body.inertia).tolist()),
+        **body.shape.attributes(),  # kind, numbers, and the table that rebuilds it
+        "initial_omega": str(list(initial_state.omega)),
+        "initial_euler_angles_deg": str(list(initial_state.euler_angles)),
+        "t_end": t_end,
+        "method": method_name,
+        "rtol": rtol,
+        "atol": atol,
+        "reversal_window": body.rocking_period,  # s, the spin's rocking average
+        **model.attributes(),
+    }
 
 
 def _warn_friction_bound(trajectory: Trajectory) -> None:

@@ -452,6 +452,41 @@ def _padded(rows: Sequence[Sequence[float]], width: int) -> np.ndarray:
     return table
 
 
+def _verdict_variables(verdicts: Sequence[Mapping[str, Any]]) -> dict[str, tuple]:
+    """Per finding of ``FINDINGS`` its verdict ``FINDING`` and our number in words
+    ``FINDING_ours``, and ``all_findings_hold``: Dataset variables on ``design``."""
+    variables: dict[str, tuple] = {}
+    for finding, statement in FINDINGS.items():
+        variables[finding] = (
+            ("design",),
+            np.array([v[finding].reproduced for v in verdicts], dtype=str),
+            {"long_name": statement},
+        )
+        variables[f"{finding}_ours"] = (
+            ("design",),
+            np.array([v[finding].ours for v in verdicts], dtype=str),
+            {},
+        )
+    variables["all_findings_hold"] = (
+        ("design",),
+        [all(v[f].reproduced == "yes" for f in FINDINGS) for v in verdicts],
+        {},
+    )
+    return variables
+
+
+def _design_coordinates(designs: Sequence[StoneDesign]) -> dict[str, tuple]:
+    """The designs' parameters as coordinates on ``design``, with their units."""
+    return {
+        name: (
+            ("design",),
+            [float(getattr(d, name)) for d in designs],
+            {"units": _DESIGN_UNITS[name]},
+        )
+        for name in _DESIGN_FIELDS
+    }
+
+
 def atlas_dataset(
     designs: Sequence[StoneDesign], numbers: Sequence[Mapping[str, dict[str, Any]]], study: Study
 ) -> xr.Dataset:
@@ -478,7 +513,6 @@ def atlas_dataset(
 
     from celtstone.integrate import version
 
-    verdicts = [judge_design(n) for n in numbers]
     bodies = [d.body() for d in designs]
     fig2_cases = [c["case"] for c in numbers[0]["fig2"]["cases"]] if numbers else []
     long_cases = [c["case"] for c in numbers[0]["fig3"]["cases"]] if numbers else []
@@ -577,30 +611,8 @@ def atlas_dataset(
             },
         ),
     }
-    for finding, statement in FINDINGS.items():
-        data[finding] = (
-            design_dim,
-            np.array([v[finding].reproduced for v in verdicts], dtype=str),
-            {"long_name": statement},
-        )
-        data[f"{finding}_ours"] = (
-            design_dim,
-            np.array([v[finding].ours for v in verdicts], dtype=str),
-            {},
-        )
-    data["all_findings_hold"] = (
-        design_dim,
-        [all(v[f].reproduced == "yes" for f in FINDINGS) for v in verdicts],
-        {},
-    )
-    coords = {
-        name: (
-            design_dim,
-            [float(getattr(d, name)) for d in designs],
-            {"units": _DESIGN_UNITS[name]},
-        )
-        for name in _DESIGN_FIELDS
-    }
+    data.update(_verdict_variables([judge_design(n) for n in numbers]))
+    coords = _design_coordinates(designs)
     coords.update(
         fig2_case=(("fig2_case",), fig2_cases, {}), long_case=(("long_case",), long_cases, {})
     )
