@@ -57,6 +57,7 @@ def test_every_registered_method_has_a_module_and_known_orders() -> None:
         assert _methods.is_known(code)
         module = _methods.MODULES[code]
         assert _methods.error_order(code) == module.ERROR_ORDER
+        assert _methods.dense_every_step(code) == module.DENSE_EVERY_STEP
         for name in ("workspace", "start", "attempt", "dense", "interpolate"):
             assert callable(getattr(module, name)), name
     assert not _methods.is_known(max(solvers.METHODS.values()) + 1)
@@ -313,3 +314,63 @@ def test_an_unknown_method_code_stops_with_its_status() -> None:
     assert end.t_stop == 0.0
     assert output.stats[codes.STAT_ACCEPTED] == 0
     assert solvers.STATUS_UNKNOWN_CODE in solvers.STATUS_MESSAGES
+
+
+@pytest.mark.parametrize(
+    ("model", "method"),
+    [(layout.MODEL_ROLLING, name) for name in METHOD_NAMES] + [(layout.MODEL_SLIDING, "radau5")],
+)
+def test_no_spin_crossing_is_lost_where_the_interpolant_is_not_read(
+    rolling_problem: tuple[np.ndarray, np.ndarray],
+    sliding_problem: tuple[np.ndarray, np.ndarray],
+    model: int,
+    method: str,
+) -> None:
+    """A step whose spin ends far from zero is not scanned (``_events.decided_by_ends``):
+    between two samples of the spin 0.5 ms apart there is an odd number of recorded
+    crossings where its sign changes and an even number (mostly none) where it does not,
+    and the crossings are the same whether the run is sampled densely or not at all (the
+    samples change neither the steps nor the events)."""
+    params, y0 = rolling_problem if model == layout.MODEL_ROLLING else sliding_problem
+    t_end = 8.0
+    options = {"rtol": 1e-9, "atol": 1e-11}
+    sparse = solvers.solve(
+        model, method, params, y0, t_end, sample_times=np.array([t_end]), **options
+    )
+    times = np.linspace(0.0, t_end, 16_001)
+    dense = solvers.solve(model, method, params, y0, t_end, sample_times=times, **options)
+    assert sparse.status == dense.status == solvers.STATUS_SUCCESS
+    np.testing.assert_array_equal(sparse.crossings, dense.crossings)
+    spin = np.einsum(
+        "ij,ij->i",
+        dense.samples[:, layout.Y_OMEGA : layout.Y_OMEGA + 3],
+        dense.samples[:, layout.Y_N : layout.Y_N + 3],
+    )
+    changes = np.sign(spin[1:]) != np.sign(spin[:-1])
+    assert changes.sum() >= 2
+    per_interval = np.bincount(
+        np.searchsorted(times, dense.crossings) - 1, minlength=times.size - 1
+    )
+    np.testing.assert_array_equal(per_interval % 2 == 1, changes)
+
+
+def test_dop853_evaluates_its_interpolant_only_in_steps_that_are_read(
+    rolling_problem: tuple[np.ndarray, np.ndarray],
+) -> None:
+    """Its three extra stages cost 3 evaluations in each step with a sample inside, and
+    in few others (those next to a spin crossing): 12 an attempt, 2 before the first."""
+    params, y0 = rolling_problem
+    t_end = 4.0
+    every_step = solvers.solve(
+        0, "dop853", params, y0, t_end, rtol=1e-9, atol=1e-11,
+        sample_times=np.linspace(0.0, t_end, 40_001),
+    )  # fmt: skip
+    one = solvers.solve(
+        0, "dop853", params, y0, t_end, rtol=1e-9, atol=1e-11, sample_times=np.array([t_end])
+    )
+    assert one.n_accepted == every_step.n_accepted > 1000
+    attempts = one.n_accepted + one.n_rejected
+    assert every_step.nfev == 2 + 12 * attempts + 3 * one.n_accepted
+    interpolated_steps = (one.nfev - 2 - 12 * attempts) // 3
+    assert one.nfev == 2 + 12 * attempts + 3 * interpolated_steps
+    assert 1 <= interpolated_steps <= 10 * one.crossings.size

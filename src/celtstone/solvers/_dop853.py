@@ -6,7 +6,8 @@ sec. II.10 (code DOP853). The coefficient tables are SciPy's
 step-size controller is SciPy's ``DOP853``, so both take the same steps.
 
 The module follows the method contract of ``solvers._methods``: ``workspace``,
-``start``, ``attempt``, ``dense``, ``interpolate``, ``ORDER`` and ``ERROR_ORDER``.
+``start``, ``attempt``, ``dense``, ``interpolate``, ``ORDER``, ``ERROR_ORDER`` and
+``DENSE_EVERY_STEP``.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ D = _TABLE["D"]
 ORDER = 8  # of the method: global error O(h^8)
 ERROR_ORDER = 7  # of its local error estimate (the 5th- and 3rd-order embedded pair, combined)
 DENSE_ROWS = 7
+DENSE_EVERY_STEP = False  # the interpolant's 3 stages only for a step that is read
 SAFETY = 0.9  # step-size factors, as SciPy's DOP853
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
@@ -84,8 +86,9 @@ def evaluate_stage(model, params, s, t, y, h, stages, scratch):
     scratch[:] = 0.0
     for k in range(s):
         weight = A[s, k]
-        for j in range(n):
-            scratch[j] += weight * stages[k, j]
+        if weight != 0.0:  # a third of the tableau: the terms are not added, not multiplied
+            for j in range(n):
+                scratch[j] += weight * stages[k, j]
     for j in range(n):
         scratch[j] = y[j] + h * scratch[j]
     rhs(model, t + C[s] * h, scratch, params, stages[s])
@@ -104,8 +107,9 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error
     y_new[:] = 0.0
     for k in range(N_STAGES):
         weight = B[k]
-        for j in range(n):
-            y_new[j] += weight * stages[k, j]
+        if weight != 0.0:
+            for j in range(n):
+                y_new[j] += weight * stages[k, j]
     for j in range(n):
         y_new[j] = y[j] + h * y_new[j]
     code, normal_force = rhs(model, t + h, y_new, params, stages[N_STAGES])
@@ -113,6 +117,8 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error
     for k in range(N_STAGES + 1):
         weight5 = E5[k]
         weight3 = E3[k]
+        if weight5 == 0.0 and weight3 == 0.0:
+            continue
         for j in range(n):
             error_terms[0, j] += weight5 * stages[k, j]
             error_terms[1, j] += weight3 * stages[k, j]
@@ -208,8 +214,9 @@ def dense(model, params, t, y, y_new, h, work, stats):
         row[:] = 0.0
         for k in range(N_STAGES_EXTENDED):
             weight = D[i, k]
-            for j in range(n):
-                row[j] += weight * stages[k, j]
+            if weight != 0.0:
+                for j in range(n):
+                    row[j] += weight * stages[k, j]
         for j in range(n):
             row[j] = h * row[j]
 

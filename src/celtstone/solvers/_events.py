@@ -28,6 +28,10 @@ spin crossing   ω · n  either     no        4     nearest  checked       (reco
   N and ω · n exactly (``END_CHECKED``); the phase value is read from the interpolant
   (``END_INTERPOLATED``).
 
+A row whose roots in a step are decided by the step's ends alone (:func:`decided_by_ends`)
+is not scanned, so that a step with no sample and no event inside needs no interpolant
+(DOP853's costs three evaluations).
+
 Terminal rows are searched first, in table order, each inside the part of the step
 left by the ones before; then the others, up to where the run stops.
 :func:`event_table` builds a run's table from its model and capture speed.
@@ -164,6 +168,54 @@ def spin_of(y):
 
 
 @inlined
+def spin_rate(y, f):
+    """d(ω · n)/dt of a state from its derivative f = dy/dt [rad/s²]."""
+    return (
+        f[Y_OMEGA] * y[Y_N]
+        + f[Y_OMEGA + 1] * y[Y_N + 1]
+        + f[Y_OMEGA + 2] * y[Y_N + 2]
+        + y[Y_OMEGA] * f[Y_N]
+        + y[Y_OMEGA + 1] * f[Y_N + 1]
+        + y[Y_OMEGA + 2] * f[Y_N + 2]
+    )
+
+
+@inlined
+def decided_by_ends(event, start_value, end_value, start_rate, end_rate, h):
+    """Whether the row has no root in a whole step, known from its ends alone.
+
+    True for a row checked at the step's end (``END_CHECKED``) without a root between
+    its end values, if it is checked once a step (``subdivisions`` 1: what its scan
+    would find), or if it is the spin and both end values lie farther from zero than
+    h (|g'_a| + |g'_b|), with ``start_rate`` and ``end_rate`` its rates g' [rad/s²] and
+    h the step [s]: the spin cannot reach zero inside the step unless its interpolant
+    swings by more than the step's own slopes allow, which the step-size control keeps
+    out. Otherwise False, and the row is scanned on the interpolant.
+    """
+    if event.end != END_CHECKED or crosses(event.direction, start_value, end_value):
+        return False
+    if event.subdivisions <= 1:
+        return True
+    if event.value != VALUE_SPIN:
+        return False
+    reach = abs(h) * (abs(start_rate) + abs(end_rate))
+    return min(abs(start_value), abs(end_value)) > reach
+
+
+@inlined
+def all_decided_by_ends(table, values, spin, normal_force, start_rate, end_rate, h):
+    """Whether every row is ``decided_by_ends`` in a step whose ends have the values
+    ``values`` (start) and ``spin`` [rad/s], ``normal_force`` [N] (end): then
+    ``locate_events`` reads no interpolant in that step."""
+    for row in range(table.shape[0]):
+        event = table[row]
+        end = checked_value(event, spin, normal_force)
+        if not decided_by_ends(event, values[row], end, start_rate, end_rate, h):
+            return False
+    return True
+
+
+@inlined
 def event_value(event, model, params, y, scratch):
     """The row's value kernel at state ``y``; NaN for an unknown value code."""
     if event.value == VALUE_SPIN:
@@ -245,6 +297,7 @@ def scan(
     step,
     x_limit,
     uncut,
+    decided,
     start_value,
     end_value,
     found,
@@ -255,11 +308,14 @@ def scan(
     """Roots of one row in the step fractions [0, x_limit].
 
     ``start_value`` is g at the step's start, ``end_value`` the checked g at its end
-    (used when ``uncut``: no terminal root cut the step). A terminal row stops at its
+    (used when ``uncut``: no terminal root cut the step). A row ``decided`` by the
+    step's ends has none, and is not scanned. A terminal row stops at its
     first root; the others write each root's time to ``found`` after the ``n_found``
     there (counted beyond its length, stored up to it). Returns (roots, the new count,
     fraction of the first root (x_limit if none), g at x_limit).
     """
+    if decided:
+        return 0, n_found, x_limit, end_value
     count = event.subdivisions
     x_a = 0.0
     g_a = start_value
@@ -306,6 +362,8 @@ def locate_events(
     params,
     step,
     t_new,
+    start_rate,
+    end_rate,
     crossings,
     n_crossings,
     point,
@@ -315,7 +373,8 @@ def locate_events(
 
     ``values`` holds each row's g at the step's start and receives it at the step's end
     (where the run goes on); ``spin`` [rad/s] and ``normal_force`` [N] are the driver's
-    check of the accepted state. Non-terminal roots go to ``crossings`` after the
+    check of the accepted state, ``start_rate`` and ``end_rate`` the spin's rates at the
+    step's ends [rad/s²] (``spin_rate``). Non-terminal roots go to ``crossings`` after the
     ``n_crossings`` found before (counted beyond its length, stored up to it).
 
     Returns (the terminal row that stops the run or -1, step fraction and time [s]
@@ -328,13 +387,18 @@ def locate_events(
         event = table[row]
         if event.terminal:
             end = checked_value(event, spin, normal_force)
+            uncut = stop_row < 0
+            decided = uncut and decided_by_ends(
+                event, values[row], end, start_rate, end_rate, step.h
+            )
             roots, _, first, values[row] = scan(
                 event,
                 model,
                 params,
                 step,
                 x_limit,
-                stop_row < 0,
+                uncut,
+                decided,
                 values[row],
                 end,
                 crossings,
@@ -350,13 +414,18 @@ def locate_events(
         event = table[row]
         if not event.terminal:
             end = checked_value(event, spin, normal_force)
+            uncut = stop_row < 0
+            decided = uncut and decided_by_ends(
+                event, values[row], end, start_rate, end_rate, step.h
+            )
             _, n_crossings, _, values[row] = scan(
                 event,
                 model,
                 params,
                 step,
                 x_limit,
-                stop_row < 0,
+                uncut,
+                decided,
                 values[row],
                 end,
                 crossings,

@@ -37,10 +37,13 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    ``rhs`` returned for f_new, the right-hand-side status and normal force at y_new:
    ``(status, h_taken, h_next, rhs_status, normal_force)``. The driver checks the
    accepted state with them, without an evaluation of its own.
-7. ``dense(model, params, t, y, y_new, h, work, stats)`` is called once after each
-   accepted step [t, t + h] and stores in ``work.dense`` (every workspace has this
-   2-D array) the coefficients of the interpolant over it (it may evaluate f, as
-   DOP853's three extra stages). ``interpolate(dense, y_old, x, out)`` writes the
+7. ``dense(model, params, t, y, y_new, h, work, stats)`` is called at most once after
+   each accepted step [t, t + h], before anything reads the step's interpolant, and
+   stores in ``work.dense`` (every workspace has this 2-D array) the coefficients of
+   the interpolant over it (it may evaluate f, as DOP853's three extra stages). The
+   driver calls it only for a step in which a sample or an event reads the interpolant,
+   unless the method sets ``DENSE_EVERY_STEP`` (Radau, whose next Newton guess is the
+   last step's collocation polynomial). ``interpolate(dense, y_old, x, out)`` writes the
    state at t + x h, x in [0, 1], with ``dense`` those coefficients and ``y_old`` the
    state at t; it reads nothing else, so events and samples pass just these. The
    interpolant must be continuous from step to step and pass through y and y_new;
@@ -111,6 +114,16 @@ def error_order(method):
     if method == METHOD_RADAU5:
         return radau5.ERROR_ORDER
     return -1
+
+
+@inlined
+def dense_every_step(method):
+    """The method's ``DENSE_EVERY_STEP`` (contract item 7); True for an unknown code."""
+    if method == METHOD_DOP853:
+        return dop853.DENSE_EVERY_STEP
+    if method == METHOD_RADAU5:
+        return radau5.DENSE_EVERY_STEP
+    return True
 
 
 @inlined

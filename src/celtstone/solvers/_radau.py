@@ -51,6 +51,7 @@ MAX_FACTOR = 10.0
 SAFETY = 0.9
 ORDER = 5  # of the method: global error O(h^5)
 ERROR_ORDER = 3  # of its local error estimate
+DENSE_EVERY_STEP = True  # the next step's Newton guess extrapolates the last interpolant
 DENSE_ROWS = 3
 EPS = float(np.finfo(np.float64).eps)
 SQRT_EPS = math.sqrt(EPS)

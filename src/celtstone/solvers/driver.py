@@ -84,6 +84,17 @@ def fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
     return n_samples
 
 
+@inlined
+def sample_inside(step, t_new, sample_times, n_samples):
+    """Whether a sample waits in (t_old, t_new] [s] at another time than the step's end:
+    ``fill_samples`` would read the step's interpolant."""
+    while n_samples < sample_times.shape[0] and sample_times[n_samples] <= t_new:
+        if sample_times[n_samples] != step.t_old + step.h:
+            return True
+        n_samples += 1
+    return False
+
+
 @kernel
 def first_check(model, params, y, f, output):
     """The first state: f(0, y), samples at times <= 0, and why the run cannot start.
@@ -166,6 +177,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     events.start_values(table, model, params, y, values, scratch)
     work = methods.workspaces(method, n)
     dense = methods.dense_coefficients(method, work)
+    rate = events.spin_rate(y, f)
     h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
     methods.start(method, model, params, 0.0, y, f, controls, work, stats)
     n_crossings = 0
@@ -182,17 +194,26 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         )
         if status != STATUS_SUCCESS:
             break
-        methods.dense(method, model, params, t, y, y_new, h_taken, work, stats)
         if not all_finite(y_new):
             status = STATUS_NOT_FINITE
             break
         t_new = t_end if h_taken == t_end - t else t + h_taken
         stats[STAT_ACCEPTED] += 1
         spin_new = events.spin_of(y_new)
+        rate_new = events.spin_rate(y_new, f_new)
         if code != RHS_OK:
             status = rhs_failure(code)
             break
         step = events.Step(method, dense, y, t, h_taken)
+        # the interpolant only where a sample or an event reads it (contract item 7)
+        if (
+            methods.dense_every_step(method)
+            or sample_inside(step, t_new, output.sample_times, n_samples)
+            or not events.all_decided_by_ends(
+                table, values, spin_new, normal_new, rate, rate_new, h_taken
+            )
+        ):
+            methods.dense(method, model, params, t, y, y_new, h_taken, work, stats)
         stop_row, x_limit, t_limit, n_crossings = events.locate_events(
             table,
             values,
@@ -202,6 +223,8 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             params,
             step,
             t_new,
+            rate,
+            rate_new,
             output.crossings,
             n_crossings,
             point,
@@ -234,6 +257,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             t_min_normal = t_new
         y[:] = y_new
         f[:] = f_new
+        rate = rate_new
         t = t_new
         h = h_next
         if controls.max_step > 0.0:
