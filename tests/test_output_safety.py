@@ -616,7 +616,10 @@ module = importlib.import_module(sys.argv[1])  # where the command finds simulat
 simulate = module.simulate
 
 def endless(model, body, state, t_end, **settings):
-    print("simulating", flush=True)
+    # one write: the threshold's runs start side by side, and print's two writes (the
+    # text, then the newline) would interleave into "simulatingsimulating\\n"
+    sys.stdout.write("simulating\\n")
+    sys.stdout.flush()
     settings["n_samples"] = 1001
     return simulate(RollingModel(), body, state, 1e6, **settings)  # about an hour
 
@@ -658,7 +661,9 @@ def test_a_signal_stops_a_command_inside_a_compiled_run(
         process.send_signal(sig)
         _, err = process.communicate(timeout=30)
     finally:
-        process.kill()
+        if process.poll() is None:  # a failed assertion above: stop it and close its pipes
+            process.kill()
+            process.communicate()
     assert time.monotonic() - signalled < 10.0
     assert process.returncode == 128 + sig, err
     assert "Traceback" not in err and len(err.splitlines()) == 1, err

@@ -19,7 +19,9 @@ import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.sweep import open_sweep
 
-# 24 sliding runs of 1 s, one thread, blocks of 2 points: about 1 s of work
+# 24 sliding runs of 3 s, one thread, blocks of 2 points: about 3 s of work, so that the
+# signal sent once the first block is on disk arrives with 11 blocks to go even when the
+# test's process waits for a core (with 1 s runs a loaded machine let the sweep finish)
 ARGS = [
     "sweep",
     "--vary",
@@ -27,7 +29,7 @@ ARGS = [
     "--vary",
     "initial_spin=-5,-3,3,5",
     "--t-end",
-    "1",
+    "3",
     "--workers",
     "1",
     "--chunk-points",

@@ -86,7 +86,7 @@ def evaluate_stage(model, params, s, t, y, h, stages, scratch):
     scratch[:] = 0.0
     for k in range(s):
         weight = A[s, k]
-        if weight != 0.0:  # a third of the tableau: the terms are not added, not multiplied
+        if weight != 0.0:  # 16 of the 66: a zero weight's terms are skipped
             for j in range(n):
                 scratch[j] += weight * stages[k, j]
     for j in range(n):

@@ -364,6 +364,7 @@ def locate_events(
     t_new,
     start_rate,
     end_rate,
+    all_decided,
     crossings,
     n_crossings,
     point,
@@ -374,8 +375,9 @@ def locate_events(
     ``values`` holds each row's g at the step's start and receives it at the step's end
     (where the run goes on); ``spin`` [rad/s] and ``normal_force`` [N] are the driver's
     check of the accepted state, ``start_rate`` and ``end_rate`` the spin's rates at the
-    step's ends [rad/s²] (``spin_rate``). Non-terminal roots go to ``crossings`` after the
-    ``n_crossings`` found before (counted beyond its length, stored up to it).
+    step's ends [rad/s²] (``spin_rate``), ``all_decided`` what ``all_decided_by_ends``
+    said of the step (then no row is scanned). Non-terminal roots go to ``crossings``
+    after the ``n_crossings`` found before (counted beyond its length, stored up to it).
 
     Returns (the terminal row that stops the run or -1, step fraction and time [s]
     where the run stops or the step ends, crossings found in all).
@@ -383,6 +385,10 @@ def locate_events(
     t_limit = t_new
     x_limit = (t_new - step.t_old) / step.h
     stop_row = -1
+    if all_decided:
+        for row in range(table.shape[0]):
+            values[row] = checked_value(table[row], spin, normal_force)
+        return stop_row, x_limit, t_limit, n_crossings
     for row in range(table.shape[0]):
         event = table[row]
         if event.terminal:

@@ -205,13 +205,14 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             status = rhs_failure(code)
             break
         step = events.Step(method, dense, y, t, h_taken)
+        all_decided = events.all_decided_by_ends(
+            table, values, spin_new, normal_new, rate, rate_new, h_taken
+        )
         # the interpolant only where a sample or an event reads it (contract item 7)
         if (
             methods.dense_every_step(method)
+            or not all_decided
             or sample_inside(step, t_new, output.sample_times, n_samples)
-            or not events.all_decided_by_ends(
-                table, values, spin_new, normal_new, rate, rate_new, h_taken
-            )
         ):
             methods.dense(method, model, params, t, y, y_new, h_taken, work, stats)
         stop_row, x_limit, t_limit, n_crossings = events.locate_events(
@@ -225,6 +226,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             t_new,
             rate,
             rate_new,
+            all_decided,
             output.crossings,
             n_crossings,
             point,
