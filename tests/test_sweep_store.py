@@ -46,17 +46,34 @@ def _blocks_written(store: Path) -> int:
     return sum(1 for p in chunks.rglob("*") if p.is_file() and not p.name.endswith(".partial"))
 
 
-def _start_and_stop(store: Path, sig: signal.Signals) -> subprocess.CompletedProcess:
-    command = [sys.executable, "-m", "celtstone", *ARGS, "--out", str(store)]
+# `python -m celtstone` as a terminal starts it: Ctrl-C raises KeyboardInterrupt. A child
+# inherits an ignored or blocked SIGINT from its parent, and Python then leaves it so;
+# the test worker's may be either after the tests run before it in the same process
+_AS_FROM_A_TERMINAL = """
+import runpy, signal, sys
+signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+signal.signal(signal.SIGINT, signal.default_int_handler)
+sys.argv = ["celtstone", *sys.argv[1:]]
+runpy.run_module("celtstone", run_name="__main__", alter_sys=True)
+"""
+
+
+def _start_and_stop(store: Path, sig: signal.Signals) -> tuple[subprocess.CompletedProcess, str]:
+    """The sweep started and sent ``sig`` once its first block is on disk; with what the
+    test saw then, for the assertion messages."""
+    command = [sys.executable, "-c", _AS_FROM_A_TERMINAL, *ARGS, "--out", str(store)]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120.0
     while _blocks_written(store) < 1 and time.monotonic() < deadline:
         if process.poll() is not None:
             break
         time.sleep(0.005)
+    finished_before = process.poll() is not None
     process.send_signal(sig)
     stdout, stderr = process.communicate(timeout=60)
-    return subprocess.CompletedProcess(command, process.returncode, stdout, stderr)
+    blocks = _blocks_written(store)
+    seen = f"{stderr}[test: {blocks} blocks; finished before the signal: {finished_before}]"
+    return subprocess.CompletedProcess(command, process.returncode, stdout, stderr), seen
 
 
 @pytest.fixture(scope="module")
@@ -74,13 +91,13 @@ def test_stopped_sweep_resumes_to_the_uninterrupted_store(
     tmp_path: Path, reference: xr.Dataset, sig: signal.Signals
 ) -> None:
     store = tmp_path / "sweep.zarr"
-    stopped = _start_and_stop(store, sig)
+    stopped, seen = _start_and_stop(store, sig)
     if sig == signal.SIGKILL:
         assert stopped.returncode == -signal.SIGKILL
     else:  # SIGTERM unwinds like Ctrl-C: the same message, exit 128 + the signal
-        assert stopped.returncode == 128 + sig, stopped.stderr
+        assert stopped.returncode == 128 + sig, seen
         assert "--resume" in stopped.stderr
-        assert len(stopped.stderr.splitlines()) == 1, stopped.stderr
+        assert len(stopped.stderr.splitlines()) == 1, seen
     mask = np.asarray(zarr.open_group(store, mode="r")["completed"][...])
     assert 0 < mask.sum() < mask.size, "the sweep was not stopped midway"
     with pytest.raises(cs.CeltstoneError, match="incomplete"):
