@@ -28,9 +28,9 @@ spin crossing   ω · n  either     no        4     nearest  checked       (reco
   N and ω · n exactly (``END_CHECKED``); the phase value is read from the interpolant
   (``END_INTERPOLATED``).
 
-A row whose roots in a step are decided by the step's ends alone (:func:`decided_by_ends`)
-is not scanned, so that a step with no sample and no event inside needs no interpolant
-(DOP853's costs three evaluations).
+A step in which every row's roots are decided by the step's ends alone
+(:func:`all_decided_by_ends`) is not scanned, so that a step with no sample and no event
+inside needs no interpolant (DOP853's costs three evaluations).
 
 Terminal rows are searched first, in table order, each inside the part of the step
 left by the ones before; then the others, up to where the run stops.
@@ -190,7 +190,7 @@ def decided_by_ends(event, start_value, end_value, start_rate, end_rate, h):
     h (|g'_a| + |g'_b|), with ``start_rate`` and ``end_rate`` its rates g' [rad/s²] and
     h the step [s]: the spin cannot reach zero inside the step unless its interpolant
     swings by more than the step's own slopes allow, which the step-size control keeps
-    out. Otherwise False, and the row is scanned on the interpolant.
+    out. Otherwise False, and every row of the step is scanned on the interpolant.
     """
     if event.end != END_CHECKED or crosses(event.direction, start_value, end_value):
         return False
@@ -297,7 +297,6 @@ def scan(
     step,
     x_limit,
     uncut,
-    decided,
     start_value,
     end_value,
     found,
@@ -308,14 +307,11 @@ def scan(
     """Roots of one row in the step fractions [0, x_limit].
 
     ``start_value`` is g at the step's start, ``end_value`` the checked g at its end
-    (used when ``uncut``: no terminal root cut the step). A row ``decided`` by the
-    step's ends has none, and is not scanned. A terminal row stops at its
+    (used when ``uncut``: no terminal root cut the step). A terminal row stops at its
     first root; the others write each root's time to ``found`` after the ``n_found``
     there (counted beyond its length, stored up to it). Returns (roots, the new count,
     fraction of the first root (x_limit if none), g at x_limit).
     """
-    if decided:
-        return 0, n_found, x_limit, end_value
     count = event.subdivisions
     x_a = 0.0
     g_a = start_value
@@ -362,8 +358,6 @@ def locate_events(
     params,
     step,
     t_new,
-    start_rate,
-    end_rate,
     all_decided,
     crossings,
     n_crossings,
@@ -374,9 +368,8 @@ def locate_events(
 
     ``values`` holds each row's g at the step's start and receives it at the step's end
     (where the run goes on); ``spin`` [rad/s] and ``normal_force`` [N] are the driver's
-    check of the accepted state, ``start_rate`` and ``end_rate`` the spin's rates at the
-    step's ends [rad/s²] (``spin_rate``), ``all_decided`` what ``all_decided_by_ends``
-    said of the step (then no row is scanned). Non-terminal roots go to ``crossings``
+    check of the accepted state, ``all_decided`` what ``all_decided_by_ends`` said of
+    the step: then no row is scanned, else every row is. Non-terminal roots go to ``crossings``
     after the ``n_crossings`` found before (counted beyond its length, stored up to it).
 
     Returns (the terminal row that stops the run or -1, step fraction and time [s]
@@ -393,18 +386,13 @@ def locate_events(
         event = table[row]
         if event.terminal:
             end = checked_value(event, spin, normal_force)
-            uncut = stop_row < 0
-            decided = uncut and decided_by_ends(
-                event, values[row], end, start_rate, end_rate, step.h
-            )
             roots, _, first, values[row] = scan(
                 event,
                 model,
                 params,
                 step,
                 x_limit,
-                uncut,
-                decided,
+                stop_row < 0,
                 values[row],
                 end,
                 crossings,
@@ -420,18 +408,13 @@ def locate_events(
         event = table[row]
         if not event.terminal:
             end = checked_value(event, spin, normal_force)
-            uncut = stop_row < 0
-            decided = uncut and decided_by_ends(
-                event, values[row], end, start_rate, end_rate, step.h
-            )
             _, n_crossings, _, values[row] = scan(
                 event,
                 model,
                 params,
                 step,
                 x_limit,
-                uncut,
-                decided,
+                stop_row < 0,
                 values[row],
                 end,
                 crossings,

@@ -224,8 +224,6 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             params,
             step,
             t_new,
-            rate,
-            rate_new,
             all_decided,
             output.crossings,
             n_crossings,
