@@ -389,6 +389,86 @@ def test_sigterm_unwinds_like_ctrl_c_in_process(
 
 
 # ---------------------------------------------------------------------------------------
+# A signal at the worst moments: as a temporary is created, between two moves
+# ---------------------------------------------------------------------------------------
+
+
+def _signal_as_created(monkeypatch: pytest.MonkeyPatch, name: str, sig: signal.Signals) -> None:
+    """``os.<name>`` (``open`` or ``mkdir``) sends ``sig`` to this process just after it
+    has created a temporary (``*.part``), once: the handler's exception comes as the call
+    returns, before the caller has the result (a subprocess once met this by chance)."""
+    real = getattr(os, name)
+
+    def creating(path: str | Path, *args: object, **kwargs: object) -> object:
+        result = real(path, *args, **kwargs)
+        if str(path).endswith(".part"):
+            monkeypatch.setattr(os, name, real)
+            try:
+                _signal_self(sig)
+            finally:
+                if name == "open":
+                    os.close(result)  # the test's own descriptor, not left open
+        return result
+
+    monkeypatch.setattr(os, name, creating)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_as_the_temporary_file_is_created_leaves_nothing(
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    sig: signal.Signals,
+) -> None:
+    _signal_as_created(monkeypatch, "open", sig)
+    status = main(["run", "--t-end", "0.1", "--samples", "11", "--out", str(tmp_path / "x.nc")])
+    line = _one_error_line(capsys, status, 128 + sig)
+    assert "no partial output was written" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_as_the_temporary_store_is_created_leaves_nothing(
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    sig: signal.Signals,
+) -> None:
+    _signal_as_created(monkeypatch, "mkdir", sig)
+    status = main([*SWEEP, "--out", str(tmp_path / "s.zarr"), *SWEEP_OPTIONS])
+    capsys.readouterr()
+    assert status == 128 + sig
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("moved", [False, True], ids=["before-the-move", "after-the-move"])
+def test_an_interrupted_replace_keeps_one_whole_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, moved: bool
+) -> None:
+    """Ctrl-C between moving the earlier output aside and moving the new one in puts the
+    earlier one back; after the new one is in, it stays. Nothing else is left."""
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "result").write_text("earlier", encoding="utf-8")
+    real = os.rename
+
+    def interrupted(source: Path, destination: Path) -> None:
+        if Path(destination) == target:
+            monkeypatch.setattr(os, "rename", real)
+            if moved:
+                real(source, destination)
+            _signal_self(signal.SIGINT)
+        real(source, destination)
+
+    monkeypatch.setattr(os, "rename", interrupted)
+    with pytest.raises(KeyboardInterrupt), export.temporary_directory(target) as staging:
+        (staging / "result").write_text("new", encoding="utf-8")
+        export.replace_directory(staging, target)
+    expected = b"new" if moved else b"earlier"
+    assert _snapshot(tmp_path) == {"out": None, "out/result": expected}
+
+
+# ---------------------------------------------------------------------------------------
 # A full disk: a 300 kB tmpfs, filled up to the last page
 # ---------------------------------------------------------------------------------------
 

@@ -12,7 +12,10 @@ only when it is complete. The policy, shared by the CLI and the Python API:
   whose process is gone (:func:`remove_stale_temporaries`), never one of a live
   process and never a file of another naming;
 * a failed write (disk full, no permission) raises :class:`OutputError` naming the
-  file and the cause, and leaves neither the target nor a temporary.
+  file and the cause, and leaves neither the target nor a temporary;
+* an interrupted write (Ctrl-C, SIGTERM: exceptions that unwind) leaves no temporary,
+  even when it comes as the temporary is created (its name is chosen first), and an
+  earlier output being replaced stays in place until the new one is whole.
 """
 
 from __future__ import annotations
@@ -22,10 +25,10 @@ import errno
 import json
 import os
 import re
+import secrets
 import shutil
 import stat
-import tempfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,13 +44,13 @@ __all__ = [
     "OVERWRITE_HINT",
     "atomic_path",
     "check_target",
-    "make_temporary_directory",
     "output_beside",
     "output_error",
     "read_run",
     "read_table",
     "remove_stale_temporaries",
     "replace_directory",
+    "temporary_directory",
     "to_csv",
     "write",
     "write_json",
@@ -61,7 +64,7 @@ OVERWRITE_HINT = "add --overwrite to replace it"
 MIN_SAMPLES = 2  # a run to plot or export has a start and an end
 _RUN_ALLOWED = "an existing NetCDF file written by `celtstone run --out RUN.nc`"
 _TEMPORARY_SUFFIX = ".part"
-_RANDOM = r"[a-z0-9_]{8}"  # tempfile's random names and secrets.token_hex(4)
+_RANDOM = r"[a-z0-9_]{8}"  # secrets.token_hex(4) (and tempfile's names, of earlier versions)
 # free space [bytes] below which a failed NetCDF write is put down to a full disk
 _FULL_DISK_MARGIN = 1 << 20
 # file systems without hard links: the no-replace move falls back to check + rename
@@ -247,8 +250,10 @@ def remove_stale_temporaries(target: str | Path) -> list[Path]:
 def replace_directory(source: Path, target: Path) -> None:
     """Move the directory ``source`` to ``target`` whole (the same file system).
 
-    An earlier ``target`` is moved aside first and removed after, never mixed with the
-    new one's files.
+    An earlier ``target`` is moved aside first (``.NAME.<pid>.<random>.part``) and
+    removed after, never mixed with the new one's files. If the move fails or is
+    interrupted (Ctrl-C, SIGTERM) before ``source`` is in place, the earlier ``target``
+    is put back.
 
     Parameters
     ----------
@@ -262,32 +267,92 @@ def replace_directory(source: Path, target: Path) -> None:
     OutputError
         If a move fails (``target`` is then the earlier one, or absent if it had none).
     """
-    aside = target.with_name(f".{target.name}.{os.getpid()}.aside.part")
+    aside = _temporary_name(target)
     try:
         if os.path.lexists(target):
             os.rename(target, aside)
         os.rename(source, target)
-    except OSError as error:
+    except BaseException as error:
         if os.path.lexists(aside) and not os.path.lexists(target):
             os.rename(aside, target)
-        raise output_error(target, error) from error
+        if isinstance(error, OSError):
+            raise output_error(target, error) from error
+        raise
     finally:
         shutil.rmtree(aside, ignore_errors=True)
 
 
-def make_temporary_directory(target: str | Path) -> Path:
-    """Make a new empty directory ``.NAME.<pid>.<random>.part`` beside ``target``.
+def _temporary_name(target: Path) -> Path:
+    """A new name ``.NAME.<pid>.<random>.part`` beside ``target``."""
+    return target.with_name(f"{_temporary_prefix(target)}{secrets.token_hex(4)}{_TEMPORARY_SUFFIX}")
 
-    Stale temporaries of ``target`` are removed first. The caller removes the
-    directory (or renames it to ``target``) when done.
+
+_TEMPORARY_ATTEMPTS = 100  # names tried before a directory that says every one is taken
+
+
+@contextlib.contextmanager
+def _new_temporary(target: Path, make: Callable[[Path], None]) -> Iterator[Path]:
+    """Yield a temporary that ``make`` creates beside ``target``; remove it afterwards if
+    it is still there (it is not once moved into place).
+
+    The name is chosen before ``make`` creates it (``make`` raises ``FileExistsError``
+    for a name taken), so an interruption at any point, even as ``make`` returns,
+    leaves nothing: the clean-up always knows the name. Names with this process's PID
+    are this process's alone, so nothing else is ever removed.
+
+    Raises
+    ------
+    OutputError
+        Naming ``target``, if the temporary cannot be made.
+    """
+    temporary: Path | None = None
+    try:
+        for _ in range(_TEMPORARY_ATTEMPTS):
+            temporary = _temporary_name(target)
+            try:
+                make(temporary)
+                break
+            except FileExistsError:
+                temporary = None
+            except OSError as error:
+                temporary = None
+                raise output_error(target, error) from error
+        else:
+            cause = f"no free temporary name after {_TEMPORARY_ATTEMPTS} tries"
+            raise OutputError(str(target), cause, errno.EEXIST)
+        yield temporary
+    finally:
+        if temporary is not None:
+            if temporary.is_dir():
+                shutil.rmtree(temporary, ignore_errors=True)
+            else:
+                with contextlib.suppress(OSError):
+                    temporary.unlink(missing_ok=True)
+
+
+def _make_private_file(path: Path) -> None:
+    os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+
+
+def _make_private_directory(path: Path) -> None:
+    path.mkdir(mode=0o700)
+
+
+@contextlib.contextmanager
+def temporary_directory(target: str | Path) -> Iterator[Path]:
+    """Yield a new empty directory ``.NAME.<pid>.<random>.part`` beside ``target``.
+
+    Stale temporaries of ``target`` are removed first. The directory is removed when
+    the block ends, however it ends (an error, Ctrl-C, SIGTERM), unless the block has
+    moved it, e.g. to ``target`` with :func:`replace_directory`.
 
     Parameters
     ----------
     target : str or pathlib.Path
         The directory it stands in for.
 
-    Returns
-    -------
+    Yields
+    ------
     pathlib.Path
         The new directory.
 
@@ -298,13 +363,8 @@ def make_temporary_directory(target: str | Path) -> Path:
     """
     path = Path(target)
     remove_stale_temporaries(path)
-    try:
-        name = tempfile.mkdtemp(
-            prefix=_temporary_prefix(path), suffix=_TEMPORARY_SUFFIX, dir=_directory(path)
-        )
-    except OSError as error:
-        raise output_error(path, error) from error
-    return Path(name)
+    with _new_temporary(path, _make_private_directory) as staging:
+        yield staging
 
 
 def output_error(target: str | Path, error: OSError) -> OutputError:
@@ -382,23 +442,13 @@ def atomic_path(
     _refuse_existing(target, overwrite=overwrite, parameter=parameter)
     remove_stale_temporaries(target)
     try:
-        handle, name = tempfile.mkstemp(
-            prefix=_temporary_prefix(target), suffix=_TEMPORARY_SUFFIX, dir=_directory(target)
-        )
+        with _new_temporary(target, _make_private_file) as temporary:
+            yield temporary
+            # private (0600) while written; then the mode a plain open() would give it
+            os.chmod(temporary, 0o666 & ~_UMASK)
+            _move_into_place(temporary, target, overwrite, parameter)
     except OSError as error:
         raise output_error(target, error) from error
-    temporary = Path(name)
-    try:
-        os.close(handle)
-        yield temporary
-        # mkstemp makes the file private (0600); give it the mode a plain open() would
-        os.chmod(temporary, 0o666 & ~_UMASK)
-        _move_into_place(temporary, target, overwrite, parameter)
-    except OSError as error:
-        raise output_error(target, error) from error
-    finally:
-        with contextlib.suppress(OSError):
-            temporary.unlink(missing_ok=True)
 
 
 # ---------------------------------------------------------------------------------------

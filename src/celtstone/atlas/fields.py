@@ -26,7 +26,6 @@ import dataclasses
 import json
 import math
 import os
-import shutil
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -39,9 +38,9 @@ from celtstone.atlas.family import MaterialPair, StoneDesign
 from celtstone.bodies import Body, Ellipsoid
 from celtstone.errors import FrictionBoundWarning, ParameterError
 from celtstone.export import (
-    make_temporary_directory,
     output_error,
     replace_directory,
+    temporary_directory,
     write_json,
 )
 from celtstone.integrate import simulate
@@ -679,15 +678,12 @@ def write_atlas(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = Fals
     text = [name for name, v in dataset.variables.items() if v.dtype.kind == "U"]
     # text as variable-length strings, which Zarr v3 specifies (fixed-width ones it warns of)
     dataset = dataset.assign({name: dataset[name].astype(object) for name in text})
-    temporary = make_temporary_directory(target)
-    try:
+    with temporary_directory(target) as temporary:
         try:
             dataset.to_zarr(temporary, mode="w", consolidated=False, zarr_format=3)
         except OSError as error:
             raise output_error(target, error) from error
         replace_directory(temporary, target)
-    finally:
-        shutil.rmtree(temporary, ignore_errors=True)
     return target
 
 

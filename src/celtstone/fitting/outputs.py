@@ -2,7 +2,7 @@
 whole or not at all.
 
 The files are written into a staging directory beside the target
-(``.NAME.<pid>.<random>.part``, ``export.make_temporary_directory``) and the directory is
+(``.NAME.<pid>.<random>.part``, ``export.temporary_directory``) and the directory is
 renamed into place. An existing directory is replaced only with ``overwrite`` and only if
 its own ``summary.json`` says it is a fit's (``format`` ``celtstone-fit-1``): a thesis
 directory given as ``--out`` is never touched.
@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 from pathlib import Path
 
 from celtstone.errors import ParameterError
 from celtstone.export import (
     OVERWRITE_HINT,
-    make_temporary_directory,
     replace_directory,
+    temporary_directory,
     write,
     write_json,
 )
@@ -90,15 +89,12 @@ def _figure(result: FitResult, staging: Path) -> None:
 def write_fit(result: FitResult, out: str | Path, *, overwrite: bool = False) -> Path:
     """Write the fit's files (``FILES``) into the directory ``out``, whole or not at all."""
     target = check_fit_target(out, overwrite=overwrite)
-    staging = make_temporary_directory(target)
-    try:
+    with temporary_directory(target) as staging:
         write_json(result.summary(), staging / "summary.json")
         _figure(result, staging)
         if result.trajectory.samples.values("time").size >= 2:
             write(result.trajectory.dataset, staging / "run.nc")
         _replace(staging, target, overwrite)
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
     return target
 
 

@@ -7,7 +7,6 @@ import contextlib
 import functools
 import os
 import secrets
-import shutil
 import signal
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -18,9 +17,9 @@ from typing import Any, Protocol
 from celtstone._about import version
 from celtstone.errors import OutputError, ParameterError
 from celtstone.export import (
-    make_temporary_directory,
     output_error,
     replace_directory,
+    temporary_directory,
     write_json,
 )
 from celtstone.reproduce.figure2 import figure2, figure2_models
@@ -118,18 +117,28 @@ def _signals_deferred() -> Iterator[None]:
     def note(signum: int, frame: object) -> None:
         pending.append(signal.Signals(signum))
 
-    previous = {number: signal.signal(number, note) for number in (signal.SIGINT, signal.SIGTERM)}
-    try:
+    previous: dict[signal.Signals, Any] = {}
+    try:  # a signal between the two swaps must not leave the first one swapped
+        previous[signal.SIGINT] = signal.signal(signal.SIGINT, note)
+        previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, note)
         yield
     finally:
-        for number, handler in previous.items():
-            signal.signal(number, signal.SIG_DFL if handler is None else handler)
+        try:  # nested: a SIGINT once its handler is back must not leave SIGTERM's swapped
+            _restore_handler(previous, signal.SIGINT)
+        finally:
+            _restore_handler(previous, signal.SIGTERM)
     if pending:
         handler = previous[pending[0]]
         if callable(handler):
             handler(pending[0], None)
         elif handler == signal.SIG_DFL:
             signal.raise_signal(pending[0])
+
+
+def _restore_handler(previous: dict[signal.Signals, Any], number: signal.Signals) -> None:
+    if number in previous:
+        handler = previous[number]
+        signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
 def _move_files(staging: Path, out: Path, last: Path) -> None:
@@ -163,23 +172,21 @@ def _run_target(
     identity: dict[str, Any],
 ) -> None:
     """One target, staged: its files reach ``out`` only once it is done."""
-    staging = make_temporary_directory(out / _STAGING)
-    try:
-        result = run(staging, progress)
-        numbers = staging / "data" / f"{result['target']}_{result['key']}.json"
-        stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
-        numbers.parent.mkdir(exist_ok=True)
-        write_json(stamped, numbers, overwrite=True)
-        _move_files(staging, out, numbers)
-    except OutputError as error:  # name the file where it was going, not the staging area
-        path = Path(error.path)
-        if path.is_relative_to(staging):
-            raise OutputError(
-                str(out / path.relative_to(staging)), error.cause, error.errno
-            ) from error
-        raise
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
+    with temporary_directory(out / _STAGING) as staging:
+        try:
+            result = run(staging, progress)
+            numbers = staging / "data" / f"{result['target']}_{result['key']}.json"
+            stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
+            numbers.parent.mkdir(exist_ok=True)
+            write_json(stamped, numbers, overwrite=True)
+            _move_files(staging, out, numbers)
+        except OutputError as error:  # name the file where it went, not the staging area
+            path = Path(error.path)
+            if path.is_relative_to(staging):
+                raise OutputError(
+                    str(out / path.relative_to(staging)), error.cause, error.errno
+                ) from error
+            raise
 
 
 def reproduce(

@@ -30,8 +30,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import secrets
-import shutil
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.export import make_temporary_directory, output_error
+from celtstone.export import output_error, replace_directory, temporary_directory
 from celtstone.schema import VARIABLES
 from celtstone.solvers import batch
 
@@ -234,26 +232,6 @@ def _build(
     group.attrs.update({**attrs, "format": FORMAT, "complete": False})
 
 
-def _move_into_place(temporary: Path, target: Path, overwrite: bool) -> None:
-    """Rename the new store to ``target``; an old store there is moved aside, then deleted."""
-    try:
-        if not os.path.lexists(target):
-            os.rename(temporary, target)
-            return
-        if not (overwrite and is_sweep_store(target)):  # it changed since the check
-            check_store_target(target, overwrite=overwrite)
-        aside = target.with_name(f".{target.name}.{os.getpid()}.{secrets.token_hex(4)}.part")
-        os.rename(target, aside)
-        try:
-            os.rename(temporary, target)
-        except OSError:
-            os.rename(aside, target)  # the old store back where it was
-            raise
-    except OSError as error:
-        raise output_error(target, error) from error
-    shutil.rmtree(aside, ignore_errors=True)
-
-
 class SweepStore:
     """An open sweep store (see the module docstring)."""
 
@@ -285,15 +263,14 @@ class SweepStore:
             if the store cannot be written (disk full, ...): nothing is left behind.
         """
         target = check_store_target(path, overwrite=overwrite)
-        temporary = make_temporary_directory(target)
-        try:
+        with temporary_directory(target) as temporary:
             try:
                 _build(temporary, layout, coords, attrs)
             except OSError as error:
                 raise output_error(target, error) from error
-            _move_into_place(temporary, target, overwrite)
-        finally:
-            shutil.rmtree(temporary, ignore_errors=True)
+            if os.path.lexists(target) and not (overwrite and is_sweep_store(target)):
+                check_store_target(target, overwrite=overwrite)  # it changed since the check
+            replace_directory(temporary, target)
         return cls.open(target, expected_spec=attrs["sweep_spec"])
 
     @classmethod
