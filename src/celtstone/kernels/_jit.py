@@ -9,17 +9,24 @@ pointer stored in the int64 field ``level_function`` of the parameter record:
 ``compile_level_function`` compiles F, ∇F and the Hessian into one C callback,
 ``call_level_function`` calls it from inside a kernel (docs/decisions.md section 18);
 such shapes need the JIT (not ``NUMBA_DISABLE_JIT``).
+
+The first run after installation compiles the kernels (2–3 minutes on a 2-core machine;
+numba's on-disk cache serves every later process). So that a user at a terminal does not
+take the silence for a hang, the first compilation of a celtstone kernel in a process
+says so in one line on standard error when that is a terminal (never in a notebook,
+a pipe or a test's captured output): ``COMPILING_NOTICE``.
 """
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from typing import Any, TypeVar
 
 import numpy as np
 from llvmlite import ir
 from numba import cfunc, njit, types
-from numba.core import cgutils
+from numba.core import cgutils, event
 from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 
@@ -28,6 +35,42 @@ F = TypeVar("F", bound=Callable[..., Any])
 LEVEL_OUTPUTS = 13  # F [1], ∇F [1/m] (3), Hessian row-major [1/m²] (9)
 HESSIAN_STEP = 1e-5  # central-difference step of the Hessian, relative to the body size
 _SIGNATURE = types.void(types.float64, types.float64, types.float64, types.CPointer(types.float64))
+
+
+COMPILING_NOTICE = (
+    "celtstone: compiling the numerical kernels for this machine, once (a few minutes; "
+    "later runs read them from numba's cache)"
+)
+
+
+class _CompilingNotice(event.Listener):
+    """Prints ``COMPILING_NOTICE`` when a celtstone kernel first compiles (a cache miss:
+    numba's "numba:compile" event fires only then), once per process, to a terminal."""
+
+    def __init__(self) -> None:
+        self.shown = False
+
+    def on_start(self, event: event.Event) -> None:
+        if self.shown:
+            return
+        function = getattr(event.data.get("dispatcher"), "py_func", None)
+        if not getattr(function, "__module__", "").startswith("celtstone."):
+            return  # a user's shape function, or numba's own helpers
+        self.shown = True
+        stream = sys.stderr
+        try:
+            terminal = stream is not None and stream.isatty()
+        except (ValueError, OSError):  # closed, or not a real stream
+            terminal = False
+        if terminal:
+            print(COMPILING_NOTICE, file=stream, flush=True)
+
+    def on_end(self, event: event.Event) -> None:
+        pass
+
+
+COMPILING = _CompilingNotice()
+event.register("numba:compile", COMPILING)
 
 
 def kernel(function: F) -> F:
