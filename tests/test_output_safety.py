@@ -39,6 +39,7 @@ from celtstone.errors import OutputError
 from celtstone.plotting import save_figure
 from celtstone.reproduce import Study, reproduce
 from celtstone.reproduce import cases as reproduce_cases
+from celtstone.reproduce import targets as reproduce_targets
 from celtstone.sweep.store import RESULT_FIELDS as STORE_FIELDS
 from celtstone.sweep.store import Layout, SweepStore
 from celtstone.visual import write_viewer
@@ -685,6 +686,42 @@ def test_interrupted_reproduce_leaves_the_old_files_and_no_staging(
     assert old.read_bytes() == b"the figure of an earlier, finished run"
     assert not stale.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([old.name, live.name])
+
+
+def test_a_signal_during_the_final_moves_waits_for_them() -> None:
+    """reproduce's last renames finish before Ctrl-C acts; both handlers are back after."""
+    handlers = (signal.SIGINT, signal.SIGTERM)
+    before = {number: signal.getsignal(number) for number in handlers}
+    assert callable(before[signal.SIGINT])
+    finished = []
+    with pytest.raises(KeyboardInterrupt), reproduce_targets._signals_deferred():
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.2)  # the handler runs here, and only notes the signal
+        finished.append("the moves")
+    assert finished == ["the moves"]
+    assert {number: signal.getsignal(number) for number in handlers} == before
+
+
+def test_a_signal_between_the_two_swaps_leaves_no_handler_swapped(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A SIGTERM raising as the deferral swaps its second handler (the first already
+    swapped) puts the first one back too."""
+    handlers = (signal.SIGINT, signal.SIGTERM)
+    before = {number: signal.getsignal(number) for number in handlers}
+    real = signal.signal
+
+    def swapped_then_terminated(number: int, handler: object) -> object:
+        previous = real(number, handler)  # type: ignore[arg-type]
+        if number == signal.SIGINT and callable(handler) and handler is not before[number]:
+            raise Terminated  # as the SIGTERM handler would, at the next bytecode
+        return previous
+
+    monkeypatch.setattr(signal, "signal", swapped_then_terminated)
+    with pytest.raises(Terminated), reproduce_targets._signals_deferred():
+        raise AssertionError("the block must not run")
+    monkeypatch.setattr(signal, "signal", real)
+    assert {number: signal.getsignal(number) for number in handlers} == before
 
 
 _ENDLESS = """

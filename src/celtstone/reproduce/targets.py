@@ -117,10 +117,12 @@ def _signals_deferred() -> Iterator[None]:
     def note(signum: int, frame: object) -> None:
         pending.append(signal.Signals(signum))
 
-    previous: dict[signal.Signals, Any] = {}
-    try:  # a signal between the two swaps must not leave the first one swapped
-        previous[signal.SIGINT] = signal.signal(signal.SIGINT, note)
-        previous[signal.SIGTERM] = signal.signal(signal.SIGTERM, note)
+    # read before any swap, so that a signal between the swaps (raising in the handler
+    # not yet swapped) cannot leave the other one swapped: both are put back in any case
+    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        signal.signal(signal.SIGINT, note)
+        signal.signal(signal.SIGTERM, note)
         yield
     finally:
         try:  # nested: a SIGINT once its handler is back must not leave SIGTERM's swapped
@@ -136,9 +138,8 @@ def _signals_deferred() -> Iterator[None]:
 
 
 def _restore_handler(previous: dict[signal.Signals, Any], number: signal.Signals) -> None:
-    if number in previous:
-        handler = previous[number]
-        signal.signal(number, signal.SIG_DFL if handler is None else handler)
+    handler = previous[number]
+    signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
 def _move_files(staging: Path, out: Path, last: Path) -> None:
