@@ -204,11 +204,12 @@ def handle(args: argparse.Namespace) -> int:
     if sweep.estimate.wall_seconds(threads) > LONG_SWEEP_SECONDS:
         print(f"celtstone: sweep of {sweep.estimate.describe(threads or None)}", file=sys.stderr)
     progress_bar = None
-    counts = {"done": 0, "failed": 0, "total": sweep.size}
+    counts = {"done": 0, "failed": 0, "total": sweep.size, "started": 0}
 
-    def on_start(done: int, total: int) -> None:
+    def on_start(done: int, total: int) -> None:  # the store is in place
         nonlocal progress_bar
         counts["done"] = done
+        counts["started"] = 1
         if not args.no_progress:
             from tqdm import tqdm
 
@@ -242,6 +243,9 @@ def handle(args: argparse.Namespace) -> int:
         logging.getLogger("asyncio").setLevel(logging.CRITICAL)
         if progress_bar is not None:
             progress_bar.close()
+        if not counts["started"]:  # stopped while the store was built: it never reached out
+            print("celtstone: interrupted; no partial output was written", file=sys.stderr)
+            return 130
         print(
             f"celtstone: interrupted: {counts['done']} of {counts['total']} points are in "
             f"{out}; run the same command with --resume to finish",
