@@ -293,7 +293,8 @@ _TEMPORARY_ATTEMPTS = 100  # names tried before a directory that says every one 
 @contextlib.contextmanager
 def _new_temporary(target: Path, make: Callable[[Path], None]) -> Iterator[Path]:
     """Yield a temporary that ``make`` creates beside ``target``; remove it afterwards if
-    it is still there (it is not once moved into place).
+    it is still there (it is not once moved into place). Stale temporaries of ``target``
+    are removed first (:func:`remove_stale_temporaries`).
 
     The name is chosen before ``make`` creates it (``make`` raises ``FileExistsError``
     for a name taken), so an interruption at any point, even as ``make`` returns,
@@ -305,6 +306,7 @@ def _new_temporary(target: Path, make: Callable[[Path], None]) -> Iterator[Path]
     OutputError
         Naming ``target``, if the temporary cannot be made.
     """
+    remove_stale_temporaries(target)
     temporary: Path | None = None
     try:
         for _ in range(_TEMPORARY_ATTEMPTS):
@@ -361,9 +363,7 @@ def temporary_directory(target: str | Path) -> Iterator[Path]:
     OutputError
         If the directory cannot be made.
     """
-    path = Path(target)
-    remove_stale_temporaries(path)
-    with _new_temporary(path, _make_private_directory) as staging:
+    with _new_temporary(Path(target), _make_private_directory) as staging:
         yield staging
 
 
@@ -440,7 +440,6 @@ def atomic_path(
     if not _directory(target).is_dir():
         raise ParameterError(parameter, str(path), "a file in an existing directory")
     _refuse_existing(target, overwrite=overwrite, parameter=parameter)
-    remove_stale_temporaries(target)
     try:
         with _new_temporary(target, _make_private_file) as temporary:
             yield temporary
