@@ -186,6 +186,10 @@ def _show_warning(
 def _one_line_warnings() -> Iterator[None]:
     with warnings.catch_warnings():
         warnings.simplefilter("default")
+        # as Python's own filters: a developer's diagnostic, and a signal that lands while
+        # a module is imported (xarray imports some during a write) leaves the import's
+        # file to the garbage collector, which would add a second line to "terminated"
+        warnings.simplefilter("ignore", ResourceWarning)
         warnings.showwarning = _show_warning
         yield
 
