@@ -1,18 +1,22 @@
-"""Sliding sweeps with the two contacts: regularised sliding against stick–slip (hybrid).
+"""Sliding sweeps with two contacts, or two slip methods: what a sweep's points cost.
 
 Issue 17, item 4. The grid of ``bench_sweep.py`` (Kane & Levinson body, f = 0.02..0.5,
 initial spin -8..8 rad/s, eps = 1 mm, N = m g, tilt 0.5/0.5 deg, 10 s, rtol 1e-8, atol
-1e-12) is swept twice, once with ``contact = sliding`` (the regularised law, slip speed
-regularised below delta = ``regularisation_speed``) and once with ``contact = hybrid``
-(exact stick phases, Radau in slip, DOP853 in stick), on every core. Printed:
+1e-12) is swept once per variant on every core. By default the variants are the two
+contacts: ``sliding`` (the regularised law, slip speed regularised below delta =
+``regularisation_speed``) and ``hybrid`` (exact stick phases), each with the model's
+default method (``auto`` in slip, DOP853 in stick). ``--slip-methods radau5,auto``
+sweeps the hybrid contact once with each slip method instead (stick phases DOP853).
+Printed:
 
 1. wall and CPU time of each sweep;
-2. agreement of the answer "does the spin reverse" (``n_reversals > 0``) point by point,
-   and every point where the two contacts disagree, with both first reversal times and
-   final spins;
+2. agreement of the answer "does the spin reverse" (``n_reversals > 0``) point by point
+   between the first variant and each other, and every point where they disagree, with
+   both first reversal times and final spins;
 3. where the time goes: on a sample of grid points (and the disagreeing ones), one run of
-   each contact with its steps, right-hand-side evaluations, LU factorisations, wall
-   time, and for the hybrid contact its stick and slip phases and the time spent in stick.
+   each variant with its steps (and Radau's share of them, and the method switches),
+   right-hand-side evaluations, LU factorisations, wall time, and for the hybrid
+   contact its stick and slip phases and the time spent in stick.
 
 Run ``python benchmarks/bench_contact.py`` (64 x 64: about 20 minutes on 2 cores) or
 smaller with ``--grid 32``.
@@ -27,6 +31,8 @@ import platform
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -42,7 +48,25 @@ TILT = (0.5, 0.5)
 FRICTION = (0.02, 0.5)
 SPIN = (-8.0, 8.0)
 CONTACT_RADIUS = 1e-3
-CONTACTS = ("sliding", "hybrid")
+DEFAULT_VARIANTS = (("sliding", None), ("hybrid", None))  # (contact, slip method)
+
+
+def variant_name(contact: str, slip_method: str | None) -> str:
+    return contact if slip_method is None else f"{contact}/{slip_method}"
+
+
+@contextmanager
+def slip_method_default(name: str | None) -> Iterator[None]:
+    """The sliding models' default method set to ``name`` for the block (None: as it
+    is): runs and sweeps built inside take it in slip and keep DOP853 in stick, as with
+    the shipped default (a method passed explicitly would name the stick phases' too)."""
+    saved = cs.SlidingModel.default_method
+    if name is not None:
+        cs.SlidingModel.default_method = name
+    try:
+        yield
+    finally:
+        cs.SlidingModel.default_method = saved
 
 
 def grid_sweep(n: int, t_end: float, contact: str) -> Sweep:
@@ -57,17 +81,23 @@ def grid_sweep(n: int, t_end: float, contact: str) -> Sweep:
     )
 
 
-def time_sweep(n: int, t_end: float, contact: str) -> tuple[dict[str, Any], Any]:
-    """One grid sweep with ``contact``: its times and its results (an xarray Dataset)."""
-    sweep = grid_sweep(n, t_end, contact)
+def time_sweep(
+    n: int, t_end: float, contact: str, slip_method: str | None = None
+) -> tuple[dict[str, Any], Any]:
+    """One grid sweep with ``contact`` and ``slip_method`` (None: the model's default):
+    its times and its results (an xarray Dataset)."""
+    with slip_method_default(slip_method):
+        sweep = grid_sweep(n, t_end, contact)
     with tempfile.TemporaryDirectory() as directory:
         warm = Sweep({"initial_spin": [-5.0]}, fixed={"contact": contact}, t_end=0.01)
         warm.run()  # load the compiled driver
         start, cpu_start = time.perf_counter(), time.process_time()
-        results = sweep.run(Path(directory) / f"{contact}.zarr")
+        results = sweep.run(Path(directory) / "grid.zarr")
         elapsed, cpu = time.perf_counter() - start, time.process_time() - cpu_start
     return {
         "contact": contact,
+        "variant": variant_name(contact, slip_method),
+        "slip_method": sweep.method,
         "points": sweep.size,
         "wall_s": elapsed,
         "cpu_s": cpu,
@@ -76,14 +106,13 @@ def time_sweep(n: int, t_end: float, contact: str) -> tuple[dict[str, Any], Any]
     }, results
 
 
-def disagreements(results: dict[str, Any]) -> tuple[float, list[dict[str, Any]]]:
-    """Fraction of points whose reversal yes/no agrees, and the points where it does not."""
-    sliding, hybrid = results["sliding"], results["hybrid"]
-    reverses = {name: (data["n_reversals"] > 0).values for name, data in results.items()}
-    differ = reverses["sliding"] != reverses["hybrid"]
+def disagreements(first: Any, other: Any) -> tuple[float, list[dict[str, Any]]]:
+    """Fraction of points whose reversal yes/no agrees between two sweeps' results, and
+    the points where it does not (fields ``first_*`` and ``other_*``)."""
+    differ = (first["n_reversals"] > 0).values != (other["n_reversals"] > 0).values
     rows = []
-    frictions = sliding["friction_coefficient"].values
-    spins = sliding["initial_spin"].values
+    frictions = first["friction_coefficient"].values
+    spins = first["initial_spin"].values
     for i, j in zip(*np.nonzero(differ), strict=True):
         rows.append(
             {
@@ -91,12 +120,23 @@ def disagreements(results: dict[str, Any]) -> tuple[float, list[dict[str, Any]]]
                 "initial_spin": float(spins[j]),
                 **{
                     f"{name}_{field}": _plain(data[field].values[i, j])
-                    for name, data in (("sliding", sliding), ("hybrid", hybrid))
+                    for name, data in (("first", first), ("other", other))
                     for field in ("n_reversals", "first_reversal_time", "final_spin", "status")
                 },
             }
         )
     return 1.0 - float(differ.mean()), rows
+
+
+def largest_differences(first: Any, other: Any) -> dict[str, float | None]:
+    """The largest |difference| of the final spin [rad/s] and of the first reversal time
+    [s] over the points where both are defined."""
+    spin = np.abs(first["final_spin"].values - other["final_spin"].values)
+    reversal = np.abs(first["first_reversal_time"].values - other["first_reversal_time"].values)
+    return {
+        "final_spin": _plain(np.nanmax(spin)) if np.isfinite(spin).any() else None,
+        "first_reversal_time": _plain(np.nanmax(reversal)) if np.isfinite(reversal).any() else None,
+    }
 
 
 def _plain(value: Any) -> Any:
@@ -107,26 +147,31 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def profile(points: list[tuple[float, float]], t_end: float) -> list[dict[str, Any]]:
-    """Steps and time of one run of each contact at each (f, initial spin) point."""
+def profile(
+    points: list[tuple[float, float]],
+    t_end: float,
+    variants: tuple[tuple[str, str | None], ...],
+) -> list[dict[str, Any]]:
+    """Steps and time of one run of each variant at each (f, initial spin) point."""
     body = cs.load_body("kane_levinson_1982")
+    models = {"sliding": cs.SlidingModel, "hybrid": cs.HybridModel}
     rows = []
     for friction, spin in points:
         unit = cs.InitialState((0.0, 0.0, 1.0), TILT)
         state = cs.InitialState((0.0, 0.0, spin / unit.vertical[2]), TILT)
         settings = {"friction_coefficient": friction, "contact_radius": CONTACT_RADIUS}
-        for contact, model in (
-            ("sliding", cs.SlidingModel(**settings)),
-            ("hybrid", cs.HybridModel(**settings)),
-        ):
+        for contact, slip_method in variants:
+            model = models[contact](**settings)
             start = time.perf_counter()
-            run = cs.simulate(model, body, state, t_end, rtol=1e-8, atol=1e-12)
+            with slip_method_default(slip_method):
+                run = cs.simulate(model, body, state, t_end, rtol=1e-8, atol=1e-12)
             elapsed = time.perf_counter() - start
             summary = run.summary()
             row = {
                 "friction_coefficient": friction,
                 "initial_spin": spin,
                 "contact": contact,
+                "variant": variant_name(contact, slip_method),
                 "wall_s": elapsed,
                 **run.statistics,
                 "n_reversals": len(summary["reversal_times"]),
@@ -147,13 +192,35 @@ def main() -> None:
     parser.add_argument("--grid", type=int, default=64, help="points per axis (64)")
     parser.add_argument("--t-end", type=float, default=10.0, help="simulated time [s]")
     parser.add_argument("--sample", type=int, default=6, help="points profiled one by one")
+    parser.add_argument(
+        "--slip-methods",
+        default=None,
+        help="two or more slip methods, comma-separated (e.g. radau5,auto): sweep the hybrid "
+        "contact once with each instead of the two contacts",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args = parser.parse_args()
-    sweeps, results = [], {}
-    for contact in CONTACTS:
-        timing, results[contact] = time_sweep(args.grid, args.t_end, contact)
+    variants: tuple[tuple[str, str | None], ...] = DEFAULT_VARIANTS
+    if args.slip_methods:
+        variants = tuple(("hybrid", name) for name in args.slip_methods.split(","))
+    sweeps, results = [], []
+    for contact, slip_method in variants:
+        timing, data = time_sweep(args.grid, args.t_end, contact, slip_method)
         sweeps.append(timing)
-    agreement, differing = disagreements(results)
+        results.append(data)
+    comparisons, differing = [], []
+    for timing, data in zip(sweeps[1:], results[1:], strict=True):
+        agreement, rows = disagreements(results[0], data)
+        comparisons.append(
+            {
+                "first": sweeps[0]["variant"],
+                "other": timing["variant"],
+                "reversal_agreement": agreement,
+                "largest_difference": largest_differences(results[0], data),
+                "disagreeing_points": rows,
+            }
+        )
+        differing += rows
     rng = np.random.default_rng(20261124)
     frictions, spins = np.linspace(*FRICTION, args.grid), np.linspace(*SPIN, args.grid)
     chosen = rng.choice(args.grid * args.grid, size=args.sample, replace=False)
@@ -166,9 +233,8 @@ def main() -> None:
         "grid": args.grid,
         "t_end": args.t_end,
         "sweeps": sweeps,
-        "reversal_agreement": agreement,
-        "disagreeing_points": differing,
-        "profile": profile(points, args.t_end),
+        "comparisons": comparisons,
+        "profile": profile(points, args.t_end, variants),
     }
     if args.json:
         print(json.dumps(report, indent=2))
@@ -177,21 +243,28 @@ def main() -> None:
     print(f"{args.grid} x {args.grid} grid, {args.t_end:g} s runs")
     for s in sweeps:
         print(
-            f"  {s['contact']:8s} wall {s['wall_s']:8.1f} s  cpu {s['cpu_s']:8.1f} s  "
+            f"  {s['variant']:14s} wall {s['wall_s']:8.1f} s  cpu {s['cpu_s']:8.1f} s  "
             f"reversing {s['reversing_points']:5d}  failures {s['failures']}"
         )
-    print(f"reversal yes/no agrees on {100 * agreement:.2f} % of points; {len(differing)} differ")
-    for d in differing:
+    for c in comparisons:
+        rows = c["disagreeing_points"]
+        largest = c["largest_difference"]
         print(
-            f"  f {d['friction_coefficient']:.4f} spin {d['initial_spin']:+.4f}: "
-            f"sliding {d['sliding_n_reversals']} reversals "
-            f"(first {d['sliding_first_reversal_time']}), final {d['sliding_final_spin']:.4g}; "
-            f"hybrid {d['hybrid_n_reversals']} "
-            f"(first {d['hybrid_first_reversal_time']}), final {d['hybrid_final_spin']:.4g}"
+            f"{c['first']} against {c['other']}: reversal yes/no agrees on "
+            f"{100 * c['reversal_agreement']:.2f} % of points; {len(rows)} differ; largest "
+            f"difference of the final spin {largest['final_spin']} rad/s, of the first "
+            f"reversal {largest['first_reversal_time']} s"
         )
+        for d in rows:
+            print(
+                f"  f {d['friction_coefficient']:.4f} spin {d['initial_spin']:+.4f}: "
+                f"{d['first_n_reversals']} against {d['other_n_reversals']} reversals "
+                f"(first {d['first_first_reversal_time']} / {d['other_first_reversal_time']}), "
+                f"final {d['first_final_spin']:.4g} / {d['other_final_spin']:.4g}"
+            )
     print("profile (one run each, rtol 1e-8):")
-    header = f"  {'f':>6s} {'spin':>7s} {'contact':8s} {'steps':>7s} {'rejected':>8s}"
-    print(header + f" {'nfev':>8s} {'nlu':>6s} {'wall s':>8s}  phases")
+    header = f"  {'f':>6s} {'spin':>7s} {'variant':14s} {'steps':>7s} {'radau':>7s} {'switch':>6s}"
+    print(header + f" {'rejected':>8s} {'nfev':>8s} {'nlu':>6s} {'wall s':>8s}  phases")
     for r in report["profile"]:
         phases = (
             f"stick {r['stick_phases']}, slip {r['slip_phases']}, "
@@ -200,9 +273,9 @@ def main() -> None:
             else ""
         )
         print(
-            f"  {r['friction_coefficient']:6.3f} {r['initial_spin']:+7.3f} {r['contact']:8s} "
-            f"{r['n_accepted']:7d} {r['n_rejected']:8d} {r['nfev']:8d} {r['nlu']:6d} "
-            f"{r['wall_s']:8.3f}  {phases}"
+            f"  {r['friction_coefficient']:6.3f} {r['initial_spin']:+7.3f} {r['variant']:14s} "
+            f"{r['n_accepted']:7d} {r['n_radau_steps']:7d} {r['n_switches']:6d} "
+            f"{r['n_rejected']:8d} {r['nfev']:8d} {r['nlu']:6d} {r['wall_s']:8.3f}  {phases}"
         )
 
 

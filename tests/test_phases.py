@@ -33,7 +33,7 @@ def _python_phase_loop(  # type: ignore[no-untyped-def]
     next_sample, n_crossings_total, rejected = 0, 0, 0
     times_out, states_out, phase_out, crossings = [], [], [], []
     phases: list[list] = []
-    statistics = dict.fromkeys(("nfev", "njev", "nlu", "n_accepted", "n_rejected"), 0)
+    statistics = dict.fromkeys(solvers.STATISTICS, 0)
     min_normal, t_min_normal = np.inf, 0.0
     status = solvers.STATUS_SUCCESS
     while True:

@@ -50,6 +50,9 @@ def _order(method: str) -> int:
     return int(_methods.MODULES[solvers.METHODS[method]].ORDER)
 
 
+STEPPER = ("workspace", "start", "attempt", "dense", "interpolate")  # contract items 4-7
+
+
 def test_every_registered_method_has_a_module_and_known_orders() -> None:
     """The registry, the compiled dispatch and the Python view of it agree."""
     assert set(_methods.MODULES) == set(solvers.METHODS.values())
@@ -58,7 +61,9 @@ def test_every_registered_method_has_a_module_and_known_orders() -> None:
         module = _methods.MODULES[code]
         assert _methods.error_order(code) == module.ERROR_ORDER
         assert _methods.dense_every_step(code) == module.DENSE_EVERY_STEP
-        for name in ("workspace", "start", "attempt", "dense", "interpolate"):
+        # a switching method (auto) routes its steps to the others
+        names = ("workspace", "start", "after_step") if code == codes.METHOD_AUTO else STEPPER
+        for name in names:
             assert callable(getattr(module, name)), name
     assert not _methods.is_known(max(solvers.METHODS.values()) + 1)
 
@@ -318,7 +323,8 @@ def test_an_unknown_method_code_stops_with_its_status() -> None:
 
 @pytest.mark.parametrize(
     ("model", "method"),
-    [(layout.MODEL_ROLLING, name) for name in METHOD_NAMES] + [(layout.MODEL_SLIDING, "radau5")],
+    [(layout.MODEL_ROLLING, name) for name in METHOD_NAMES]
+    + [(layout.MODEL_SLIDING, "radau5"), (layout.MODEL_SLIDING, "auto")],
 )
 def test_no_spin_crossing_is_lost_where_the_interpolant_is_not_read(
     rolling_problem: tuple[np.ndarray, np.ndarray],

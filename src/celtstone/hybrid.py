@@ -31,7 +31,6 @@ __all__ = ["PHASE_KINDS", "SLIP", "STICK", "HybridSolution", "Phase", "capture",
 SLIP = phases.SLIP
 STICK = phases.STICK
 PHASE_KINDS = {SLIP: "slip", STICK: "stick"}
-_STATISTICS = ("nfev", "njev", "nlu", "n_accepted", "n_rejected")
 
 
 @dataclass(frozen=True)
@@ -130,7 +129,7 @@ def solve_phases(
         n_crossings_total=raw.n_crossings_total,
         min_normal_force=raw.min_normal_force,
         t_min_normal_force=raw.t_min_normal_force,
-        statistics={key: int(getattr(raw, key)) for key in _STATISTICS},
+        statistics={key: int(getattr(raw, key)) for key in solvers.STATISTICS},
         phases=phases_run,
         rejected_captures=raw.rejected_captures,
     )

@@ -84,9 +84,6 @@ def _status_message(status: str, code: int, t_stop: float, final_n: np.ndarray) 
     return solvers.stop_message(code, t_stop, detail)
 
 
-_STATISTICS = ("nfev", "njev", "nlu", "n_accepted", "n_rejected")
-
-
 def simulate(
     model: Model,
     body: Body,
@@ -115,8 +112,10 @@ def simulate(
     t_end : float
         Duration [s], > 0.
     method : str, optional
-        Integrator name from ``solvers.METHODS`` ("dop853", "radau5"). Default:
-        dop853 for rolling and stick phases, radau5 (stiff) for sliding.
+        Integrator name from ``solvers.METHODS``: "dop853" (explicit), "radau5"
+        (stiff) or "auto" (each step with the cheaper of the two, switched on the
+        Jacobian's spectral radius; ``solvers._auto``). Default: dop853 for rolling and
+        stick phases, auto for sliding.
     rtol, atol : float, optional
         Relative and absolute local error tolerances.
     n_samples : int, optional
@@ -203,7 +202,7 @@ def simulate(
         )
         code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
         sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
-        statistics = {key: int(getattr(raw, key)) for key in _STATISTICS}
+        statistics = {key: int(getattr(raw, key)) for key in solvers.STATISTICS}
     status = STATUS_NAMES.get(code, "failed")
     final_n = (samples if len(samples) else y0[None, :])[-1, layout.Y_N : layout.Y_N + 3]
     message = _status_message(status, code, t_stop, final_n)

@@ -297,7 +297,7 @@ class SlidingModel:
     name: ClassVar[str] = "sliding"
     contact: ClassVar[str] = "sliding"
     code: ClassVar[int] = ModelCode.SLIDING.value
-    default_method: ClassVar[str] = "radau5"
+    default_method: ClassVar[str] = "auto"
 
     def __post_init__(self) -> None:
         _check_settings(self)

@@ -243,7 +243,9 @@ class Trajectory:
     min_normal_force : float
         Smallest normal force N over the run [N].
     statistics : dict of str to int
-        Solver counts: ``nfev``, ``njev``, ``nlu``, ``n_accepted``, ``n_rejected``.
+        Solver counts (``solvers.STATISTICS``): ``nfev``, ``njev``, ``nlu``,
+        ``n_accepted``, ``n_rejected``, ``n_switches`` (between DOP853 and Radau, method
+        ``auto``).
     """
 
     samples: RunSamples

@@ -214,18 +214,19 @@ def test_cli_refuses_an_ellipse_without_elastic_constants(
 
 
 def test_a_sweep_takes_the_ellipse(kane_levinson: cs.Body) -> None:
-    """``contact_shape`` is a fixed setting of a sweep like any other: each point is the run."""
+    """``contact_shape`` is a fixed setting of a sweep like any other: each point is the
+    run, with the sweep's contact (stick–slip) and tolerances."""
     from celtstone.sweep import Sweep
 
     fixed = {"contact_shape": "ellipse", **ELASTIC}
-    results = Sweep(
-        {"friction_coefficient": [0.2, 0.35]}, model="sliding", fixed=fixed, t_end=0.3
-    ).run()
+    sweep = Sweep({"friction_coefficient": [0.2, 0.35]}, model="sliding", fixed=fixed, t_end=0.3)
+    results = sweep.run()
     for index, friction in enumerate((0.2, 0.35)):
-        model = cs.SlidingModel(friction_coefficient=friction, **fixed)
-        run = cs.simulate(model, kane_levinson, cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5)), 0.3)
+        model = cs.HybridModel(friction_coefficient=friction, **fixed)
+        state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
+        run = cs.simulate(model, kane_levinson, state, 0.3, rtol=sweep.rtol, atol=sweep.atol)
         assert results["final_spin"].values[index] == pytest.approx(
-            run.summary()["spin_final"], rel=1e-9
+            run.summary()["spin_final"], rel=1e-12
         )
 
 

@@ -103,7 +103,11 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         help="contact of the sliding model: sliding (always slides, default) or hybrid "
         "(stick-slip: rolls without slip and pivoting while friction can hold it)",
     )
-    parser.add_argument("--method", default=None, help="dop853 or radau5 (default by model)")
+    parser.add_argument(
+        "--method",
+        default=None,
+        help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
+    )
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
     parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
     parser.add_argument("--samples", type=str, default=None, help=p["n_samples"].help())

@@ -42,8 +42,10 @@ from celtstone.solvers.codes import (
     STAT_NFEV,
     STAT_NJEV,
     STAT_NLU,
+    STAT_RADAU_STEPS,
     STAT_REJECTED,
     STAT_SAMPLES_WRITTEN,
+    STAT_SWITCHES,
 )
 from celtstone.solvers.codes import (
     STATUS_LIFT_OFF as STATUS_LIFT_OFF,
@@ -93,6 +95,7 @@ __all__ = [
     "METHODS",
     "METHOD_DOP853",
     "METHOD_RADAU5",
+    "STATISTICS",
     "STATUS_LIFT_OFF",
     "STATUS_MAX_PHASES",
     "STATUS_MAX_STEPS",
@@ -116,6 +119,18 @@ __all__ = [
 ]
 
 
+# the solver counts of a run, fields of :class:`RawSolution`: a run's ``statistics``
+STATISTICS = (
+    "nfev",
+    "njev",
+    "nlu",
+    "n_accepted",
+    "n_rejected",
+    "n_switches",
+    "n_radau_steps",
+)
+
+
 @dataclass(frozen=True)
 class RawSolution:
     """What the compiled loop returns, trimmed to what it filled (SI units)."""
@@ -133,6 +148,8 @@ class RawSolution:
     nlu: int
     n_accepted: int
     n_rejected: int
+    n_switches: int  # between DOP853 and Radau (method auto; 0 for the others)
+    n_radau_steps: int  # accepted steps that Radau took
     final_state: np.ndarray
 
 
@@ -177,6 +194,8 @@ def _trimmed(end: RunEnd, output: Output) -> dict[str, Any]:
         "nlu": int(stats[STAT_NLU]),
         "n_accepted": int(stats[STAT_ACCEPTED]),
         "n_rejected": int(stats[STAT_REJECTED]),
+        "n_switches": int(stats[STAT_SWITCHES]),
+        "n_radau_steps": int(stats[STAT_RADAU_STEPS]),
         "final_state": output.final_state,
     }
 

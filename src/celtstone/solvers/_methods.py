@@ -66,6 +66,13 @@ The contract (in the manner of SciPy's ``OdeSolver``)
 
 Each dispatch below has one branch per registered code and no default: an unknown
 code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
+
+**Switching** (``auto``, ``solvers._auto``) is a method code whose steps are taken by
+the others, one at a time: ``active(method, work)`` names the method that takes the next
+step, and the driver passes that code to ``dense``, ``dense_every_step``,
+``dense_coefficients`` and ``interpolate`` for the step; ``attempt`` and
+``after_step`` take the run's code. Each method's step is compiled once however many
+codes route to it.
 """
 
 from __future__ import annotations
@@ -76,33 +83,44 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import RHS_UNKNOWN_CODE
+from celtstone.solvers import _auto as auto
 from celtstone.solvers import _dop853 as dop853
 from celtstone.solvers import _radau as radau5
 from celtstone.solvers._compile import inlined
-from celtstone.solvers.codes import METHOD_DOP853, METHOD_RADAU5, STATUS_UNKNOWN_CODE
+from celtstone.solvers.codes import (
+    METHOD_AUTO,
+    METHOD_DOP853,
+    METHOD_RADAU5,
+    STATUS_SUCCESS,
+    STATUS_UNKNOWN_CODE,
+)
 
-MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5}  # code -> module, for Python
+MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5, METHOD_AUTO: auto}  # for Python
 
 
 class Workspaces(NamedTuple):
-    """One workspace per registered method; only the run's own is sized to the state."""
+    """One workspace per registered method; only those the run uses are sized to the
+    state (both for ``auto``); ``auto`` is its switching record."""
 
     dop853: dop853.Workspace
     radau5: radau5.Workspace
+    auto: np.ndarray
 
 
 @kernel
 def is_known(method):
     """Whether ``method`` is a registered method code."""
-    return method == METHOD_DOP853 or method == METHOD_RADAU5
+    return method == METHOD_DOP853 or method == METHOD_RADAU5 or method == METHOD_AUTO
 
 
 @kernel
 def workspaces(method, n):
     """Workspaces for a run of ``method`` on states of length n (the others empty)."""
+    switching = method == METHOD_AUTO
     return Workspaces(
-        dop853.workspace(n if method == METHOD_DOP853 else 0),
-        radau5.workspace(n if method == METHOD_RADAU5 else 0),
+        dop853.workspace(n if method == METHOD_DOP853 or switching else 0),
+        radau5.workspace(n if method == METHOD_RADAU5 or switching else 0),
+        auto.workspace(),
     )
 
 
@@ -113,6 +131,8 @@ def error_order(method):
         return dop853.ERROR_ORDER
     if method == METHOD_RADAU5:
         return radau5.ERROR_ORDER
+    if method == METHOD_AUTO:
+        return auto.ERROR_ORDER
     return -1
 
 
@@ -123,7 +143,18 @@ def dense_every_step(method):
         return dop853.DENSE_EVERY_STEP
     if method == METHOD_RADAU5:
         return radau5.DENSE_EVERY_STEP
+    if method == METHOD_AUTO:
+        return auto.DENSE_EVERY_STEP
     return True
+
+
+@inlined
+def active(method, work):
+    """The code of the method that takes the next step: ``method`` itself, or for
+    ``auto`` the one its switching record names."""
+    if method == METHOD_AUTO:
+        return work.auto[0].active
+    return method
 
 
 @inlined
@@ -133,21 +164,36 @@ def start(method, model, params, t, y, f, controls, work, stats):
         dop853.start(model, params, t, y, f, controls, work.dop853, stats)
     elif method == METHOD_RADAU5:
         radau5.start(model, params, t, y, f, controls, work.radau5, stats)
+    elif method == METHOD_AUTO:
+        auto.start(work.auto)
+        dop853.start(model, params, t, y, f, controls, work.dop853, stats)
 
 
 @inlined
 def attempt(method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
-    """The method's ``attempt`` (contract item 6): (status, h_taken, h_next, rhs status,
-    normal force [N])."""
-    if method == METHOD_DOP853:
-        return dop853.attempt(
+    """The active method's ``attempt`` (contract item 6): (status, h_taken, h_next, rhs
+    status, normal force [N]); for ``auto`` a DOP853 step also updates its stiffness test."""
+    stepper = active(method, work)
+    if stepper == METHOD_DOP853:
+        result = dop853.attempt(
             model, params, t, y, f, h, t_end, controls, work.dop853, y_new, f_new, stats
         )
-    if method == METHOD_RADAU5:
+        if method == METHOD_AUTO and result[0] == STATUS_SUCCESS:
+            auto.note_explicit_step(work.auto, work.dop853, y_new, result[1])
+        return result
+    if stepper == METHOD_RADAU5:
         return radau5.attempt(
             model, params, t, y, f, h, t_end, controls, work.radau5, y_new, f_new, stats
         )
     return STATUS_UNKNOWN_CODE, h, h, RHS_UNKNOWN_CODE, np.nan
+
+
+@inlined
+def after_step(method, model, params, t, y, f, h_next, controls, work, stats):
+    """Between accepted steps, at the new (t, y) with f = f(t, y) and the next step size
+    h_next [s]: ``auto`` may switch the method that takes it; the others do nothing."""
+    if method == METHOD_AUTO:
+        auto.after_step(work.auto, model, params, t, y, f, h_next, controls, work, stats)
 
 
 @inlined

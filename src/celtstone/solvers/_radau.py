@@ -131,9 +131,20 @@ def workspace(n):
 @kernel
 def start(model, params, t, y, f, controls, work, stats):
     """Newton's tolerance from rtol (as SciPy's) and the Jacobian at the first state."""
+    evaluate_jacobian(model, params, t, y, f, work, stats)
+    resume(controls, work)
+
+
+@kernel
+def resume(controls, work):
+    """Begin a stretch of steps with the current Jacobian in ``work``: Newton's tolerance,
+    and nothing kept of an earlier stretch (method auto hands steps to Radau mid-run)."""
     memory = work.memory[0]
     memory.newton_tolerance = max(10.0 * EPS / controls.rtol, min(0.03, math.sqrt(controls.rtol)))
-    evaluate_jacobian(model, params, t, y, f, work, stats)
+    memory.lu_valid = False
+    memory.h_abs_old = -1.0
+    memory.error_norm_old = -1.0
+    memory.has_dense = False
 
 
 @inlined

@@ -6,9 +6,10 @@ import enum
 
 METHOD_DOP853 = 0
 METHOD_RADAU5 = 1
+METHOD_AUTO = 2  # DOP853 and Radau by turns, switched on stiffness (``solvers._auto``)
 
 # the methods registry: name -> code; each code has its module (``solvers._methods``)
-METHODS = {"dop853": METHOD_DOP853, "radau5": METHOD_RADAU5}
+METHODS = {"dop853": METHOD_DOP853, "radau5": METHOD_RADAU5, "auto": METHOD_AUTO}
 
 # slots of the integrator's int64 statistics array (8 long); the compiled loop adds to
 # them, so one array sums the phases of a hybrid run
@@ -18,6 +19,8 @@ STAT_NLU = 2  # LU factorisations
 STAT_ACCEPTED = 3  # accepted steps
 STAT_REJECTED = 4  # rejected step attempts
 STAT_SAMPLES_WRITTEN = 5  # output samples filled so far, updated after every step
+STAT_SWITCHES = 6  # switches between DOP853 and Radau (method auto)
+STAT_RADAU_STEPS = 7  # accepted steps that Radau took (all of radau5's, auto's stiff ones)
 N_STATS = 8
 
 DEFAULT_MAX_PHASES = 100_000  # capacity of a hybrid run's phase log (solvers.phases)

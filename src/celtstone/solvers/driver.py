@@ -30,8 +30,10 @@ from celtstone.solvers._compile import inlined
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._structures import RunEnd
 from celtstone.solvers.codes import (
+    METHOD_RADAU5,
     STAT_ACCEPTED,
     STAT_NFEV,
+    STAT_RADAU_STEPS,
     STAT_SAMPLES_WRITTEN,
     STATUS_CONTACT_RANGE,
     STATUS_LIFT_OFF,
@@ -176,7 +178,6 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     values = np.empty(table.shape[0])
     events.start_values(table, model, params, y, values, scratch)
     work = methods.workspaces(method, n)
-    dense = methods.dense_coefficients(method, work)
     rate = events.spin_rate(y, f)
     h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
     methods.start(method, model, params, 0.0, y, f, controls, work, stats)
@@ -189,6 +190,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             status = STATUS_MAX_STEPS
             break
         steps += 1
+        stepper = methods.active(method, work)  # the method that takes this step
         status, h_taken, h_next, code, normal_new = methods.attempt(
             method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
         )
@@ -199,22 +201,24 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             break
         t_new = t_end if h_taken == t_end - t else t + h_taken
         stats[STAT_ACCEPTED] += 1
+        if stepper == METHOD_RADAU5:
+            stats[STAT_RADAU_STEPS] += 1
         spin_new = events.spin_of(y_new)
         rate_new = events.spin_rate(y_new, f_new)
         if code != RHS_OK:
             status = rhs_failure(code)
             break
-        step = events.Step(method, dense, y, t, h_taken)
+        step = events.Step(stepper, methods.dense_coefficients(stepper, work), y, t, h_taken)
         all_decided = events.all_decided_by_ends(
             table, values, spin_new, normal_new, rate, rate_new, h_taken
         )
         # the interpolant only where a sample or an event reads it (contract item 7)
         if (
-            methods.dense_every_step(method)
+            methods.dense_every_step(stepper)
             or not all_decided
             or sample_inside(step, t_new, output.sample_times, n_samples)
         ):
-            methods.dense(method, model, params, t, y, y_new, h_taken, work, stats)
+            methods.dense(stepper, model, params, t, y, y_new, h_taken, work, stats)
         stop_row, x_limit, t_limit, n_crossings = events.locate_events(
             table,
             values,
@@ -262,6 +266,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         h = h_next
         if controls.max_step > 0.0:
             h = min(h, controls.max_step)
+        methods.after_step(method, model, params, t, y, f, h, controls, work, stats)
     if not stopped:
         output.final_state[:] = y
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)

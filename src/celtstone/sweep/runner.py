@@ -158,7 +158,7 @@ class Sweep:
     t_end : float, optional
         Duration of each run [s].
     method : str, optional
-        Integrator (default: the model's, radau5 for sliding); with the hybrid contact
+        Integrator (default: the model's, auto for sliding); with the hybrid contact
         also of the stick phases, which otherwise use dop853 (as ``simulate``).
     rtol, atol : float, optional
         Local error tolerances (default rtol 1e-8 for sweeps).
