@@ -51,6 +51,7 @@ def _case(model: str, f: float | None, first: float | None, energy: float, **ext
         "max_budget_error": 1e-12,
         "energy_monotone": True,
         "raw_sign_changes": 0,
+        "spin_initial": -5.0,
         "spin_final": 0.0,
         "reversal_times": [] if first is None else [first],
         **extra,

@@ -207,9 +207,9 @@ class _Runner:
         return sweep.run(target, **self.options)
 
 
-def _case(point: xr.Dataset, model: Model, body: Body) -> dict[str, Any]:
+def _case(point: xr.Dataset, model: Model, body: Body, initial_spin: float) -> dict[str, Any]:
     """One sweep point as a case of ``reproduce.cases.summarise`` (the keys the judges
-    read; ``energy_final`` = E(0) − energy lost)."""
+    read; ``energy_final`` = E(0) − energy lost; ``initial_spin`` ω0·n0 [rad/s])."""
     settings = model.attributes()
     is_sliding = model.name == "sliding"
     first = float(point["first_reversal_time"])
@@ -224,6 +224,7 @@ def _case(point: xr.Dataset, model: Model, body: Body) -> dict[str, Any]:
         "n_reversals": int(point["n_reversals"]),
         "raw_sign_changes": int(point["raw_sign_changes"]),
         "peak_reversed_spin": float(point["peak_reversed_spin"]),
+        "spin_initial": initial_spin,
         "spin_final": float(point["final_spin"]),
         "energy_initial": energy_initial,
         "energy_final": energy_initial - float(point["energy_lost"]),
@@ -258,7 +259,8 @@ def _figure2(runner: _Runner) -> list[dict[str, Any]]:
         designs = [d for d, _ in points]
         result = runner.run(f"fig2_{group}", chosen[0], designs, frictions, study.fig2_t_end)
         for index, (d, k) in enumerate(points):
-            case = _case(result.isel(point=index), chosen[k], runner.bodies[d])
+            point = result.isel(point=index)
+            case = _case(point, chosen[k], runner.bodies[d], study.initial_spin)
             cases[d][case["case"]] = case
     return [
         {"cases": [c[case_name(m)] for m in models], "frictions": list(study.frictions)}

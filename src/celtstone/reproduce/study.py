@@ -185,9 +185,14 @@ class Study:
         return load_body(self.body)
 
     @property
+    def initial_spin(self) -> float:
+        """The spin ω0·n0 of the shared start [rad/s]."""
+        return float(np.dot(self.omega, self.initial_state.vertical))
+
+    @property
     def band(self) -> float:
         """Hysteresis band of a reversal [rad/s] (``analysis.reversal_band``)."""
-        return reversal_band(float(np.dot(self.omega, self.initial_state.vertical)))
+        return reversal_band(self.initial_spin)
 
     def friction_grid(self) -> np.ndarray:
         """Make the threshold's grid of f.

@@ -53,8 +53,9 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    max(|y|, |y_new|) rtol), as SciPy's (``_step_control.rms_scaled``); a step is
    accepted when it is at most 1.
 9. **Counters**: a method adds what it costs to ``stats`` (``codes.STAT_NFEV``,
-   ``STAT_NJEV``, ``STAT_NLU``, ``STAT_REJECTED``); the driver counts accepted steps,
-   its own evaluations and the samples written.
+   ``STAT_NJEV``, ``STAT_NLU``, ``STAT_REJECTED``); the driver counts accepted steps
+   (and those Radau took, ``STAT_RADAU_STEPS``), its own evaluations and the samples
+   written; a switching method counts its switches (``STAT_SWITCHES``).
 10. **What a method does not do**: sampling, events (spin crossings, lift-off, phase
     changes), the step limit, ``max_step``, finiteness checks and stopping belong to the
     driver (``solvers.driver.integrate``), which is the same for every method.
