@@ -18,16 +18,20 @@ of the Jacobian (power iteration, ``spectral_radius``):
   is ``HYSTERESIS`` times cheaper, so that the two do not take turns at every check.
 - **Radau → DOP853**: ρ whenever Radau evaluates its Jacobian (and a Jacobian for ρ
   alone after ``REFRESH_STEPS`` steps without one); ``CALM_STEPS`` accepted steps in a
-  row with h_R ρ ≤ ``BREAK_EVEN`` / ``HYSTERESIS`` (h_R Radau's next step) switch.
+  row with h_R ρ ≤ ``BREAK_EVEN`` / ``HYSTERESIS`` (h_R Radau's next step), each no
+  more than ``SETTLED_GROWTH`` times the one before, switch: Radau's first steps after
+  a start or a switch are short of what accuracy allows and would judge DOP853 cheap.
 - **DOP853 → Radau**: ρ from a forward-difference Jacobian every ``CHECK_STEPS``
-  accepted DOP853 steps, after a run's first step, and early when Hairer's cheap
-  test (the code DOP853's h ‖f(y_new) − f(y₁₂)‖ / ‖y_new − y₁₂‖, y₁₂ the 12th stage's
-  argument) exceeds ``STABILITY_LIMIT``. DOP853 gives way when stability holds its
-  steps (its next h ρ ≥ ``HELD_LIMIT``) and h_R ρ > ``BREAK_EVEN`` ``HYSTERESIS`` for
-  Radau's last step size h_R (before any Radau step: always).
+  accepted DOP853 steps, at a run's (or a phase's) start against its first step and
+  again after that step, and early when Hairer's cheap test (the code DOP853's
+  h ‖f(y_new) − f(y₁₂)‖ / ‖y_new − y₁₂‖, y₁₂ the 12th stage's argument) exceeds
+  ``STABILITY_LIMIT``. DOP853 gives way when stability holds its steps (its next
+  h ρ ≥ ``HELD_LIMIT``) and either h_R ρ > ``BREAK_EVEN`` ``HYSTERESIS`` for Radau's
+  last step size h_R (before any Radau step: always) or ``HELD_CHECKS`` checks in a
+  row found it held (h_R may be stale: a run once spent 10⁶ DOP853 steps on one).
 
 The constants were set on eight sliding points of the sweep benchmark's grid
-(docs/decisions.md §30). A switch happens between accepted steps: the driver asks
+(docs/decisions.md §34). A switch happens between accepted steps: the driver asks
 ``_methods.active`` which method takes the next step and labels the step with it, so
 samples and events read the interpolant of the method that took the step. With error
 control off (fixed steps) the run stays with DOP853. ``RECORD`` is the whole state.
@@ -62,6 +66,8 @@ BREAK_EVEN = HELD_STEP * COST_RATIO  # h_R ρ at which both cost the same [1]
 TRIGGER_SPACING = 6  # DOP853 steps at least between two checks that Hairer's test asks for
 HYSTERESIS = 2.0  # each switch waits until the other method is this much cheaper [1]
 CALM_STEPS = 5  # Radau steps in a row that could have been DOP853's, to switch
+SETTLED_GROWTH = 1.2  # a calm Radau step is at most this much longer than the last one
+HELD_CHECKS = 4  # checks in a row that find DOP853 held switch whatever h_R was
 CHECK_STEPS = 24  # accepted DOP853 steps between Jacobians for ρ
 REFRESH_STEPS = 50  # Radau steps after which a Jacobian is evaluated for ρ alone
 POWER_ITERATIONS = 8  # of the spectral radius estimate
@@ -77,6 +83,7 @@ RECORD = np.dtype(
                 ("jacobians_seen", "i8"),  # the run's Jacobian count when ρ was estimated
                 ("spectral_radius", "f8"),  # ρ of the last estimate [1/s]
                 ("radau_step", "f8"),  # Radau's last step size [s]; inf before any
+                ("held_checks", "i8"),  # DOP853 checks in a row that found it held
                 ("stiffness", "f8"),  # Hairer's h λ of the last DOP853 step [1]
             ],
             align=True,
@@ -101,7 +108,17 @@ def start(record):
     state.jacobians_seen = -1
     state.spectral_radius = 0.0
     state.radau_step = math.inf
+    state.held_checks = 0
     state.stiffness = 0.0
+
+
+@kernel
+def check_after_first_step(record):
+    """After the check at a run's start: if DOP853 takes the first step, ρ is checked
+    again after it (the first step, from Hairer's heuristic, may be short of stiff)."""
+    state = record[0]
+    if state.active == METHOD_DOP853:
+        state.steps_since_check = CHECK_STEPS
 
 
 @inlined
@@ -178,10 +195,16 @@ def after_step(record, model, params, t, y, f, h_next, controls, work, stats):
         rho = jacobian_radius(radau)
         state.spectral_radius = rho
         state.steps_since_check = 0
-        if h_next * rho >= HELD_LIMIT and state.radau_step * rho > BREAK_EVEN * HYSTERESIS:
+        held = h_next * rho >= HELD_LIMIT
+        state.held_checks = state.held_checks + 1 if held else 0
+        if held and (
+            state.radau_step * rho > BREAK_EVEN * HYSTERESIS or state.held_checks >= HELD_CHECKS
+        ):
             radau5.resume(controls, radau)  # with the Jacobian just evaluated
             state.active = METHOD_RADAU5
             state.calm_count = 0
+            state.held_checks = 0
+            state.radau_step = 0.0  # no Radau step of this stretch yet
             state.jacobians_seen = stats[STAT_NJEV]
             stats[STAT_SWITCHES] += 1
         return
@@ -192,8 +215,11 @@ def after_step(record, model, params, t, y, f, h_next, controls, work, stats):
         state.spectral_radius = jacobian_radius(radau)
         state.jacobians_seen = stats[STAT_NJEV]
         state.steps_since_check = 0
+    # calm: DOP853 cheaper at this step, and Radau's step no longer growing (its first
+    # steps after a start or a switch are short of what accuracy allows)
+    settled = h_next <= SETTLED_GROWTH * state.radau_step
     state.radau_step = h_next
-    if h_next * state.spectral_radius * HYSTERESIS <= BREAK_EVEN:
+    if settled and h_next * state.spectral_radius * HYSTERESIS <= BREAK_EVEN:
         state.calm_count += 1
     else:
         state.calm_count = 0

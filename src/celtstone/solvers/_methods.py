@@ -159,8 +159,9 @@ def active(method, work):
 
 
 @inlined
-def start(method, model, params, t, y, f, controls, work, stats):
-    """The method's ``start`` (contract item 5)."""
+def start(method, model, params, t, y, f, h, controls, work, stats):
+    """The method's ``start`` (contract item 5); ``auto`` also checks ρ against the
+    first step h [s], so that a run or phase that starts stiff starts with Radau."""
     if method == METHOD_DOP853:
         dop853.start(model, params, t, y, f, controls, work.dop853, stats)
     elif method == METHOD_RADAU5:
@@ -168,6 +169,8 @@ def start(method, model, params, t, y, f, controls, work, stats):
     elif method == METHOD_AUTO:
         auto.start(work.auto)
         dop853.start(model, params, t, y, f, controls, work.dop853, stats)
+        auto.after_step(work.auto, model, params, t, y, f, h, controls, work, stats)
+        auto.check_after_first_step(work.auto)
 
 
 @inlined

@@ -180,7 +180,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     work = methods.workspaces(method, n)
     rate = events.spin_rate(y, f)
     h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
-    methods.start(method, model, params, 0.0, y, f, controls, work, stats)
+    methods.start(method, model, params, 0.0, y, f, h, controls, work, stats)
     n_crossings = 0
     t = 0.0
     steps = 0
