@@ -99,8 +99,8 @@ def workspace():
 
 
 @kernel
-def start(record):
-    """A run (or a phase of one) begins with DOP853, and checks ρ at its first step."""
+def reset(record):
+    """The record of a run (or a phase of one) that begins with DOP853, ρ not yet checked."""
     state = record[0]
     state.active = METHOD_DOP853
     state.calm_count = 0
@@ -113,12 +113,15 @@ def start(record):
 
 
 @kernel
-def check_after_first_step(record):
-    """After the check at a run's start: if DOP853 takes the first step, ρ is checked
-    again after it (the first step, from Hairer's heuristic, may be short of stiff)."""
-    state = record[0]
-    if state.active == METHOD_DOP853:
-        state.steps_since_check = CHECK_STEPS
+def start(record, model, params, t, y, f, h, controls, work, stats):
+    """A run (or a phase of one) begins (contract item 5): DOP853's start, then ρ checked
+    against the first step h [s], so that a stiff start starts with Radau; if DOP853 takes
+    that step, ρ is checked again after it (Hairer's first step may be short of stiff)."""
+    reset(record)
+    dop853.start(model, params, t, y, f, controls, work.dop853, stats)
+    after_step(record, model, params, t, y, f, h, controls, work, stats)
+    if record[0].active == METHOD_DOP853:
+        record[0].steps_since_check = CHECK_STEPS
 
 
 @inlined

@@ -24,7 +24,8 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    kept anywhere else, so runs on several threads share nothing.
 5. ``start(model, params, t, y, f, controls, work, stats)`` is called once, after the
    driver evaluated f = f(t, y) at the first state and before the first ``attempt``
-   (Radau evaluates its first Jacobian here).
+   (Radau evaluates its first Jacobian here). ``auto``'s, which starts the others, takes
+   its switching record, the first step size h and every method's workspaces.
 6. ``attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats)``
    takes one step from (t, y), f = f(t, y), trying the step size h first, and returns
    ``(status, h_taken, h_next)``. **The method owns the step size**: it rejects and
@@ -160,17 +161,14 @@ def active(method, work):
 
 @inlined
 def start(method, model, params, t, y, f, h, controls, work, stats):
-    """The method's ``start`` (contract item 5); ``auto`` also checks ρ against the
+    """The method's ``start`` (contract item 5); ``auto``'s also checks ρ against the
     first step h [s], so that a run or phase that starts stiff starts with Radau."""
     if method == METHOD_DOP853:
         dop853.start(model, params, t, y, f, controls, work.dop853, stats)
     elif method == METHOD_RADAU5:
         radau5.start(model, params, t, y, f, controls, work.radau5, stats)
     elif method == METHOD_AUTO:
-        auto.start(work.auto)
-        dop853.start(model, params, t, y, f, controls, work.dop853, stats)
-        auto.after_step(work.auto, model, params, t, y, f, h, controls, work, stats)
-        auto.check_after_first_step(work.auto)
+        auto.start(work.auto, model, params, t, y, f, h, controls, work, stats)
 
 
 @inlined
