@@ -31,8 +31,6 @@ import platform
 import sys
 import tempfile
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -55,21 +53,15 @@ def variant_name(contact: str, slip_method: str | None) -> str:
     return contact if slip_method is None else f"{contact}/{slip_method}"
 
 
-@contextmanager
-def slip_method_default(name: str | None) -> Iterator[None]:
-    """The sliding models' default method set to ``name`` for the block (None: as it
-    is): runs and sweeps built inside take it in slip and keep DOP853 in stick, as with
-    the shipped default (a method passed explicitly would name the stick phases' too)."""
-    saved = cs.SlidingModel.default_method
-    if name is not None:
-        cs.SlidingModel.default_method = name
-    try:
-        yield
-    finally:
-        cs.SlidingModel.default_method = saved
+def methods_of(contact: str, slip_method: str | None) -> dict[str, str]:
+    """``simulate``'s and ``Sweep``'s method arguments for a variant: the slip method if
+    one is named, with DOP853 in stick as by default (None: the model's defaults)."""
+    if slip_method is None:
+        return {}
+    return {"method": slip_method, **({"stick_method": "dop853"} if contact == "hybrid" else {})}
 
 
-def grid_sweep(n: int, t_end: float, contact: str) -> Sweep:
+def grid_sweep(n: int, t_end: float, contact: str, slip_method: str | None = None) -> Sweep:
     return Sweep(
         {
             "friction_coefficient": np.linspace(*FRICTION, n),
@@ -78,6 +70,7 @@ def grid_sweep(n: int, t_end: float, contact: str) -> Sweep:
         model="sliding",
         fixed={"contact_radius": CONTACT_RADIUS, "contact": contact},
         t_end=t_end,
+        **methods_of(contact, slip_method),
     )
 
 
@@ -86,8 +79,7 @@ def time_sweep(
 ) -> tuple[dict[str, Any], Any]:
     """One grid sweep with ``contact`` and ``slip_method`` (None: the model's default):
     its times and its results (an xarray Dataset)."""
-    with slip_method_default(slip_method):
-        sweep = grid_sweep(n, t_end, contact)
+    sweep = grid_sweep(n, t_end, contact, slip_method)
     with tempfile.TemporaryDirectory() as directory:
         warm = Sweep({"initial_spin": [-5.0]}, fixed={"contact": contact}, t_end=0.01)
         warm.run()  # load the compiled driver
@@ -163,8 +155,9 @@ def profile(
         for contact, slip_method in variants:
             model = models[contact](**settings)
             start = time.perf_counter()
-            with slip_method_default(slip_method):
-                run = cs.simulate(model, body, state, t_end, rtol=1e-8, atol=1e-12)
+            run = cs.simulate(
+                model, body, state, t_end, rtol=1e-8, atol=1e-12, **methods_of(contact, slip_method)
+            )
             elapsed = time.perf_counter() - start
             summary = run.summary()
             row = {

@@ -45,10 +45,33 @@ SAMPLES_PER_SECOND = 200  # default output density [1/s]
 STATUS_NAMES = {int(status): status.label for status in solvers.Status}
 
 
-def _method_name(model: Model, method: str | None) -> str:
+def method_names(
+    model: Model, method: str | None, stick_method: str | None = None
+) -> tuple[str, str | None]:
+    """The integrators of a run of ``model``: (its method, that of its stick phases).
+
+    ``method`` defaults to the model's ``default_method``. The stick phases of the
+    stick–slip contact take ``stick_method``, else ``method`` when one is given, else
+    DOP853 (they roll, which is not stiff); the other models have none (None), and
+    ``stick_method`` given for them is refused.
+    """
     name = model.default_method if method is None else method
     require_choice("method", name, solvers.METHODS)
-    return str(name)
+    if not isinstance(model, HybridModel):
+        if stick_method is not None:
+            raise ParameterError(
+                "stick_method",
+                stick_method,
+                "None: only the stick–slip contact (contact=hybrid) has stick phases",
+            )
+        return str(name), None
+    stick = stick_method if stick_method is not None else method
+    stick = STICK_METHOD if stick is None else stick
+    require_choice("stick_method", stick, solvers.METHODS)
+    return str(name), str(stick)
+
+
+STICK_METHOD = "dop853"  # the stick phases' default: rolling without sliding is not stiff
 
 
 def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> np.ndarray:
@@ -91,6 +114,7 @@ def simulate(
     t_end: float,
     *,
     method: str | None = None,
+    stick_method: str | None = None,
     rtol: float = DEFAULT_RTOL,
     atol: float = DEFAULT_ATOL,
     n_samples: int | None = None,
@@ -114,8 +138,11 @@ def simulate(
     method : str, optional
         Integrator name from ``solvers.METHODS``: "dop853" (explicit), "radau5"
         (stiff) or "auto" (each step with the cheaper of the two, switched on the
-        Jacobian's spectral radius; ``solvers._auto``). Default: dop853 for rolling and
-        stick phases, auto for sliding.
+        Jacobian's spectral radius; ``solvers._auto``). Default: dop853 for rolling,
+        auto for sliding and the slip phases of the stick–slip contact.
+    stick_method : str, optional
+        Integrator of the stick–slip contact's stick phases (``HybridModel`` only):
+        default ``method`` when it is given, else dop853.
     rtol, atol : float, optional
         Relative and absolute local error tolerances.
     n_samples : int, optional
@@ -141,7 +168,7 @@ def simulate(
     rtol = schema.check("rtol", rtol)
     atol = schema.check("atol", atol)
     max_steps = int(schema.check("max_steps", max_steps))
-    method_name = _method_name(model, method)
+    method_name, stick_method_name = method_names(model, method, stick_method)
     times = _sample_times(t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
     y0 = initial_vector(initial_state)
@@ -152,7 +179,7 @@ def simulate(
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
-        stick_method = method_name if method is not None else "dop853"
+        stick_method = str(stick_method_name)
         solution = hybrid.solve_phases(
             params,
             y0,

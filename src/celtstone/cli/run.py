@@ -108,6 +108,12 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
     )
+    parser.add_argument(
+        "--stick-method",
+        default=None,
+        help="the integrator of the stick–slip contact's stick phases (--contact hybrid): "
+        "dop853, radau5 or auto (default: --method if given, else dop853)",
+    )
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
     parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
     parser.add_argument("--samples", type=str, default=None, help=p["n_samples"].help())
@@ -191,6 +197,7 @@ def handle(args: argparse.Namespace) -> int:
             state,
             t_end,
             method=args.method,
+            stick_method=args.stick_method,
             rtol=rtol,
             atol=atol,
             n_samples=n_samples,

@@ -78,6 +78,12 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
     )
+    parser.add_argument(
+        "--stick-method",
+        default=None,
+        help="the integrator of the stick–slip contact's stick phases: dop853, radau5 or auto "
+        "(default: --method if given, else dop853)",
+    )
     parser.add_argument("--rtol", type=str, default=str(DEFAULT_RTOL), help=SCHEMA["rtol"].help())
     parser.add_argument("--atol", type=str, default=str(DEFAULT_ATOL), help=SCHEMA["atol"].help())
     parser.add_argument(
@@ -190,6 +196,7 @@ def _sweep(args: argparse.Namespace) -> tuple[Sweep, int]:
         model=args.model,
         fixed=fixed,
         method=args.method,
+        stick_method=args.stick_method,
         force=args.force,
         progress=_validation_progress(not args.no_progress),
         **settings,  # type: ignore[arg-type]

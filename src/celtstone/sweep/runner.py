@@ -24,7 +24,7 @@ import numpy as np
 from celtstone import schema, solvers
 from celtstone.bodies import STORED_SHAPES, Body, load_body
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.integrate import version
+from celtstone.integrate import STICK_METHOD, method_names, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
 from celtstone.models import MODELS, HybridModel
 from celtstone.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
@@ -158,8 +158,10 @@ class Sweep:
     t_end : float, optional
         Duration of each run [s].
     method : str, optional
-        Integrator (default: the model's, auto for sliding); with the hybrid contact
-        also of the stick phases, which otherwise use dop853 (as ``simulate``).
+        Integrator (default: the model's, auto for sliding).
+    stick_method : str, optional
+        Integrator of the stick–slip contact's stick phases: default ``method`` when
+        it is given, else dop853 (as ``simulate``).
     rtol, atol : float, optional
         Local error tolerances (default rtol 1e-8 for sweeps).
     samples_per_second : float, optional
@@ -188,6 +190,7 @@ class Sweep:
         fixed: Mapping[str, float | str] | None = None,
         t_end: float = 10.0,
         method: str | None = None,
+        stick_method: str | None = None,
         rtol: float = DEFAULT_RTOL,
         atol: float = DEFAULT_ATOL,
         samples_per_second: float = SAMPLES_PER_SECOND,
@@ -239,12 +242,11 @@ class Sweep:
         self.builder = PointBuilder(
             self.base_body, model, self.fixed, self._columns(), progress=progress, atol=self.atol
         )
-        self.method = method if method is not None else self.builder.model.default_method
-        if self.method not in solvers.METHODS:
-            raise ParameterError("method", self.method, "one of: " + ", ".join(solvers.METHODS))
-        # the stick–slip contact: stick phases use the method given, else dop853 (as simulate)
+        # as simulate's: the stick–slip contact's stick phases take stick_method, else
+        # the method given, else dop853
+        self.method, stick = method_names(self.builder.model, method, stick_method)
         self.is_hybrid = isinstance(self.builder.model, HybridModel)
-        self.stick_method = method if method is not None else "dop853"
+        self.stick_method = stick if stick is not None else STICK_METHOD
         count = max(2, round(self.t_end * self.samples_per_second) + 1)
         self.sample_times = np.linspace(0.0, self.t_end, count)
 
