@@ -6,7 +6,9 @@ Hairer & Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., sec. IV.
 linear system, solved by simplified Newton iterations that reuse the Jacobian and
 its LU factors while Newton converges well; the collocation polynomial gives the
 dense output and Newton's starting guess. Step-size control and Newton tolerances
-follow SciPy's ``Radau`` (its constants are kept in ``solvers/tableaux.json``).
+follow SciPy's ``Radau`` (its constants are kept in ``solvers/tableaux.json``), plus
+RADAU5's rule that a step accepted after a rejection is not followed by a larger one
+(docs/decisions.md §34).
 
 The module follows the method contract of ``solvers._methods``. What one step leaves
 for the next (Jacobian, LU factors, the last collocation polynomial, the controller's
@@ -455,6 +457,7 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         rate,
         norm,
         safety,
+        rejected,
         controls,
         work,
         stats,
@@ -475,12 +478,15 @@ def accept(
     rate,
     norm,
     safety,
+    rejected,
     controls,
     work,
     stats,
 ):
     """After an accepted step: f_new, the next step size, and whether the Jacobian is
     evaluated anew (slow Newton convergence) or the LU factors kept (a small change of h).
+    A step accepted after a rejection is not followed by a larger one (``rejected``; as
+    Hairer's RADAU5 and DOP853 do, and SciPy's Radau does not).
 
     Returns (h_next [s], rhs status, normal force [N] of the evaluation f_new).
     """
@@ -488,6 +494,8 @@ def accept(
     recompute_jacobian = iterations > 2 and rate > 1e-3
     factor = predict_factor(h_taken, memory.h_abs_old, norm, memory.error_norm_old)
     factor = min(MAX_FACTOR, safety * factor)
+    if rejected:
+        factor = min(1.0, factor)
     if not controls.adaptive:
         factor = 1.0
     elif not recompute_jacobian and factor < 1.2:
