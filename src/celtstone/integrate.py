@@ -62,7 +62,9 @@ def method_names(
             raise ParameterError(
                 "stick_method",
                 stick_method,
-                "None: only the stick–slip contact (contact=hybrid) has stick phases",
+                "none for this model",
+                "only the stick–slip contact has stick phases: --contact hybrid in run, "
+                "contact=hybrid in a sweep, HybridModel in Python",
             )
         return str(name), None
     stick = stick_method if stick_method is not None else method
