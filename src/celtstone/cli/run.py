@@ -16,6 +16,7 @@ from celtstone import (
     model_from_name,
     simulate,
 )
+from celtstone.cli._methods import add_method_args
 from celtstone.export import check_target, write
 from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
 from celtstone.schema import PARAMETERS, RENAMED, check, renamed
@@ -103,17 +104,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         help="contact of the sliding model: sliding (always slides, default) or hybrid "
         "(stick-slip: rolls without slip and pivoting while friction can hold it)",
     )
-    parser.add_argument(
-        "--method",
-        default=None,
-        help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
-    )
-    parser.add_argument(
-        "--stick-method",
-        default=None,
-        help="the integrator of the stick–slip contact's stick phases (--contact hybrid): "
-        "dop853, radau5 or auto (default: --method if given, else dop853)",
-    )
+    add_method_args(parser, " (--contact hybrid)")
     parser.add_argument("--rtol", type=str, default="1e-10", help=p["rtol"].help())
     parser.add_argument("--atol", type=str, default="1e-12", help=p["atol"].help())
     parser.add_argument("--samples", type=str, default=None, help=p["n_samples"].help())

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from celtstone import ParameterError
+from celtstone.cli._methods import add_method_args
 from celtstone.schema import PARAMETERS as SCHEMA
 from celtstone.sweep import (
     DEFAULT_ATOL,
@@ -73,17 +74,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--body", default="kane_levinson_1982", help="body name or .toml path")
     parser.add_argument("--model", default="sliding", help="sliding (default) or rolling")
     parser.add_argument("--t-end", type=str, default="10", help=SCHEMA["t_end"].help())
-    parser.add_argument(
-        "--method",
-        default=None,
-        help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
-    )
-    parser.add_argument(
-        "--stick-method",
-        default=None,
-        help="the integrator of the stick–slip contact's stick phases: dop853, radau5 or auto "
-        "(default: --method if given, else dop853)",
-    )
+    add_method_args(parser, "")
     parser.add_argument("--rtol", type=str, default=str(DEFAULT_RTOL), help=SCHEMA["rtol"].help())
     parser.add_argument("--atol", type=str, default=str(DEFAULT_ATOL), help=SCHEMA["atol"].help())
     parser.add_argument(
