@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from celtstone.kernels.layout import N_DYNAMIC, N_STATE
 from celtstone.solvers._linalg import block_factor, block_solve, lu_factor, lu_solve
 
 
@@ -61,3 +62,43 @@ def test_a_singular_diagonal_block_is_reported() -> None:
     matrix = np.eye(4)
     matrix[3, 3] = 0.0
     assert not block_factor(matrix.copy(), np.zeros(4, dtype=np.int64), 2)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
+def test_the_state_blocks_path_gives_the_general_paths_bits(dtype: type) -> None:
+    """The 16 × 16 matrix split at 9 (the Radau iteration matrix of the state) takes the
+    path with constant block bounds; it must compute exactly what the general LU of the
+    two blocks computes (pivots and factors bit for bit), and solve with them."""
+    rng = np.random.default_rng(7)
+    size, split = N_STATE, N_DYNAMIC
+    matrix = rng.normal(size=(size, size)).astype(dtype)
+    if dtype is np.complex128:
+        matrix += 1j * rng.normal(size=(size, size))
+    matrix[:split, split:] = 0.0
+    matrix[0, 0] = 0.0  # a row exchange in each block
+    matrix[split, split] = 0.0
+    fast, fast_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
+    assert block_factor(fast, fast_pivots, split)
+    general, general_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
+    assert lu_factor(general, general_pivots, 0, split)
+    assert lu_factor(general, general_pivots, split, size)
+    assert np.array_equal(fast_pivots, general_pivots)
+    assert np.array_equal(fast, general)
+    right = rng.normal(size=size).astype(dtype)
+    fast_solution = right.copy()
+    block_solve(fast, fast_pivots, fast_solution, split)
+    general_solution = right.copy()
+    lu_solve(general, general_pivots, general_solution, 0, split)
+    general_solution[split:] -= general[split:, :split] @ general_solution[:split]
+    lu_solve(general, general_pivots, general_solution, split, size)
+    assert np.allclose(fast_solution, np.linalg.solve(matrix, right), rtol=1e-12, atol=1e-12)
+    assert np.allclose(fast_solution, general_solution, rtol=1e-14, atol=1e-15)
+
+
+def test_a_complex_pivot_is_the_largest_by_its_one_norm() -> None:
+    """LAPACK's choice (izamax: |Re| + |Im|): 3 + 3j (6) is chosen over 5 (modulus 5 >
+    4.24, one-norm 5 < 6)."""
+    matrix = np.array([[5.0, 1.0], [3.0 + 3.0j, 2.0]], dtype=np.complex128)
+    pivots = np.zeros(2, dtype=np.int64)
+    assert lu_factor(matrix, pivots)
+    assert pivots[0] == 1

@@ -94,7 +94,7 @@ class Workspace(NamedTuple):
     stage_rates: np.ndarray  # (3, n) f at the stages
     real_rhs: np.ndarray  # (n,)
     complex_rhs: np.ndarray  # (n,) complex
-    scale: np.ndarray  # (n,) atol + |y| rtol
+    weights: np.ndarray  # (n,) 1 / (atol + |y| rtol), Newton's error weights
     scratch: np.ndarray  # (n,)
     column: np.ndarray  # (n,)
     point: np.ndarray  # (n,)
@@ -177,10 +177,10 @@ def jacobian(model, params, t, y, f, out, scratch, column):
     for j in range(N_READ):
         step = SQRT_EPS * max(abs(y[j]), 1e-5)
         scratch[j] = y[j] + step
-        step = scratch[j] - y[j]
+        inverse_step = 1.0 / (scratch[j] - y[j])
         rhs(model, t, scratch, params, column)
         for i in range(n):
-            out[i, j] = (column[i] - f[i]) / step
+            out[i, j] = (column[i] - f[i]) * inverse_step
         scratch[j] = y[j]
     for j in range(N_DYNAMIC, N_READ):
         for i in range(N_DYNAMIC):
@@ -215,7 +215,7 @@ def solve_collocation(
     y,
     h,
     stages,
-    scale,
+    weights,
     tolerance,
     lu_real,
     pivots_real,
@@ -269,9 +269,9 @@ def solve_collocation(
         block_solve(lu_complex, pivots_complex, complex_rhs, split)
         total = 0.0
         for j in range(n):
-            total += (real_rhs[j] / scale[j]) ** 2
-            total += (complex_rhs[j].real / scale[j]) ** 2
-            total += (complex_rhs[j].imag / scale[j]) ** 2
+            total += (real_rhs[j] * weights[j]) ** 2
+            total += (complex_rhs[j].real * weights[j]) ** 2
+            total += (complex_rhs[j].imag * weights[j]) ** 2
         norm = math.sqrt(total / (3 * n))
         if norm_old >= 0.0:
             rate = norm / norm_old
@@ -317,7 +317,7 @@ def newton(model, params, t, y, f, h, controls, work, stats):
     memory = work.memory[0]
     predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
     for j in range(y.shape[0]):
-        work.scale[j] = controls.atol + abs(y[j]) * controls.rtol
+        work.weights[j] = 1.0 / (controls.atol + abs(y[j]) * controls.rtol)
     converged = False
     iterations = 0
     rate = -1.0
@@ -344,7 +344,7 @@ def newton(model, params, t, y, f, h, controls, work, stats):
             y,
             h,
             work.collocation,
-            work.scale,
+            work.weights,
             memory.newton_tolerance,
             work.lu_real,
             work.pivots_real,
