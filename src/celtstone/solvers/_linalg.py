@@ -92,10 +92,14 @@ def block_factor(matrix, pivots, split):
     in place: the LU of A and of B, C left as it is; the block [0:split, split:] is never
     read. Return False if A or B is singular."""
     size = matrix.shape[0]
-    if split == N_DYNAMIC and size == N_STATE:  # the state's blocks, bounds constant
-        if not lu_factor(matrix, pivots, 0, N_DYNAMIC):
-            return False
-        return lu_factor(matrix, pivots, N_DYNAMIC, N_STATE)
+    if split == N_DYNAMIC and size == N_STATE:  # the state's blocks: constant bounds
+        return _factor_blocks(matrix, pivots, N_DYNAMIC, N_STATE)
+    return _factor_blocks(matrix, pivots, split, size)
+
+
+@inlined_kernel
+def _factor_blocks(matrix, pivots, split, size):
+    """:func:`block_factor` of the leading ``size`` rows and columns."""
     if split > 0 and not lu_factor(matrix, pivots, 0, split):
         return False
     return lu_factor(matrix, pivots, split, size)
@@ -106,22 +110,20 @@ def block_solve(factored, pivots, rhs, split):
     """Solve [[A, 0], [C, B]] x = rhs in place with the factors of :func:`block_factor`:
     x1 = A⁻¹ b1, then x2 = B⁻¹ (b2 − C x1)."""
     size = factored.shape[0]
-    if split == N_DYNAMIC and size == N_STATE:  # the state's blocks, bounds constant
-        lu_solve(factored, pivots, rhs, 0, N_DYNAMIC)
-        _subtract_coupling(factored, rhs, N_DYNAMIC, N_STATE)
-        lu_solve(factored, pivots, rhs, N_DYNAMIC, N_STATE)
-        return
-    if split > 0:
-        lu_solve(factored, pivots, rhs, 0, split)
-        _subtract_coupling(factored, rhs, split, size)
-    lu_solve(factored, pivots, rhs, split, size)
+    if split == N_DYNAMIC and size == N_STATE:  # the state's blocks: constant bounds
+        _solve_blocks(factored, pivots, rhs, N_DYNAMIC, N_STATE)
+    else:
+        _solve_blocks(factored, pivots, rhs, split, size)
 
 
 @inlined_kernel
-def _subtract_coupling(factored, rhs, split, size):
-    """b2 − C x1 into ``rhs[split:size]``, x1 = ``rhs[:split]``."""
-    for i in range(split, size):
-        total = rhs[i]
-        for j in range(split):
-            total -= factored[i, j] * rhs[j]
-        rhs[i] = total
+def _solve_blocks(factored, pivots, rhs, split, size):
+    """:func:`block_solve` of the leading ``size`` rows and columns."""
+    if split > 0:
+        lu_solve(factored, pivots, rhs, 0, split)
+        for i in range(split, size):  # b2 − C x1
+            total = rhs[i]
+            for j in range(split):
+                total -= factored[i, j] * rhs[j]
+            rhs[i] = total
+    lu_solve(factored, pivots, rhs, split, size)
