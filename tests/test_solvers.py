@@ -223,7 +223,9 @@ def test_radau_does_not_grow_the_step_right_after_a_rejection() -> None:
     together (Coulomb–Contensou stops both in finite time, and Newton fails past that
     time): the controller grew each step again and had it rejected again. The slip phase
     after the first stick phase of a stick–slip chatter point (f = 0.5, spin −5.71 rad/s)
-    took 24 steps and 44 rejections without the rule, 29 with it (2026-11-26)."""
+    took 24 steps and 44 rejections without the rule, 29 with it (2026-11-26); with
+    Radau's Jacobian threshold at 0.03 (decisions §37) 22 steps and 52 rejections
+    without the rule, 33 with it."""
     body = cs.load_body("kane_levinson_1982")
     unit = cs.InitialState((0.0, 0.0, 1.0), (0.5, 0.5))
     state = cs.InitialState((0.0, 0.0, -5.714285714285714 / unit.vertical[2]), (0.5, 0.5))
@@ -243,7 +245,7 @@ def test_radau_does_not_grow_the_step_right_after_a_rejection() -> None:
     assert held.status == solvers.STATUS_PHASE_CHANGE
     slip = solvers.solve(sliding, "radau5", params, held.final_state, 10.0, **options)
     assert slip.status == solvers.STATUS_PHASE_CHANGE  # slip and spin died again
-    assert slip.n_rejected <= 1.4 * slip.n_accepted
+    assert slip.n_rejected <= 1.8 * slip.n_accepted
 
 
 # --------------------------------------------------------------------------- events
