@@ -46,6 +46,8 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.models import RollingModel as RollingModel
     from celtstone.models import SlidingModel as SlidingModel
     from celtstone.models import model_from_name as model_from_name
+    from celtstone.precompile import CompileReport as CompileReport
+    from celtstone.precompile import compile_solvers as compile_solvers
     from celtstone.reversals import reversal_times as reversal_times
     from celtstone.sweep import Sweep as Sweep
     from celtstone.sweep import open_sweep as open_sweep
@@ -56,6 +58,7 @@ __all__ = [
     "Body",
     "CeltstoneError",
     "CeltstoneWarning",
+    "CompileReport",
     "Ellipsoid",
     "FitResult",
     "FrictionBoundWarning",
@@ -77,6 +80,7 @@ __all__ = [
     "Superellipsoid",
     "Sweep",
     "Trajectory",
+    "compile_solvers",
     "fit",
     "list_bodies",
     "load_body",
@@ -119,6 +123,8 @@ _LAZY = {
     "Trajectory": "celtstone.trajectory",
     "Sweep": "celtstone.sweep",
     "open_sweep": "celtstone.sweep",
+    "CompileReport": "celtstone.precompile",
+    "compile_solvers": "celtstone.precompile",
 }
 
 __getattr__, __dir__ = lazy_attributes(__name__, _LAZY, __all__)

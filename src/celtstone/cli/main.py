@@ -54,6 +54,10 @@ SUBCOMMANDS = {
             "friction", "force F/(f N) and pivoting moment M/(f N eps) of a friction law against u"
         ),
         Command("fit", "fit friction, contact size, damping or initial state to a measured record"),
+        Command(
+            "compile",
+            "compile the solvers into numba's cache now (about 3 minutes, once per install)",
+        ),
     )
 }
 
