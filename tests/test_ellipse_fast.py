@@ -11,11 +11,13 @@ disk's own Padé error and the table's interpolation error.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import special
 
+from celtstone.contact import ellipse_table
 from celtstone.contact.ellipse import elliptic_friction, elliptic_friction_functions
 from celtstone.contact.ellipse_table import (
     TABLE_FILE,
@@ -297,3 +299,35 @@ def test_equal_axes_give_the_exact_disk_law_and_unknown_laws_nan() -> None:
     assert force == disk_force and moment == disk_moment
     force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 5e-4, 1e-9, 7)
     assert math.isnan(moment) and all(math.isnan(f) for f in force)
+
+
+@pytest.mark.parametrize("failure", [OSError(28, "No space left on device"), KeyboardInterrupt()])
+def test_a_failed_table_write_leaves_the_old_table_and_no_temporary(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, failure: BaseException
+) -> None:
+    """Whole or not at all: a full disk or a Ctrl-C during the write keeps the table that
+    was there and removes the temporary."""
+    target = tmp_path / "table.npz"
+    target.write_bytes(b"the previous table")
+    monkeypatch.setattr(ellipse_table, "generate_table", lambda: {"ratios": np.zeros(3)})
+
+    def fail(*args: object, **kwargs: object) -> None:
+        raise failure
+
+    monkeypatch.setattr(ellipse_table.np, "savez", fail)
+    with pytest.raises(type(failure)):
+        ellipse_table.write_table(target)
+    assert target.read_bytes() == b"the previous table"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["table.npz"]
+
+
+def test_a_table_write_replaces_the_table_whole(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    target = tmp_path / "table.npz"
+    target.write_bytes(b"the previous table")
+    monkeypatch.setattr(ellipse_table, "generate_table", lambda: {"ratios": np.arange(3.0)})
+    ellipse_table.write_table(target)
+    with np.load(target) as written:
+        np.testing.assert_array_equal(written["ratios"], np.arange(3.0))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["table.npz"]

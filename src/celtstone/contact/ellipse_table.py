@@ -204,12 +204,20 @@ def generate_table(
 
 
 def write_table(path: Path = TABLE_FILE, **options: int) -> dict[str, np.ndarray]:
-    """Generate the table and write it to ``path`` (a temporary name, then moved)."""
+    """Generate the table and write it to ``path`` whole or not at all: a temporary name
+    beside it, moved into place once written, removed if anything fails (a full disk, a
+    Ctrl-C)."""
     table = generate_table(**options)
-    with tempfile.NamedTemporaryFile(dir=path.parent, suffix=".npz", delete=False) as handle:
-        np.savez(handle, **table)  # type: ignore[arg-type]
-    os.chmod(handle.name, 0o644)
-    Path(handle.name).replace(path)
+    handle = tempfile.NamedTemporaryFile(dir=path.parent, suffix=".npz", delete=False)
+    temporary = Path(handle.name)
+    try:
+        with handle:
+            np.savez(handle, **table)  # type: ignore[arg-type]
+        os.chmod(temporary, 0o644)
+        temporary.replace(path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
     return table
 
 
