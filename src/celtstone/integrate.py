@@ -181,13 +181,13 @@ def simulate(
     phase_data: dict[str, np.ndarray] = {}
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
-        stick_method = str(stick_method_name)
+        stick_name = str(stick_method_name)  # a stick–slip run always has one
         solution = hybrid.solve_phases(
             params,
             y0,
             t_end,
             slip_method=method_name,
-            stick_method=stick_method,
+            stick_method=stick_name,
             rtol=rtol,
             atol=atol,
             capture_speed=capture_speed,
@@ -196,7 +196,7 @@ def simulate(
             max_steps=max_steps,
             progress=progress,
         )
-        attrs.update(capture_speed=capture_speed, stick_method=stick_method)
+        attrs.update(capture_speed=capture_speed, stick_method=stick_name)
         attrs["rejected_captures"] = solution.rejected_captures
         phase_data = {
             "phase": solution.sample_phase,
