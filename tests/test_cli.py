@@ -412,3 +412,38 @@ def test_text_output_when_a_summary_value_is_null(monkeypatch: pytest.MonkeyPatc
     result = Result(["run", "--omega", "0,0,-5", "--euler-angles", "0,0", "--t-end", "1"])
     assert result.status == 0, result.err
     assert "min normal force unknown" in result.out
+
+
+ABANDONED_WRITE = """
+import gc, sys
+from celtstone.cli import bodies, main as cli
+
+async def write_block():  # as zarr's writes: a coroutine run by a sync wrapper
+    pass
+
+abandoned = []
+
+def interrupted(args):
+    abandoned.append(write_block())  # created as Ctrl-C arrived, never awaited
+    print("celtstone: interrupted: run the same command with --resume", file=sys.stderr)
+    return cli.EXIT_INTERRUPTED
+
+bodies.handle = interrupted
+status = cli.main(["bodies"])
+abandoned.clear()
+gc.collect()  # the coroutine is collected, as at exit
+sys.exit(status)
+"""
+
+
+def test_an_interrupt_says_one_line_even_with_a_write_left_unawaited() -> None:
+    """The stopped sweep's message stays the only line when a store write's coroutine
+    created as the signal arrived is collected afterwards (Python would warn that it
+    was never awaited)."""
+    completed = subprocess.run(
+        [sys.executable, "-c", ABANDONED_WRITE], capture_output=True, text=True, timeout=120
+    )
+    assert completed.returncode == 130
+    assert completed.stderr.splitlines() == [
+        "celtstone: interrupted: run the same command with --resume"
+    ]

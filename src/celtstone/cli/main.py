@@ -198,6 +198,16 @@ def _one_line_warnings() -> Iterator[None]:
         yield
 
 
+def _quiet_abandoned_writes() -> None:
+    """After an interrupt, for the rest of the process: no warning for a coroutine that
+    was never awaited. Zarr writes through coroutines; one created just as Ctrl-C or
+    SIGTERM arrived is collected at exit and would add two lines of Python's warning
+    after the one-line message (the store's completed blocks are unaffected)."""
+    warnings.filterwarnings(
+        "ignore", message="coroutine .* was never awaited", category=RuntimeWarning
+    )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
     arguments = sys.argv[1:] if argv is None else list(argv)
@@ -212,6 +222,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with _one_line_warnings(), _sigterm_unwinds() as termination:
             status = int(args.handler(args))
+        if status == EXIT_INTERRUPTED:
+            _quiet_abandoned_writes()
         # a handler that caught the interrupt itself (sweep: its resume message) says 130
         if termination.received and status == EXIT_INTERRUPTED:
             return EXIT_TERMINATED
@@ -223,6 +235,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"celtstone: error: cannot write output: {error}", file=sys.stderr)
         return 1
     except KeyboardInterrupt as stop:
+        _quiet_abandoned_writes()
         if isinstance(stop, Terminated):
             print("celtstone: terminated; no partial output was written", file=sys.stderr)
             return EXIT_TERMINATED
