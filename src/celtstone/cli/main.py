@@ -222,11 +222,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with _one_line_warnings(), _sigterm_unwinds() as termination:
             status = int(args.handler(args))
+        # a handler that caught the interrupt itself (sweep: its resume message) says 130
         if status == EXIT_INTERRUPTED:
             _quiet_abandoned_writes()
-        # a handler that caught the interrupt itself (sweep: its resume message) says 130
-        if termination.received and status == EXIT_INTERRUPTED:
-            return EXIT_TERMINATED
+            if termination.received:
+                return EXIT_TERMINATED
         return status
     except CeltstoneError as error:
         print(f"celtstone: error: {error}", file=sys.stderr)
