@@ -37,7 +37,7 @@ test: $(STAMP)
 	$(MAKE) --no-print-directory -j2 lint compile
 	$(BIN)/python -m pytest -n 2 -m "not slow" tests
 
-# compile the solvers into numba's cache (`celtstone compile`; a second each once cached)
+# compile the solvers into numba's cache (`celtstone compile`; 2–3 s once cached)
 compile: $(STAMP)
 	$(BIN)/celtstone compile
 

@@ -3,7 +3,7 @@
 The compiled drivers (one run's integration loop, the stick–slip phase loop, the
 sweep's batch) are compiled the first time they are called and then cached on disk
 (``NUMBA_CACHE_DIR``, else ``__pycache__`` beside the sources): about 3 minutes of one
-core after an install or an upgrade, about a second to load afterwards. Numba compiles
+core after an install or an upgrade, 2–3 s to load afterwards. Numba compiles
 per process, so parallel jobs started on a cold cache each compile the same drivers at
 once; :func:`compile_solvers` pays the cost once, up front (``celtstone compile``;
 ``make test`` runs it on one core while the linters use the other).
