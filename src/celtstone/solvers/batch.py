@@ -26,10 +26,21 @@ from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
 from celtstone.kernels.reversal import count_reversals, rocking_average
 from celtstone.kernels.system import energy, spin_and_normal_force
 from celtstone.solvers._events import event_table
-from celtstone.solvers._structures import Controls, HybridSettings, new_output, new_phase_log
+from celtstone.solvers._linking import NO_LINK, address_call, link_to
+from celtstone.solvers._structures import (
+    Controls,
+    HybridSettings,
+    Output,
+    PhaseLog,
+    new_output,
+    new_phase_log,
+)
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
 from celtstone.solvers.driver import integrate
-from celtstone.solvers.phases import DEFAULT_MAX_PHASES, run_phases
+from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_link, run_phases
+
+call_integrate = address_call(integrate)  # neither loop linked in: see ``solvers._linking``
+call_run_phases = address_call(run_phases)
 
 __all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "run_batch"]
 
@@ -167,10 +178,13 @@ class Points(NamedTuple):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _batch(model, methods, points, t_end, controls, output, log, results):
+def _batch(model, methods, points, t_end, controls, output, log, links, results):
     """Run and reduce every point into its row of ``results``. ``methods`` is (the method,
     the method of stick phases); a point with a capture speed runs the hybrid contact
-    (``phases.run_phases``), as ``simulate`` with ``HybridModel``."""
+    (``phases.run_phases``), as ``simulate`` with ``HybridModel``. ``links`` are those of
+    ``driver.integrate`` and ``phases.run_phases`` (``_linking``; the second ``NO_LINK``
+    without hybrid points)."""
+    integrate_link, phases_link = links
     spins = np.zeros(output.sample_times.shape[0])
     averaged = np.zeros(output.sample_times.shape[0])
     first_time = np.zeros(1)
@@ -182,10 +196,12 @@ def _batch(model, methods, points, t_end, controls, output, log, results):
         output.stats[:] = 0
         if points.capture_speeds[i] > 0.0:
             contact = HybridSettings(methods[0], methods[1], points.capture_speeds[i])
-            end, _, _ = run_phases(p, y0, t_end, contact, controls, output, log)
+            arguments = (p, y0, t_end, contact, controls, output, log, integrate_link)
+            end, _, _ = call_run_phases(phases_link, arguments)
             times = log.sample_times
         else:
-            end = integrate(model, methods[0], p, y0, t_end, controls, table, output)
+            arguments = (model, methods[0], p, y0, t_end, controls, table, output)
+            end = call_integrate(integrate_link, arguments)
             times = output.sample_times
         reversal = (points.reversal_bands[i], points.reversal_windows[i], averaged, first_time)
         _reduce(
@@ -252,7 +268,7 @@ def run_batch(
         shape (k, len(FIELDS)), float64, columns in the order of ``FIELDS``; the hybrid
         contact reduces exactly as ``simulate`` with ``HybridModel`` does
     """
-    y0 = np.ascontiguousarray(y0, dtype=np.float64)
+    y0 = np.array(y0, dtype=np.float64, order="C")  # writable: one overload of each loop
     n_points = len(params)
     output = new_output(sample_times, N_STATE, max_crossings)
     log = new_phase_log(output.sample_times.shape[0], max_phases)
@@ -267,5 +283,22 @@ def run_batch(
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])
     results = np.empty((n_points, N_FIELDS))
-    _batch(int(model), methods, points, float(t_end), controls, output, log, results)
+    links = _links(points, float(t_end), controls, output, log)
+    _batch(int(model), methods, points, float(t_end), controls, output, log, links, results)
     return results
+
+
+def _links(
+    points: Points, t_end: float, controls: Controls, output: Output, log: PhaseLog
+) -> tuple[tuple[int, int], tuple[int, int]]:
+    """``_batch``'s links: ``driver.integrate``, and ``phases.run_phases`` if a point runs
+    the hybrid contact (else ``NO_LINK``, so that a batch without one does not compile it)."""
+    if points.params.shape[0] == 0:
+        return NO_LINK, NO_LINK
+    params, y0 = points.params[0], points.initial_states[0]
+    to_integrate = integrate_link(params, controls, output)
+    if not np.any(points.capture_speeds > 0.0):
+        return to_integrate, NO_LINK
+    hybrid = HybridSettings(0, 0, 1.0)
+    arguments = (params, y0, t_end, hybrid, controls, output, log, to_integrate)
+    return to_integrate, link_to(run_phases, arguments)

@@ -29,6 +29,7 @@ from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, Y_WORK
 from celtstone.kernels.stick import capture_state, slip_spin_speed
 from celtstone.kernels.system import energy, phase_value
 from celtstone.solvers._events import event_table
+from celtstone.solvers._linking import address_call, link_to
 from celtstone.solvers._structures import Controls, Output, RunEnd
 from celtstone.solvers.codes import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
 from celtstone.solvers.codes import (
@@ -43,6 +44,17 @@ from celtstone.solvers.driver import integrate
 
 SLIP = 0
 STICK = 1
+
+call_integrate = address_call(integrate)  # not linked in: see ``solvers._linking``
+
+
+def integrate_link(params: np.ndarray, controls: Controls, output: Output) -> tuple[int, int]:
+    """The link to ``driver.integrate`` for the arguments ``run_phase`` passes it, from
+    a run's parameter record, controls and output (Python side; compiles or loads it)."""
+    state = np.zeros(output.final_state.shape[0])
+    table = event_table(MODEL_SLIDING, 1.0)
+    arguments = (MODEL_SLIDING, 0, params, state, 0.0, controls, table, output)
+    return link_to(integrate, arguments)
 
 
 @kernel
@@ -73,12 +85,24 @@ def first_phase(params, y, capture_speed, captured):
 
 @kernel
 def run_phase(
-    params, y, t0, t_end, kind, hybrid, controls, steps_left, output, first_sample, first_crossing
+    params,
+    y,
+    t0,
+    t_end,
+    kind,
+    hybrid,
+    controls,
+    steps_left,
+    output,
+    first_sample,
+    first_crossing,
+    integrate_link,
 ):
     """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
-    at most ``steps_left`` steps; its samples go to ``output`` from ``first_sample``, its
-    crossings from ``first_crossing`` (to a spare buffer once ``output.crossings`` is
-    full). Returns (``RunEnd``, its shifted sample times, its crossing buffer)."""
+    at most ``steps_left`` steps, with ``driver.integrate`` at ``integrate_link``; its
+    samples go to ``output`` from ``first_sample``, its crossings from ``first_crossing``
+    (to a spare buffer once ``output.crossings`` is full). Returns (``RunEnd``, its
+    shifted sample times, its crossing buffer)."""
     model = MODEL_STICK if kind == STICK else MODEL_SLIDING
     method = hybrid.stick_method if kind == STICK else hybrid.slip_method
     times = output.sample_times[first_sample:] - t0
@@ -97,12 +121,13 @@ def run_phase(
         controls.adaptive,
     )
     table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
-    end = integrate(model, method, params, y, t_end - t0, phase_controls, table, phase_output)
+    arguments = (model, method, params, y, t_end - t0, phase_controls, table, phase_output)
+    end = call_integrate(integrate_link, arguments)
     return end, times, crossings
 
 
 @kernel
-def run_phases(params, y0, t_end, hybrid, controls, output, log):
+def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_link):
     """Integrate the hybrid contact over [0, t_end] [s]; see the module docstring.
 
     Parameters
@@ -114,6 +139,8 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log):
     controls : ``_structures.Controls``; ``max_steps`` bounds the steps of all phases
     output : ``_structures.Output`` over the whole run, filled
     log : ``_structures.PhaseLog``, filled
+    integrate_link : ``_linking.link_to(driver.integrate, ...)`` for a run's arguments
+        (``integrate_arguments``)
 
     Returns
     -------
@@ -143,7 +170,18 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log):
             status = STATUS_MAX_PHASES
             break
         end, times, crossings = run_phase(
-            params, y, t0, t_end, kind, hybrid, controls, steps_left, output, n_samples, n_stored
+            params,
+            y,
+            t0,
+            t_end,
+            kind,
+            hybrid,
+            controls,
+            steps_left,
+            output,
+            n_samples,
+            n_stored,
+            integrate_link,
         )
         for i in range(end.n_samples):
             log.sample_times[n_samples + i] = times[i] + t0

@@ -1,0 +1,103 @@
+"""Calls from one compiled driver to another through the callee's address (decisions §39).
+
+When a numba function calls another, numba links the callee's code into the caller and
+optimises and generates machine code for the whole again. The run loop
+``driver.integrate`` is large (about 2.5 MB of machine code), and the stick–slip loop
+``phases.run_phases`` and the sweep's ``batch._batch`` each held a copy of it: their
+first compile was almost all LLVM redoing that work (58 s of 59 s for ``run_phases``).
+
+``address_call(dispatcher)`` returns ``call(link, arguments)``, compiled code that calls
+the dispatcher's overload for the types of the tuple ``arguments`` at the address in
+``link``, as numba's own call would but without linking its code. ``link`` is the pair
+(address, signature key) that :func:`link_to` makes in Python for the same arguments;
+the caller passes it down as data. The key is checked before the call: a link to
+another overload (a stale cache after a change of the callee's types) raises
+``RuntimeError`` instead of calling code that reads its arguments differently.
+
+With ``NUMBA_DISABLE_JIT=1`` ``call`` calls the Python function and links are (0, 0).
+"""
+
+from __future__ import annotations
+
+import zlib
+from collections.abc import Callable, Iterable
+from typing import Any, cast
+
+from numba import types
+from numba.core import cgutils, config
+from numba.core.typing.typeof import Purpose, typeof
+from numba.extending import intrinsic
+
+NO_LINK = (0, 0)  # for a callee that a call never reaches
+_PYTHON = bool(getattr(config, "DISABLE_JIT", 0))  # NUMBA_DISABLE_JIT=1: no compiled code
+
+
+def _signature_key(argument_types: tuple[Any, ...], return_type: Any) -> int:
+    """A 31-bit checksum of the overload's argument and return types, the same in
+    every process (numba's type names are stable)."""
+    text = f"{argument_types!r}->{return_type!r}"
+    return max(zlib.crc32(text.encode()) & 0x7FFFFFFF, 1)  # never NO_LINK's 0
+
+
+def _overload(dispatcher: Any, argument_types: tuple[Any, ...]) -> Any:
+    """The dispatcher's compile result for these argument types, loaded from numba's
+    cache or compiled now."""
+    dispatcher.compile(argument_types)
+    return dispatcher.overloads[argument_types]
+
+
+def link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int]:
+    """(address, signature key) of ``dispatcher`` compiled for the types of
+    ``arguments`` (Python values, as a call from Python would pass them)."""
+    if _PYTHON:
+        return NO_LINK
+    argument_types = tuple(typeof(value, Purpose.argument) for value in arguments)
+    overload = _overload(dispatcher, argument_types)
+    address = overload.library.get_pointer_to_function(overload.fndesc.llvm_func_name)
+    if not address:
+        raise RuntimeError(f"no compiled code for {dispatcher.py_func.__qualname__}")
+    return address, _signature_key(argument_types, overload.signature.return_type)
+
+
+def address_call(dispatcher: Any) -> Callable[..., Any]:
+    """``call(link, arguments)``: ``dispatcher(*arguments)`` at ``link``'s address."""
+    if _PYTHON:
+
+        def call_python(link: tuple[int, int], arguments: tuple[Any, ...]) -> Any:
+            return dispatcher(*arguments)
+
+        return call_python
+
+    name = dispatcher.py_func.__qualname__
+
+    @intrinsic
+    def call(typingctx: Any, link: Any, arguments: Any) -> Any:
+        if not isinstance(arguments, types.BaseTuple):
+            return None
+        argument_types = tuple(cast(Iterable[Any], arguments))  # its member types
+        overload = _overload(dispatcher, argument_types)
+        return_type = overload.signature.return_type
+        key = _signature_key(argument_types, return_type)
+
+        def codegen(context: Any, builder: Any, signature: Any, values: Any) -> Any:
+            link_value, arguments_value = values
+            address = builder.extract_value(link_value, 0)
+            link_key = builder.extract_value(link_value, 1)
+            wrong = builder.icmp_signed("!=", link_key, link_key.type(key))
+            with cgutils.if_unlikely(builder, wrong):
+                context.call_conv.return_user_exc(
+                    builder, RuntimeError, (f"{name}: a link to another compiled version",)
+                )
+            function_type = context.call_conv.get_function_type(return_type, argument_types)
+            function = builder.inttoptr(address, function_type.as_pointer())
+            argument_values = cgutils.unpack_tuple(builder, arguments_value, len(argument_types))
+            status, result = context.call_conv.call_function(
+                builder, function, return_type, argument_types, argument_values
+            )
+            with cgutils.if_unlikely(builder, status.is_error):
+                context.call_conv.return_status_propagate(builder, status)
+            return result
+
+        return return_type(link, arguments), codegen
+
+    return call

@@ -1,0 +1,96 @@
+"""The compiled drivers call one another at an address (``solvers._linking``): none holds
+a copy of another's machine code, and a link to the wrong compiled version is an error,
+never a call."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+
+import celtstone as cs
+from celtstone import models, solvers
+from celtstone.kernels import layout
+from celtstone.solvers import _linking, batch, driver, phases
+from celtstone.solvers import _structures as structures
+from celtstone.sweep import Sweep
+
+KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
+
+
+def _defined_functions(dispatcher: Any) -> set[str]:
+    """Names of the functions each compiled version defines (numba's module for linking,
+    from its cache or compiled now)."""
+    names: set[str] = set()
+    for overload in dispatcher.overloads.values():
+        module = overload.library._get_module_for_linking()
+        names |= {function.name for function in module.functions if not function.is_declaration}
+    return names
+
+
+def test_the_stick_slip_and_sweep_loops_hold_no_copy_of_the_run_loop() -> None:
+    """Linked in, the run loop's code was in each of them (2.4–3.1 MB of machine code)."""
+    cs.compile_solvers()
+    run_loop = "6driver9integrate"  # in numba's mangled names of driver.integrate
+    assert any(run_loop in name for name in _defined_functions(driver.integrate))
+    for caller in (phases.run_phases, batch._batch):
+        defined = _defined_functions(caller)
+        assert defined and not any(run_loop in name for name in defined), caller
+    assert not any("6phases10run_phases" in name for name in _defined_functions(batch._batch))
+
+
+def _off_by_one(link: tuple[int, int]) -> tuple[int, int]:
+    return link[0], link[1] + 1
+
+
+def _none(link: tuple[int, int]) -> tuple[int, int]:
+    return _linking.NO_LINK
+
+
+@pytest.mark.parametrize("spoil", [_off_by_one, _none], ids=["another-version", "no-link"])
+def test_a_stick_slip_run_with_a_wrong_link_raises(
+    monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
+) -> None:
+    real = phases.integrate_link
+    monkeypatch.setattr(solvers, "integrate_link", lambda *args: spoil(real(*args)))
+    body = cs.load_body("kane_levinson_1982")
+    with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
+        cs.simulate(cs.HybridModel(), body, KL_START, 0.01)
+
+
+@pytest.mark.parametrize("hybrid", [True, False], ids=["hybrid", "sliding"])
+def test_a_sweep_with_a_wrong_link_raises(monkeypatch: pytest.MonkeyPatch, hybrid: bool) -> None:
+    real = batch._links
+
+    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
+        to_integrate, to_phases = real(*args)
+        if hybrid:
+            return to_integrate, _off_by_one(to_phases)
+        return _off_by_one(to_integrate), to_phases
+
+    monkeypatch.setattr(batch, "_links", spoiled)
+    fixed = {} if hybrid else {"contact": "sliding"}
+    sweep = Sweep({"initial_spin": [-5.0]}, fixed=fixed, t_end=0.01)
+    assert sweep.is_hybrid is hybrid
+    name = "run_phases" if hybrid else "integrate"
+    with pytest.raises(RuntimeError, match=f"{name}: a link to another compiled version"):
+        sweep.run()
+
+
+def test_a_batch_without_hybrid_points_links_no_phase_loop() -> None:
+    """``_links`` leaves the phase loop unlinked (and so uncompiled) when no point needs
+    it, and links it when one does."""
+    body = cs.load_body("kane_levinson_1982")
+    params = np.array([models.kernel_parameters(cs.SlidingModel(), body)])
+    state = models.initial_vector(KL_START)[np.newaxis, :]
+    output = structures.new_output(np.linspace(0.0, 0.01, 3), layout.N_STATE, 10)
+    log = structures.new_phase_log(3, 10)
+    controls = structures.Controls(1e-8, 1e-12, 0.0, 0.0, 1000, True)
+    for speed, linked in ((0.0, False), (1e-3, True)):
+        speeds = np.full(1, speed)
+        points = batch.Points(params, state, np.zeros(1), np.zeros(1), speeds)
+        to_integrate, to_phases = batch._links(points, 0.01, controls, output, log)
+        assert to_integrate != _linking.NO_LINK
+        assert (to_phases != _linking.NO_LINK) is linked
