@@ -29,6 +29,7 @@ from numba.core.typing.typeof import Purpose, typeof
 from numba.extending import intrinsic
 
 NO_LINK = (0, 0)  # for a callee that a call never reaches
+LINK_TYPE = types.UniTuple(types.int64, 2)  # (address, signature key) in compiled code
 _PYTHON = bool(getattr(config, "DISABLE_JIT", 0))  # NUMBA_DISABLE_JIT=1: no compiled code
 
 
@@ -72,8 +73,8 @@ def address_call(dispatcher: Any) -> Callable[..., Any]:
 
     @intrinsic
     def call(typingctx: Any, link: Any, arguments: Any) -> Any:
-        if not isinstance(arguments, types.BaseTuple):
-            return None
+        if link != LINK_TYPE or not isinstance(arguments, types.BaseTuple):
+            return None  # numba reports the call's types as not supported
         argument_types = tuple(cast(Iterable[Any], arguments))  # its member types
         overload = _overload(dispatcher, argument_types)
         return_type = overload.signature.return_type
