@@ -3,10 +3,11 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+BYTECODE := $(VENV)/.bytecode
 
-.PHONY: install run test test-slow lint compile bench clean e2e docs
+.PHONY: install run test test-slow lint compile bytecode bench clean e2e docs
 
-install: $(STAMP)
+install: $(STAMP) $(BYTECODE)
 
 # pip installs uv (pinned), uv the locked dependencies: 25 s against pip's 99 s on a fresh
 # 2-core machine with no download cache (docs/decisions.md §35)
@@ -20,6 +21,18 @@ $(STAMP): pyproject.toml requirements.lock
 	$(UV) --no-deps -e .
 	touch $(STAMP)
 
+# Python's bytecode (.pyc) of the environment and of src, written once. uv does not write
+# it (pip does), and where PYTHONDONTWRITEBYTECODE is set, as on CI's machines, every
+# Python process would compile from source each module it imports: 2.5 s of the 5 s of a
+# short `celtstone run --json` there (docs/decisions.md §40)
+BYTECODE_JOBS ?= 0
+bytecode: $(BYTECODE)
+
+$(BYTECODE): $(STAMP)
+	$(BIN)/python -m compileall -q -j $(BYTECODE_JOBS) \
+		$$($(BIN)/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])') src
+	touch $(BYTECODE)
+
 # The paper's findings: Figures 2 and 3, the friction threshold, results/report.md
 # (bodies: kane_levinson_1982 and toy_rattleback_10cm; see docs/bodies.md).
 run: $(STAMP)
@@ -31,10 +44,11 @@ lint: $(STAMP)
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
-# the solvers' first compile (about 3 minutes of one core on a fresh clone) runs beside the
-# linters; without it both test workers would compile the same drivers at once
+# the solvers' first compile (2.5–3 minutes of one core on a fresh clone) runs beside the
+# linters and then the bytecode on the other core; without it both test workers would
+# compile the same drivers at once
 test: $(STAMP)
-	$(MAKE) --no-print-directory -j2 lint compile
+	$(MAKE) --no-print-directory -j2 compile lint bytecode BYTECODE_JOBS=1
 	$(BIN)/python -m pytest -n 2 -m "not slow" tests
 
 # compile the solvers into numba's cache (`celtstone compile`; 2–3 s once cached)
@@ -63,4 +77,4 @@ bench: $(STAMP)
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info
-	find src -name "*.nbi" -delete -o -name "*.nbc" -delete
+	find src -name "*.nbi" -delete -o -name "*.nbc" -delete -o -name "*.pyc" -delete
