@@ -94,3 +94,26 @@ def test_a_batch_without_hybrid_points_links_no_phase_loop() -> None:
         to_integrate, to_phases = batch._links(points, 0.01, controls, output, log)
         assert to_integrate != _linking.NO_LINK
         assert (to_phases != _linking.NO_LINK) is linked
+
+
+def test_links_are_kept_per_argument_types(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``link_to`` types a run's arguments once (a parameter record takes ~0.5 ms to
+    type): a second run with arguments of the same types reuses the link."""
+    body = cs.load_body("kane_levinson_1982")
+    params = models.kernel_parameters(cs.SlidingModel(), body)
+    controls = structures.Controls(1e-8, 1e-12, 0.0, 0.0, 1000, True)
+    first = phases.integrate_link(
+        params, controls, structures.new_output(np.linspace(0.0, 0.01, 3), layout.N_STATE, 10)
+    )
+    made: list[tuple[Any, ...]] = []
+    real = _linking._new_link
+
+    def counted(*args: Any) -> tuple[int, int]:
+        made.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(_linking, "_new_link", counted)
+    other_body = models.kernel_parameters(cs.SlidingModel(), cs.load_body("toy_rattleback_10cm"))
+    output = structures.new_output(np.linspace(0.0, 2.0, 50), layout.N_STATE, 99)
+    assert phases.integrate_link(other_body, controls._replace(rtol=1e-6), output) == first
+    assert made == []
