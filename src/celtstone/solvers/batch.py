@@ -36,11 +36,9 @@ from celtstone.solvers._structures import (
     new_phase_log,
 )
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
-from celtstone.solvers.driver import integrate
-from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_link, run_phases
+from celtstone.solvers.phases import DEFAULT_MAX_PHASES, call_integrate, integrate_link, run_phases
 
-call_integrate = address_call(integrate)  # neither loop linked in: see ``solvers._linking``
-call_run_phases = address_call(run_phases)
+call_run_phases = address_call(run_phases)  # neither loop linked in: see ``solvers._linking``
 
 __all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "run_batch"]
 
