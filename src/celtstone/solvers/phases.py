@@ -139,8 +139,8 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_link)
     controls : ``_structures.Controls``; ``max_steps`` bounds the steps of all phases
     output : ``_structures.Output`` over the whole run, filled
     log : ``_structures.PhaseLog``, filled
-    integrate_link : ``_linking.link_to(driver.integrate, ...)`` for a run's arguments
-        (``integrate_arguments``)
+    integrate_link : the link to ``driver.integrate`` that :func:`integrate_link` makes
+        from the run's parameter record, controls and output (``solvers._linking``)
 
     Returns
     -------
