@@ -77,4 +77,5 @@ bench: $(STAMP)
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info
-	find src -name "*.nbi" -delete -o -name "*.nbc" -delete -o -name "*.pyc" -delete
+	find src -name "*.nbi" -delete -o -name "*.nbc" -delete -o -name "*.pyc" -delete \
+		-o -name "celtstone-numba-cache.lock" -delete

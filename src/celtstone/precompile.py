@@ -58,7 +58,7 @@ def compile_solvers() -> CompileReport:
     the stick–slip contact for 0.01 s, with their summaries, and a one-point sweep), so
     that exactly what a user's calls need is compiled: other bodies, models, methods
     and contacts differ by values, not by types. Safe while other processes use the
-    cache (numba writes each entry whole).
+    cache: each entry is saved whole, under a lock (``kernels._cache``).
 
     Returns
     -------

@@ -1,6 +1,6 @@
-"""The one place in ``kernels`` that imports numba.
+"""The one place in ``kernels`` that compiles with numba (``_cache`` holds its cache's files).
 
-``kernel`` compiles a module-level function with ``njit(cache=True)``. With
+``kernel`` compiles a module-level function with ``njit(cache=True)`` (``cached_njit``). With
 ``NUMBA_DISABLE_JIT=1`` numba returns the Python function unchanged, so the
 same kernels run (slowly) as plain Python for coverage and debugging.
 
@@ -29,6 +29,8 @@ from numba import cfunc, njit, types
 from numba.core import cgutils, event
 from numba.core.errors import NumbaError
 from numba.extending import intrinsic
+
+from celtstone.kernels._cache import use_locked_cache
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -73,20 +75,29 @@ COMPILING = _CompilingNotice()
 event.register("numba:compile", COMPILING)
 
 
+def cached_njit(**options: Any) -> Callable[[F], F]:
+    """``numba.njit(cache=True, nogil=True, error_model="numpy", **options)``, its on-disk
+    cache saved so that processes compiling at once never mix entries (``_cache``)."""
+
+    def compile_cached(function: F) -> F:
+        compiled: F = use_locked_cache(
+            njit(cache=True, nogil=True, error_model="numpy", **options)(function)
+        )
+        return compiled
+
+    return compile_cached
+
+
 def kernel(function: F) -> F:
     """Compile ``function`` in nopython mode with the on-disk cache on; called from Python
     it releases the GIL, so a run in a thread leaves the caller free (a progress bar)."""
-    compiled: F = njit(cache=True, nogil=True, error_model="numpy")(function)  # type: ignore[assignment]
-    return compiled
+    return cached_njit()(function)
 
 
 def inlined_kernel(function: F) -> F:
     """``kernel`` whose body numba inlines at every compiled call site (a thin wrapper
     called once per stage, where the call's reference counting costs more than its body)."""
-    compiled: F = njit(  # type: ignore[assignment]
-        cache=True, nogil=True, error_model="numpy", inline="always"
-    )(function)
-    return compiled
+    return cached_njit(inline="always")(function)
 
 
 @intrinsic

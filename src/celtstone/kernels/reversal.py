@@ -17,12 +17,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from celtstone.kernels._jit import kernel
 
 __all__ = ["count_reversals", "last_zero_before", "rocking_average"]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _integral_at(times, cumulative, values, n, t, start):
     """∫ from times[0] to t of the piecewise-linear interpolant of ``values`` (exact for
     it), searching the segment from index ``start``; returns (integral, segment)."""
@@ -35,7 +36,7 @@ def _integral_at(times, cumulative, values, n, t, start):
     return cumulative[k] + into * (values[k] + 0.5 * slope * into), k
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def rocking_average(times, spins, n, window, averaged):
     """Centred running mean of ``spins[:n]`` [rad/s] over ``window`` [s] into ``averaged``.
 
@@ -68,7 +69,7 @@ def rocking_average(times, spins, n, window, averaged):
         averaged[k] = (above - below) / (high - low)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def last_zero_before(times, spins, index, crossings, n_stored):
     """Last zero of the spin at or before ``times[index]`` [s]: the last of the
     ``n_stored`` exact crossings there, else the linear interpolant of the samples."""
@@ -98,7 +99,7 @@ def last_zero_before(times, spins, index, crossings, n_stored):
     return times[k] + fraction * (times[k + 1] - times[k])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def count_reversals(times, averaged, n, band, crossings, n_stored, reversal_times):
     """Number of reversals of the (averaged) spin ``averaged[:n]`` with hysteresis
     ``band`` [rad/s]; the first ``len(reversal_times)`` of their times [s] are written

@@ -10,6 +10,6 @@ body they cost what the single 452-line loop they replace did.
 
 from __future__ import annotations
 
-from numba import njit
+from celtstone.kernels._jit import cached_njit
 
-inlined = njit(cache=True, nogil=True, error_model="numpy", inline="always")
+inlined = cached_njit(inline="always")

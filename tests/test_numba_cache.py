@@ -1,0 +1,118 @@
+"""numba's on-disk cache as celtstone saves it: processes that compile at once never mix
+entries (``kernels._cache``)."""
+
+from __future__ import annotations
+
+import importlib
+import multiprocessing
+import pkgutil
+from pathlib import Path
+
+import pytest
+from numba.core.caching import IndexDataCacheFile
+from numba.core.registry import CPUDispatcher
+
+import celtstone
+from celtstone.kernels._cache import LOCK_NAME, LockedCacheFile, _locked, use_locked_cache
+
+WRITERS = 4
+ENTRIES = 150  # per writer
+STAMP = ("source stamp", 1)
+
+
+def _save_many(directory: str, writer: int, start: multiprocessing.synchronize.Barrier) -> None:
+    """One process saving ``ENTRIES`` new signatures of one function's cache."""
+    cache_file = LockedCacheFile(directory, "function-1.py311", STAMP)
+    start.wait()
+    for entry in range(ENTRIES):
+        key = (f"writer {writer}", entry)
+        cache_file.save(key, ("machine code of", key))
+
+
+def test_processes_saving_at_once_keep_every_entry_with_its_own_data(tmp_path: Path) -> None:
+    """Four processes save 150 new signatures each into one index at the same time. numba's
+    own ``IndexDataCacheFile`` kept 264–364 of the 600 entries, 66–119 of them naming
+    another signature's data (three runs, 2-core machine, 2026-11-26); this test failed
+    three times of three with the lock taken out: every entry is kept here, each naming
+    its own data."""
+    try:
+        context = multiprocessing.get_context("fork")
+    except ValueError:  # pragma: no cover - no fork (Windows)
+        pytest.skip("needs fork")
+    start = context.Barrier(WRITERS)
+    writers = [
+        context.Process(target=_save_many, args=(str(tmp_path), w, start)) for w in range(WRITERS)
+    ]
+    for process in writers:
+        process.start()
+    for process in writers:
+        process.join(timeout=120)
+        assert process.exitcode == 0
+    reader = IndexDataCacheFile(str(tmp_path), "function-1.py311", STAMP)
+    index = reader._load_index()
+    expected = {(f"writer {w}", e) for w in range(WRITERS) for e in range(ENTRIES)}
+    assert set(index) == expected
+    assert len(set(index.values())) == len(expected)  # one data file per signature
+    assert all(reader.load(key) == ("machine code of", key) for key in expected)
+    assert (tmp_path / LOCK_NAME).exists()
+
+
+def test_an_existing_entry_is_rewritten_in_place(tmp_path: Path) -> None:
+    cache_file = LockedCacheFile(str(tmp_path), "function-1.py311", STAMP)
+    cache_file.save("a", 1)
+    cache_file.save("b", 2)
+    cache_file.save("a", 3)
+    index = cache_file._load_index()
+    assert index == {"a": "function-1.py311.1.nbc", "b": "function-1.py311.2.nbc"}
+    assert (cache_file.load("a"), cache_file.load("b")) == (3, 2)
+
+
+def test_a_lock_file_that_cannot_be_opened_saves_without_the_lock(tmp_path: Path) -> None:
+    with _locked(str(tmp_path / "missing directory" / LOCK_NAME)):
+        pass  # no error: saved in order, unlocked, as where fcntl is missing
+
+
+def _celtstone_dispatchers() -> list[CPUDispatcher]:
+    found = []
+    for module_info in pkgutil.walk_packages(celtstone.__path__, "celtstone."):
+        if ".cli" in module_info.name or module_info.name.endswith("__main__"):
+            continue
+        module = importlib.import_module(module_info.name)
+        for value in vars(module).values():
+            if isinstance(value, CPUDispatcher) and value.__module__ == module.__name__:
+                found.append(value)
+    return found
+
+
+def test_every_cached_celtstone_function_saves_through_the_locked_cache() -> None:
+    """A function compiled with ``numba.njit(cache=True)`` directly would save with numba's
+    unlocked index: every cached dispatcher of the package uses ``LockedCacheFile``."""
+    dispatchers = _celtstone_dispatchers()
+    cached = [d for d in dispatchers if getattr(d, "_cache", None) is not None]
+    cached = [d for d in cached if hasattr(d._cache, "_cache_file")]
+    assert len(cached) > 100  # the kernels, the solvers' steps, the drivers
+    unlocked = [
+        f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+        for d in cached
+        if type(d._cache._cache_file) is not LockedCacheFile
+    ]
+    assert unlocked == []
+
+
+def test_a_cache_numba_no_longer_keeps_as_pinned_fails_at_import() -> None:
+    """The locked cache swaps the class of numba's own cache file: a numba whose cache
+    keeps something else (an upgrade) is refused at import, not saved unlocked."""
+
+    class Cache:
+        _cache_file = object()
+
+    class Dispatcher:
+        _cache = Cache()
+
+    with pytest.raises(TypeError, match="IndexDataCacheFile"):
+        use_locked_cache(Dispatcher())
+
+    def plain() -> None:  # NUMBA_DISABLE_JIT=1: njit returns the function itself
+        pass
+
+    assert use_locked_cache(plain) is plain
