@@ -49,8 +49,24 @@ def _blocks_written(store: Path) -> int:
 # `python -m celtstone` as a terminal starts it: Ctrl-C raises KeyboardInterrupt. A child
 # inherits an ignored or blocked SIGINT from its parent, and Python then leaves it so;
 # the test worker's may be either after the tests run before it in the same process
+# It also logs each numba compile (thread, function, argument types) to the file its first
+# argument names: the cache is warm, so a compile shows what made a stopped sweep fail
+# (a worker compiled ``batch._batch`` after four blocks once, decisions §41)
 _AS_FROM_A_TERMINAL = """
-import runpy, signal, sys
+import runpy, signal, sys, threading
+from numba.core import event
+
+class Compiles(event.Listener):
+    def on_start(self, ev):
+        function = ev.data["dispatcher"].py_func
+        with open(LOG, "a") as log:
+            print(threading.current_thread().name, function.__module__,
+                  function.__qualname__, ev.data["args"], file=log)
+    def on_end(self, ev):
+        pass
+
+LOG = sys.argv.pop(1)
+event.register("numba:compile", Compiles())
 signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
 signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.argv = ["celtstone", *sys.argv[1:]]
@@ -61,7 +77,8 @@ runpy.run_module("celtstone", run_name="__main__", alter_sys=True)
 def _start_and_stop(store: Path, sig: signal.Signals) -> tuple[subprocess.CompletedProcess, str]:
     """The sweep started and sent ``sig`` once its first block is on disk; with what the
     test saw then, for the assertion messages."""
-    command = [sys.executable, "-c", _AS_FROM_A_TERMINAL, *ARGS, "--out", str(store)]
+    compiles = store.with_name("compiles.log")
+    command = [sys.executable, "-c", _AS_FROM_A_TERMINAL, str(compiles), *ARGS, "--out", str(store)]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120.0
     while _blocks_written(store) < 1 and time.monotonic() < deadline:
@@ -72,7 +89,11 @@ def _start_and_stop(store: Path, sig: signal.Signals) -> tuple[subprocess.Comple
     process.send_signal(sig)
     stdout, stderr = process.communicate(timeout=60)
     blocks = _blocks_written(store)
-    seen = f"{stderr}[test: {blocks} blocks; finished before the signal: {finished_before}]"
+    compiled = compiles.read_text() if compiles.exists() else "none\n"
+    seen = (
+        f"{stderr}[test: {blocks} blocks; finished before the signal: {finished_before}; "
+        f"numba compiled in the sweep:\n{compiled}]"
+    )
     return subprocess.CompletedProcess(command, process.returncode, stdout, stderr), seen
 
 
