@@ -1,4 +1,7 @@
-"""numba's on-disk cache, saved so that processes compiling at once never mix its entries.
+"""numba's on-disk cache as celtstone uses it: saved so that processes compiling at once
+never mix its entries, and loaded without loading numba's compiler.
+
+**Saving.**
 
 numba (0.68) keeps, per function, an index (signature key -> data file name) and one
 data file per signature. Its ``IndexDataCacheFile.save`` reads the index, names a new
@@ -21,7 +24,16 @@ index's source stamp stands (numba starts a new index when the source changes). 
 ``fcntl`` is missing (Windows), the lock file cannot be opened or the file system has
 no locks, entries are saved in the same order without the lock.
 
-:func:`use_locked_cache` gives a dispatcher made with ``cache=True`` this cache file
+**Loading.** numba's ``Cache.load_overload`` refreshes the target context before it reads
+an entry: it imports and installs every lowering registry numba has (NumPy's array
+functions, typed containers, random generators, ``scipy.linalg`` for BLAS...), 0.95 s of a
+2.45 s ``celtstone run --json`` (cProfile, 2026-11-26). Loaded machine code needs none of
+it: the helper and math symbols are installed when the context is made, and the runtime
+(NRT) by ``rtsys.initialize``, which :class:`LeanFunctionCache` calls instead. A compile
+later in the process refreshes the context itself (numba's compiler does so first), so
+nothing a compile needs is skipped, only put off until one happens.
+
+:func:`use_celtstone_cache` gives a dispatcher made with ``cache=True`` both
 (``kernels._jit.cached_njit`` does it for every cached celtstone function).
 """
 
@@ -33,7 +45,8 @@ import os
 from collections.abc import Iterator
 from typing import Any
 
-from numba.core.caching import IndexDataCacheFile
+from numba.core.caching import FunctionCache, IndexDataCacheFile
+from numba.core.runtime import rtsys
 
 try:
     import fcntl
@@ -84,14 +97,29 @@ def _locked(path: str) -> Iterator[None]:
         os.close(descriptor)  # closing releases the lock
 
 
-def use_locked_cache(dispatcher: Any) -> Any:
-    """``dispatcher`` (``numba.njit(cache=True)``), its cache saved by
-    :class:`LockedCacheFile`; a plain function (``NUMBA_DISABLE_JIT=1``) as it is."""
+class LeanFunctionCache(FunctionCache):
+    """numba's cache of compiled functions, loaded without refreshing the target context."""
+
+    def load_overload(self, sig: Any, target_context: Any) -> Any:
+        """The compiled overload for ``sig`` from the cache, or None; as numba's, but with
+        only the runtime initialised instead of every registry loaded."""
+        rtsys.initialize(target_context)
+        with self._guard_against_spurious_io_errors():
+            return self._load_overload(sig, target_context)
+
+
+def use_celtstone_cache(dispatcher: Any) -> Any:
+    """``dispatcher`` (``numba.njit(cache=True)``), its cache loaded by
+    :class:`LeanFunctionCache` and saved by :class:`LockedCacheFile`; a plain function
+    (``NUMBA_DISABLE_JIT=1``) as it is."""
     cache = getattr(dispatcher, "_cache", None)
     if cache is None:
         return dispatcher  # not compiled by numba
     cache_file = getattr(cache, "_cache_file", None)
-    if type(cache_file) is not IndexDataCacheFile:  # a numba other than the pinned one
-        raise TypeError(f"numba's cache has no IndexDataCacheFile: {type(cache_file)}")
-    cache_file.__class__ = LockedCacheFile  # the same state, saved by the subclass
+    if type(cache) is not FunctionCache or type(cache_file) is not IndexDataCacheFile:
+        raise TypeError(  # a numba other than the pinned one
+            f"numba's cache is not a FunctionCache with an IndexDataCacheFile: {type(cache)}"
+        )
+    cache.__class__ = LeanFunctionCache  # the same state, loaded and saved by subclasses
+    cache_file.__class__ = LockedCacheFile
     return dispatcher

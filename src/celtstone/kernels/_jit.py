@@ -30,7 +30,7 @@ from numba.core import cgutils, event
 from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 
-from celtstone.kernels._cache import use_locked_cache
+from celtstone.kernels._cache import use_celtstone_cache
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -77,10 +77,11 @@ event.register("numba:compile", COMPILING)
 
 def cached_njit(**options: Any) -> Callable[[F], F]:
     """``numba.njit(cache=True, nogil=True, error_model="numpy", **options)``, its on-disk
-    cache saved so that processes compiling at once never mix entries (``_cache``)."""
+    cache saved so that processes compiling at once never mix entries, and loaded without
+    loading numba's compiler (``_cache``)."""
 
     def compile_cached(function: F) -> F:
-        compiled: F = use_locked_cache(
+        compiled: F = use_celtstone_cache(
             njit(cache=True, nogil=True, error_model="numpy", **options)(function)
         )
         return compiled
