@@ -12,8 +12,8 @@ signature's machine code for another signature, which a later process loads and 
 with arguments of other types. Measured with ``tests/test_numba_cache.py``'s four
 processes saving 150 new signatures each at once: numba's own class kept 264–364 of the
 600 entries, 66–119 of them naming another signature's data (three runs, 2-core
-machine, 2026-11-26). Pytest's two
-workers, Dask workers and a user's parallel jobs all share one cache.
+machine, 2026-11-26). Pytest's two workers, Dask workers and a user's parallel jobs all
+share one cache.
 
 :class:`LockedCacheFile` saves an entry under an exclusive lock of the cache directory
 (``fcntl.flock`` of ``LOCK_NAME``): it reads the index inside the lock, writes the
@@ -64,15 +64,13 @@ class LockedCacheFile(IndexDataCacheFile):
         with _locked(os.path.join(self._cache_path, LOCK_NAME)):
             overloads = self._load_index()
             data_name = overloads.get(key)
-            if data_name is None:
+            is_new = data_name is None
+            if is_new:  # the first number no entry uses, as numba names them
                 used = set(overloads.values())
-                data_name = next(
-                    name
-                    for name in (self._data_name(i) for i in itertools.count(1))
-                    if name not in used
-                )
+                names = map(self._data_name, itertools.count(1))
+                data_name = next(name for name in names if name not in used)
             self._save_data(data_name, data)
-            if overloads.get(key) != data_name:
+            if is_new:
                 overloads[key] = data_name
                 self._save_index(overloads)
 
