@@ -1,5 +1,5 @@
-"""numba's on-disk cache as celtstone saves it: processes that compile at once never mix
-entries (``kernels._cache``)."""
+"""numba's on-disk cache as celtstone uses it: processes that compile at once never mix
+entries, and a load does not load numba's compiler (``kernels._cache``)."""
 
 from __future__ import annotations
 
@@ -110,8 +110,8 @@ def test_every_cached_celtstone_function_uses_the_celtstone_cache() -> None:
 
 
 def test_a_cache_numba_no_longer_keeps_as_pinned_fails_at_import() -> None:
-    """The locked cache swaps the class of numba's own cache file: a numba whose cache
-    keeps something else (an upgrade) is refused at import, not saved unlocked."""
+    """The celtstone cache swaps the classes of numba's own cache and cache file: a numba
+    whose cache is something else (an upgrade) is refused at import, not used unlocked."""
 
     class Cache:
         _cache_file = object()
