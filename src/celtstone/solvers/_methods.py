@@ -71,9 +71,10 @@ code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method'
 
 **Switching** (``auto``, ``solvers._auto``) is a method code whose steps are taken by
 the others, one at a time: ``active(method, work)`` names the method that takes the next
-step, and the driver passes that code to ``dense``, ``dense_every_step``,
-``dense_coefficients`` and ``interpolate`` for the step; ``attempt`` and
-``after_step`` take the run's code. Each method's step is compiled once however many
+step, and the driver passes that code to ``dense``, ``dense_every_step`` and
+``interpolate`` for the step, with that method's coefficients (each method's
+``dense_coefficients`` looked up once per run); ``attempt`` and ``after_step`` take the
+run's code. Each method's step is compiled once however many
 codes route to it.
 """
 
