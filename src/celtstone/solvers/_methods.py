@@ -70,11 +70,11 @@ Each dispatch below has one branch per registered code and no default: an unknow
 code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
 
 **Switching** (``auto``, ``solvers._auto``) is a method code whose steps are taken by
-the others, one at a time: ``active(method, work)`` names the method that takes the next
-step, and the driver passes that code to ``dense``, ``dense_every_step`` and
-``interpolate`` for the step, with that method's coefficients (each method's
-``dense_coefficients`` looked up once per run); ``attempt`` and ``after_step`` take the
-run's code. Each method's step is compiled once however many
+the others, one at a time: ``active(method, work.auto)`` names the method that takes the
+next step, and the driver passes that code to ``attempt`` (with the run's code),
+``dense``, ``dense_every_step`` and ``interpolate`` for the step, with that method's
+coefficients (each method's ``dense_coefficients`` looked up once per run);
+``after_step`` takes the run's code. Each method's step is compiled once however many
 codes route to it.
 """
 
@@ -152,11 +152,11 @@ def dense_every_step(method):
 
 
 @inlined
-def active(method, work):
+def active(method, switching):
     """The code of the method that takes the next step: ``method`` itself, or for
-    ``auto`` the one its switching record names."""
+    ``auto`` the one its switching record ``switching`` (``work.auto``) names."""
     if method == METHOD_AUTO:
-        return work.auto[0].active
+        return switching[0].active
     return method
 
 
@@ -173,10 +173,10 @@ def start(method, model, params, t, y, f, h, controls, work, stats):
 
 
 @inlined
-def attempt(method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
-    """The active method's ``attempt`` (contract item 6): (status, h_taken, h_next, rhs
-    status, normal force [N]); for ``auto`` a DOP853 step also updates its stiffness test."""
-    stepper = active(method, work)
+def attempt(method, stepper, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
+    """The ``attempt`` (contract item 6) of ``stepper``, the method that takes the step
+    (``active``): (status, h_taken, h_next, rhs status, normal force [N]); for ``auto`` a
+    DOP853 step also updates its stiffness test."""
     if stepper == METHOD_DOP853:
         result = dop853.attempt(
             model, params, t, y, f, h, t_end, controls, work.dop853, y_new, f_new, stats

@@ -30,6 +30,7 @@ from celtstone.solvers._compile import inlined
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._structures import RunEnd
 from celtstone.solvers.codes import (
+    METHOD_AUTO,
     METHOD_DOP853,
     METHOD_RADAU5,
     STAT_ACCEPTED,
@@ -179,10 +180,13 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     values = np.empty(table.shape[0])
     events.start_values(table, model, params, y, values, scratch)
     work = methods.workspaces(method, n)
-    # each method's interpolant coefficients looked up once, not at every step, where the
-    # lookup's reference counting cost 4 % of a rolling run (docs/decisions.md §43)
+    # the switching record and the interpolants' arrays looked up once, and the whole
+    # workspace handed only to the helpers that need it: per step, those lookups and
+    # hand-overs (numba counts references to each array) cost 8-15 % of a rolling run
+    # (docs/decisions.md §43)
     dense_dop853 = methods.dense_coefficients(METHOD_DOP853, work)
     dense_radau5 = methods.dense_coefficients(METHOD_RADAU5, work)
+    switching = work.auto
     rate = events.spin_rate(y, f)
     h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
     methods.start(method, model, params, 0.0, y, f, h, controls, work, stats)
@@ -195,9 +199,9 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             status = STATUS_MAX_STEPS
             break
         steps += 1
-        stepper = methods.active(method, work)  # the method that takes this step
+        stepper = methods.active(method, switching)  # the method that takes this step
         status, h_taken, h_next, code, normal_new = methods.attempt(
-            method, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+            method, stepper, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
         )
         if status != STATUS_SUCCESS:
             break
@@ -273,7 +277,8 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         h = h_next
         if controls.max_step > 0.0:
             h = min(h, controls.max_step)
-        methods.after_step(method, model, params, t, y, f, h, controls, work, stats)
+        if method == METHOD_AUTO:  # only a switching run hands over its workspace here
+            methods.after_step(method, model, params, t, y, f, h, controls, work, stats)
     if not stopped:
         output.final_state[:] = y
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
