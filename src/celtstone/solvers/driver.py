@@ -182,8 +182,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     work = methods.workspaces(method, n)
     # the switching record and the interpolants' arrays looked up once, and the whole
     # workspace handed only to the helpers that need it: per step, those lookups and
-    # hand-overs (numba counts references to each array) cost about 10 % of a rolling
-    # run (docs/decisions.md §43)
+    # hand-overs cost about 10 % of a rolling run (docs/decisions.md §43)
     dense_dop853 = methods.dense_coefficients(METHOD_DOP853, work)
     dense_radau5 = methods.dense_coefficients(METHOD_RADAU5, work)
     switching = work.auto
