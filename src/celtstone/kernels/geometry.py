@@ -79,6 +79,15 @@ def _signed_power(value: float, exponent: float) -> float:
 
 
 @kernel
+def _power_rate(value: float, rate: float, exponent: float) -> float:
+    """d(sign(value) |value|^exponent)/dt = exponent |value|^(exponent-1) rate, taken as 0
+    where rate = 0 (|value|^(exponent-1) is unbounded at value = 0 for exponent < 1)."""
+    if rate == 0.0:
+        return 0.0
+    return exponent * abs(value) ** (exponent - 1.0) * rate
+
+
+@kernel
 def superellipsoid_contact(
     n: Vec, n_rate: Vec, a: float, b: float, c: float, h: float, exponent: float
 ) -> tuple[Vec, Vec]:
@@ -112,10 +121,11 @@ def superellipsoid_contact(
     norm = total ** (1.0 / exponent)
     powered = (_signed_power(w[0], e), _signed_power(w[1], e), _signed_power(w[2], e))
     # d|w|^e sign(w)/dt = e |w|^(e-1) ẇ; S^(-1/p) rate = -(e / S) Σ powered_j ẇ_j / S^(1/p)
-    slopes = [0.0, 0.0, 0.0]
-    for i in range(3):
-        if w_rate[i] != 0.0:
-            slopes[i] = e * abs(w[i]) ** (e - 1.0) * w_rate[i]
+    slopes = (
+        _power_rate(w[0], w_rate[0], e),
+        _power_rate(w[1], w_rate[1], e),
+        _power_rate(w[2], w_rate[2], e),
+    )
     weighted = powered[0] * w_rate[0] + powered[1] * w_rate[1] + powered[2] * w_rate[2]
     shrink = e * weighted / total
     r = (
@@ -145,12 +155,18 @@ def superellipsoid_gaussian_curvature(
     zero = (0.0, 0.0, 0.0)
     r, _ = superellipsoid_contact(n, zero, a, b, c, 0.0, exponent)
     axes = (a, b, c)
-    gradient = [0.0, 0.0, 0.0]
-    hessian = [0.0, 0.0, 0.0]
-    for i in range(3):
-        ratio = abs(r[i]) / axes[i]
-        gradient[i] = exponent * ratio ** (exponent - 1.0) / axes[i]
-        hessian[i] = exponent * (exponent - 1.0) * ratio ** (exponent - 2.0) / axes[i] ** 2
+    ratios = (abs(r[0]) / a, abs(r[1]) / b, abs(r[2]) / c)
+    gradient = (
+        exponent * ratios[0] ** (exponent - 1.0) / axes[0],
+        exponent * ratios[1] ** (exponent - 1.0) / axes[1],
+        exponent * ratios[2] ** (exponent - 1.0) / axes[2],
+    )
+    bend = exponent * (exponent - 1.0)
+    hessian = (
+        bend * ratios[0] ** (exponent - 2.0) / axes[0] ** 2,
+        bend * ratios[1] ** (exponent - 2.0) / axes[1] ** 2,
+        bend * ratios[2] ** (exponent - 2.0) / axes[2] ** 2,
+    )
     squared = gradient[0] ** 2 + gradient[1] ** 2 + gradient[2] ** 2
     numerator = (
         gradient[0] ** 2 * hessian[1] * hessian[2]
