@@ -1,0 +1,451 @@
+"""A rolling sweep on a GPU: one CUDA thread per point, celtstone's own kernels in each.
+
+Each thread integrates one initial state of the rolling model (paper eq. 3-5) with the
+DOP853 trial step of ``solvers._dop853`` and the right-hand side ``kernels.system.rhs``,
+compiled by numba for CUDA from the same Python source as the CPU kernels: no second
+copy of the equations or of the method. The thread's loop repeats the CPU driver's
+(``solvers.driver.integrate``): Hairer's first step (``_step_control.initial_step``),
+SciPy's step-size controller as ``_dop853.attempt``, the same stopping rules (a non-finite
+state, a failed right-hand side, lift-off N < 0, the step limit). It keeps what a
+reversal sweep needs: the spin ω · n at ``t_end``, its sign changes at step ends and the
+time of the first (linear between the step's ends), steps and rejections. The CPU sweep
+counts crossings from its event location, which also finds two crossings inside one
+step; the comparison below reports how many points differ.
+
+Three stages, so that only the middle one needs the GPU machine:
+
+``--prepare DIR`` (any machine): a celtstone ``Sweep`` of the rolling model over initial
+spin x Euler angle alpha on every core, timed; its kernel inputs (one parameter record,
+the initial states) and results go to ``DIR/inputs.npz``, with the initial states of a
+larger grid (``--large``) made by the sweep's own ``build_state``.
+
+``--gpu DIR`` (the GPU machine; numba with a CUDA target): compiles the ensemble kernel,
+runs the small grid and the large one, writes ``DIR/gpu.npz`` and prints the times.
+
+``--report DIR`` (any machine): agreement of the GPU with the CPU sweep on the small grid
+(final spin, sign changes, status) and points per second of each.
+
+``--check`` runs the thread loop on a few points in numba's CUDA simulator
+(``NUMBA_ENABLE_CUDASIM=1``, no GPU: the kernels run as compiled CPU code) against the
+CPU sweep.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+
+from numba import cuda, float64, types
+from numba.core.extending import overload
+
+from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
+from celtstone.kernels.system import rhs
+from celtstone.solvers._dop853 import (
+    ERROR_EXPONENT,
+    ERROR_ORDER,
+    MAX_FACTOR,
+    MIN_FACTOR,
+    N_STAGES,
+    N_STAGES_EXTENDED,
+    SAFETY,
+    trial_step,
+)
+from celtstone.solvers._events import spin_of
+from celtstone.solvers._step_control import initial_step
+
+SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
+ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
+T_END = 10.0  # [s]
+RTOL, ATOL = 1e-10, 1e-12  # the rolling default of ``simulate``
+MAX_STEPS = 2_000_000
+THREADS_PER_BLOCK = 64
+
+# per-point status codes of the GPU loop
+OK, RHS_FAILED, NOT_FINITE, LIFT_OFF, STEP_TOO_SMALL, MAX_STEPS_REACHED = range(6)
+RESULT_COLUMNS = ("status", "steps", "rejected", "sign_changes", "first_change", "final_spin")
+ROUNDOFF = 2.220446049250313e-16
+# numba-cuda 0.30.4 (the GPU machine's) overloads NumPy's row_stack, gone in NumPy 2.5, when
+# it first compiles: the alias is given back then (by name: ruff's NumPy 2 fix rewrites it)
+REMOVED_ALIAS = "row_stack"
+
+
+def _two_argument_min_max() -> None:
+    """min/max of two numbers for numba's built-in CUDA target, which types the builtins'
+    generic overloads for iterables (numba 0.68.1) and fails on a celtstone kernel's
+    ``max(a, b)``; harmless where the target has its own."""
+
+    def larger(a, b):
+        if isinstance(a, types.Number) and isinstance(b, types.Number):
+            return lambda a, b: a if a >= b else b
+        return None
+
+    def smaller(a, b):
+        if isinstance(a, types.Number) and isinstance(b, types.Number):
+            return lambda a, b: a if a <= b else b
+        return None
+
+    try:
+        overload(max, target="cuda")(larger)
+        overload(min, target="cuda")(smaller)
+    except Exception as error:  # another numba's CUDA target: its own min/max serve
+        print(f"note: min/max overloads not registered ({error})", file=sys.stderr)
+
+
+def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, finals, results):
+    """One thread's run from ``y0s[point]``; writes ``finals[point]`` and ``results[point]``
+    (``RESULT_COLUMNS``). The CPU driver's loop, without samples and events."""
+    y = cuda.local.array(N_STATE, float64)
+    f = cuda.local.array(N_STATE, float64)
+    y_new = cuda.local.array(N_STATE, float64)
+    scratch = cuda.local.array(N_STATE, float64)
+    f_scratch = cuda.local.array(N_STATE, float64)
+    stages = cuda.local.array((N_STAGES_EXTENDED, N_STATE), float64)
+    error_terms = cuda.local.array((2, N_STATE), float64)
+    for j in range(N_STATE):
+        y[j] = y0s[point, j]
+    code, normal_force = rhs(model, 0.0, y, record, f)
+    status = OK
+    if code != RHS_OK:
+        status = RHS_FAILED
+    elif normal_force < 0.0:
+        status = LIFT_OFF
+    h = initial_step(model, record, y, f, ERROR_ORDER, rtol, atol, scratch, f_scratch)
+    spin = spin_of(y)
+    t = 0.0
+    steps = 0
+    rejected = 0
+    sign_changes = 0
+    first_change = math.nan
+    while status == OK and t < t_end:
+        if steps >= max_steps:
+            status = MAX_STEPS_REACHED
+            break
+        steps += 1
+        retried = False
+        h_next = h
+        h_try = h
+        error = 0.0
+        while True:  # _dop853.attempt: SciPy's controller
+            if h < 10.0 * ROUNDOFF * abs(t):
+                status = STEP_TOO_SMALL
+                break
+            h_try = min(h, t_end - t)
+            for j in range(N_STATE):
+                stages[0, j] = f[j]
+            error, code, normal_force = trial_step(
+                model, record, t, y, h_try, rtol, atol, stages, y_new, scratch, error_terms
+            )
+            if not math.isfinite(error):
+                h = h_try * MIN_FACTOR
+                rejected += 1
+                retried = True
+                continue
+            if error < 1.0:
+                factor = MAX_FACTOR
+                if error != 0.0:
+                    factor = min(MAX_FACTOR, SAFETY * error**ERROR_EXPONENT)
+                if retried:
+                    factor = min(1.0, factor)
+                h_next = h_try * factor
+                break
+            h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
+            rejected += 1
+            retried = True
+        if status != OK:
+            break
+        finite = True
+        for j in range(N_STATE):
+            if not math.isfinite(y_new[j]):
+                finite = False
+        if not finite:
+            status = NOT_FINITE
+            break
+        if code != RHS_OK:
+            status = RHS_FAILED
+            break
+        if normal_force < 0.0:
+            status = LIFT_OFF
+            break
+        t_new = t_end if h_try == t_end - t else t + h_try
+        spin_new = spin_of(y_new)
+        if (spin_new > 0.0) != (spin > 0.0):
+            if sign_changes == 0:
+                first_change = t + h_try * spin / (spin - spin_new)
+            sign_changes += 1
+        for j in range(N_STATE):
+            y[j] = y_new[j]
+            f[j] = stages[N_STAGES, j]
+        spin = spin_new
+        t = t_new
+        h = h_next
+    for j in range(N_STATE):
+        finals[point, j] = y[j]
+    results[point, 0] = status
+    results[point, 1] = steps
+    results[point, 2] = rejected
+    results[point, 3] = sign_changes
+    results[point, 4] = first_change
+    results[point, 5] = spin if status == OK else math.nan
+
+
+def ensemble_kernel():
+    """The CUDA kernel: thread i integrates point i (compiled at its first launch)."""
+    _two_argument_min_max()
+    if not hasattr(np, REMOVED_ALIAS):
+        setattr(np, REMOVED_ALIAS, np.vstack)
+    point_loop = cuda.jit(device=True)(integrate_point)
+    rolling = int(ModelCode.ROLLING)  # a constant: the other models' branches are dropped
+
+    @cuda.jit
+    def ensemble(params, y0s, t_end, rtol, atol, max_steps, finals, results):
+        point = cuda.grid(1)
+        if point < y0s.shape[0]:
+            point_loop(
+                rolling, params[0], y0s, point, t_end, rtol, atol, max_steps, finals, results
+            )
+
+    return ensemble
+
+
+def run_ensemble(kernel, params, y0s, t_end, rtol=RTOL, atol=ATOL, threads=THREADS_PER_BLOCK):
+    """Launch ``kernel`` over the rows of ``y0s``, ``threads`` to a block; (final states,
+    results, seconds of the launch and copies, synchronised)."""
+    count = y0s.shape[0]
+    start = time.perf_counter()
+    device_y0 = cuda.to_device(np.ascontiguousarray(y0s))
+    device_params = cuda.to_device(params)
+    finals = cuda.device_array((count, N_STATE))
+    results = cuda.device_array((count, len(RESULT_COLUMNS)))
+    blocks = (count + threads - 1) // threads
+    kernel[blocks, threads](device_params, device_y0, t_end, rtol, atol, MAX_STEPS, finals, results)
+    cuda.synchronize()
+    finals_host, results_host = finals.copy_to_host(), results.copy_to_host()
+    return finals_host, results_host, time.perf_counter() - start
+
+
+# ---------------------------------------------------------------- the CPU side
+
+
+def grid_values(n_spin: int, n_alpha: int) -> tuple[np.ndarray, np.ndarray]:
+    return np.linspace(*SPIN, n_spin), np.linspace(*ALPHA, n_alpha)
+
+
+def cpu_sweep(n_spin: int, n_alpha: int, t_end: float, workers: int | None = None):
+    """celtstone's Sweep on the grid, timed; (results Dataset, params, y0s, seconds)."""
+    from celtstone.solvers import batch
+    from celtstone.sweep import Sweep
+
+    spins, alphas = grid_values(n_spin, n_alpha)
+    captured: list[tuple[np.ndarray, np.ndarray]] = []
+    original = batch.run_batch
+
+    def capturing(model, method, params, y0, *args, **kwargs):
+        captured.append((np.array(params), np.array(y0)))
+        return original(model, method, params, y0, *args, **kwargs)
+
+    sweep = Sweep(
+        {"initial_spin": spins, "euler_alpha": alphas},
+        model="rolling",
+        t_end=t_end,
+        rtol=RTOL,
+        atol=ATOL,
+    )
+    Sweep({"initial_spin": [-5.0]}, model="rolling", t_end=0.01).run()  # load the code
+    batch.run_batch = capturing
+    try:
+        start = time.perf_counter()
+        results = sweep.run(workers=workers)
+        seconds = time.perf_counter() - start
+    finally:
+        batch.run_batch = original
+    params = np.concatenate([p for p, _ in captured])
+    y0s = np.concatenate([y for _, y in captured])
+    return results, params, y0s, seconds
+
+
+def initial_states(n_spin: int, n_alpha: int) -> np.ndarray:
+    """Initial states of the grid in the sweep's order (spin outer), by the sweep's own
+    ``build_state``."""
+    from celtstone.sweep.spec import build_state, initial_vector
+
+    spins, alphas = grid_values(n_spin, n_alpha)
+    rows = [
+        initial_vector(build_state({"initial_spin": float(s), "euler_alpha": float(a)}))
+        for s in spins
+        for a in alphas
+    ]
+    return np.array(rows)
+
+
+def prepare(directory: Path, n: int, large: int) -> None:
+    directory.mkdir(parents=True, exist_ok=True)
+    results, params, y0s, seconds = cpu_sweep(n, n, T_END)
+    if not all(params[k].tobytes() == params[0].tobytes() for k in range(len(params))):
+        raise SystemExit("the grid's parameter records differ: this script assumes one body")
+    mine = initial_states(n, n)
+    order_error = float(np.abs(mine - y0s).max())
+    large_y0s = initial_states(large, large)
+    np.savez(
+        directory / "inputs.npz",
+        params=params[:1],
+        y0s=y0s,
+        large_y0s=large_y0s,
+        cpu_final_spin=np.asarray(results["final_spin"]).ravel(),
+        cpu_raw_sign_changes=np.asarray(results["raw_sign_changes"]).ravel(),
+        cpu_first_crossing_status=np.asarray(results["status"]).ravel().astype(str),
+        cpu_seconds=seconds,
+        cpu_cores=len(os.sched_getaffinity(0)),
+        cpu_machine=platform.processor() or platform.machine(),
+        t_end=T_END,
+    )
+    print(
+        json.dumps(
+            {
+                "points": int(y0s.shape[0]),
+                "cpu_seconds": round(seconds, 2),
+                "cores": len(os.sched_getaffinity(0)),
+                "max |own y0 - sweep y0|": order_error,
+                "large_points": int(large_y0s.shape[0]),
+            }
+        )
+    )
+
+
+def gpu(directory: Path, copies: int) -> None:
+    data = np.load(directory / "inputs.npz")
+    params, t_end = data["params"], float(data["t_end"])
+    print("numba", __import__("numba").__version__, "device", cuda.get_current_device().name)
+    kernel = ensemble_kernel()
+    start = time.perf_counter()
+    run_ensemble(kernel, params, data["y0s"][:1], 0.01)  # compiles
+    compile_s = time.perf_counter() - start
+    small = run_ensemble(kernel, params, data["y0s"], t_end)
+    small_again = run_ensemble(kernel, params, data["y0s"], t_end)
+    large = run_ensemble(kernel, params, data["large_y0s"], t_end)
+    by_block = {
+        threads: round(
+            run_ensemble(kernel, params, data["large_y0s"], t_end, threads=threads)[2], 3
+        )
+        for threads in (32, 64, 128, 256)
+    }
+    # the large grid's states repeated: throughput once the GPU is full
+    tiled = np.tile(data["large_y0s"], (copies, 1))
+    tiled_s = run_ensemble(kernel, params, tiled, t_end)[2]
+    figures = {
+        "compile_s": round(compile_s, 2),
+        "small_points": int(data["y0s"].shape[0]),
+        "small_s": [round(small[2], 3), round(small_again[2], 3)],
+        "large_points": int(data["large_y0s"].shape[0]),
+        "large_s": round(large[2], 3),
+        "large_s_by_threads_per_block": by_block,
+        "tiled_points": int(tiled.shape[0]),
+        "tiled_s": round(tiled_s, 3),
+        "small_steps_max": int(small[1][:, 1].max()),
+    }
+    print(json.dumps(figures))
+    np.savez(
+        directory / "gpu.npz",
+        small_finals=small[0],
+        small_results=small[1],
+        large_results=large[1],
+        figures=json.dumps(figures),
+    )
+
+
+def compare(cpu_spin, cpu_changes, results) -> dict:
+    """Agreement of GPU ``results`` with the CPU sweep's final spin and sign changes."""
+    ok = results[:, 0] == OK
+    finite = np.isfinite(cpu_spin)
+    both = ok & finite
+    difference = np.abs(results[both, 5] - cpu_spin[both])
+    return {
+        "points": len(results),
+        "gpu_ok": int(ok.sum()),
+        "cpu_finished": int(finite.sum()),
+        "status_agrees": int((ok == finite).sum()),
+        "max_final_spin_difference": float(difference.max()) if difference.size else None,
+        "median_final_spin_difference": float(np.median(difference)) if difference.size else None,
+        "sign_changes_agree": int((results[both, 3] == cpu_changes[both]).sum()),
+        "reversed_agrees": int(((results[both, 3] > 0) == (cpu_changes[both] > 0)).sum()),
+    }
+
+
+def report(directory: Path) -> None:
+    data = np.load(directory / "inputs.npz")
+    out = np.load(directory / "gpu.npz")
+    figures = json.loads(str(out["figures"]))
+    summary = compare(data["cpu_final_spin"], data["cpu_raw_sign_changes"], out["small_results"])
+    small_s = min(figures["small_s"])
+    summary.update(
+        {
+            "cpu_seconds": float(data["cpu_seconds"]),
+            "cpu_cores": int(data["cpu_cores"]),
+            "cpu_points_per_s": figures["small_points"] / float(data["cpu_seconds"]),
+            "gpu_small_points_per_s": figures["small_points"] / small_s,
+            "gpu_large_points_per_s": figures["large_points"] / figures["large_s"],
+            "gpu_tiled_points_per_s": figures["tiled_points"] / figures["tiled_s"],
+            "gpu": figures,
+        }
+    )
+    print(json.dumps(summary, indent=1))
+
+
+def check(points: int = 6, t_end: float = 3.0) -> None:
+    """The thread loop in numba's CUDA simulator against the CPU sweep on a few points:
+    the simulator runs the kernels as the same compiled CPU code, so the final spins
+    must agree to the last bit and the sign changes exactly."""
+    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
+        raise SystemExit("--check needs NUMBA_ENABLE_CUDASIM=1 in the environment")
+    results, params, y0s, _ = cpu_sweep(points, 2, t_end, workers=1)
+    kernel = ensemble_kernel()
+    _, gpu_results, _ = run_ensemble(kernel, params[:1], y0s, t_end)
+    summary = compare(
+        np.asarray(results["final_spin"]).ravel(),
+        np.asarray(results["raw_sign_changes"]).ravel(),
+        gpu_results,
+    )
+    summary["sign_changes"] = int(gpu_results[:, 3].sum())
+    print(json.dumps(summary))
+    agrees = (
+        summary["status_agrees"] == len(y0s)
+        and summary["sign_changes_agree"] == len(y0s)
+        and summary["max_final_spin_difference"] == 0.0
+    )
+    if not agrees:
+        raise SystemExit("the simulated GPU loop disagrees with the CPU sweep")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--prepare", type=Path)
+    parser.add_argument("--gpu", type=Path)
+    parser.add_argument("--report", type=Path)
+    parser.add_argument("--check", action="store_true")
+    parser.add_argument("--grid", type=int, default=64, help="points per axis, CPU and GPU")
+    parser.add_argument("--large", type=int, default=256, help="points per axis, GPU only")
+    parser.add_argument(
+        "--copies", type=int, default=4, help="the large grid repeated, for throughput"
+    )
+    args = parser.parse_args()
+    if args.prepare:
+        prepare(args.prepare, args.grid, args.large)
+    if args.gpu:
+        gpu(args.gpu, args.copies)
+    if args.report:
+        report(args.report)
+    if args.check:
+        check()
+
+
+if __name__ == "__main__":
+    main()

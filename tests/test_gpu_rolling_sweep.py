@@ -1,0 +1,48 @@
+"""The GPU rolling sweep's thread loop (benchmarks/gpu_rolling_sweep.py) against the CPU sweep.
+
+No GPU is needed: numba's CUDA simulator runs the kernel's Python with celtstone's kernels
+as their compiled CPU code, so the loop must repeat the CPU driver's steps exactly (final
+spins to the last bit, the same spin sign changes). The CUDA build itself is checked only
+on a GPU machine (docs/decisions.md §44).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_rolling_sweep.py"
+
+
+def test_thread_loop_repeats_the_cpu_driver_in_the_simulator() -> None:
+    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    done = subprocess.run(
+        [sys.executable, str(SCRIPT), "--check"],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    summary = json.loads(done.stdout.strip().splitlines()[-1])
+    assert summary["points"] == 12
+    assert summary["status_agrees"] == 12
+    assert summary["max_final_spin_difference"] == 0.0
+    assert summary["sign_changes_agree"] == 12
+    assert summary["sign_changes"] > 0  # the grid's runs reverse within 3 s: crossings compared
+
+
+def test_check_refuses_to_run_without_the_simulator() -> None:
+    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    done = subprocess.run(
+        [sys.executable, str(SCRIPT), "--check"],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode != 0
+    assert "NUMBA_ENABLE_CUDASIM=1" in done.stderr
