@@ -1,12 +1,13 @@
 """A rolling sweep on a GPU: one CUDA thread per point, celtstone's own kernels in each.
 
 Each thread integrates one initial state of the rolling model (paper eq. 3-5) with the
-DOP853 trial step of ``solvers._dop853`` and the right-hand side ``kernels.system.rhs``,
-compiled by numba for CUDA from the same Python source as the CPU kernels: no second
-copy of the equations or of the method. The thread's loop repeats the CPU driver's
-(``solvers.driver.integrate``): Hairer's first step (``_step_control.initial_step``),
-SciPy's step-size controller as ``_dop853.attempt``, the same stopping rules (a non-finite
-state, a failed right-hand side, lift-off N < 0, the step limit). It keeps what a
+DOP853 step of ``solvers._dop853`` (``start`` and ``attempt``: trial steps and step-size
+control) and the right-hand side ``kernels.system.rhs``, compiled by numba for CUDA from
+the same Python source as the CPU kernels: no second copy of the equations or of the
+method. The thread's loop repeats the CPU driver's (``solvers.driver.integrate``):
+Hairer's first step (``_step_control.initial_step``), then the method's attempts, with
+the same stopping rules (a non-finite state, a failed right-hand side, lift-off N < 0,
+the step limit). It keeps what a
 reversal sweep needs: the spin ω · n at ``t_end``, its sign changes at step ends and the
 time of the first (linear between the step's ends), steps and rejections. The CPU sweep
 counts crossings from its event location, which also finds two crossings inside one
@@ -45,23 +46,23 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from numba import cuda, float64, types
+from numba import cuda, float64, int64, types
 from numba.core.extending import overload
 
 from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
 from celtstone.kernels.system import rhs
 from celtstone.solvers._dop853 import (
-    ERROR_EXPONENT,
+    DENSE_ROWS,
     ERROR_ORDER,
-    MAX_FACTOR,
-    MIN_FACTOR,
-    N_STAGES,
     N_STAGES_EXTENDED,
-    SAFETY,
-    trial_step,
+    Workspace,
+    attempt,
+    start,
 )
 from celtstone.solvers._events import spin_of
 from celtstone.solvers._step_control import initial_step
+from celtstone.solvers._structures import Controls
+from celtstone.solvers.codes import N_STATS, STAT_REJECTED, STATUS_SUCCESS
 
 SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
 ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
@@ -73,16 +74,29 @@ THREADS_PER_BLOCK = 64
 # per-point status codes of the GPU loop
 OK, RHS_FAILED, NOT_FINITE, LIFT_OFF, STEP_TOO_SMALL, MAX_STEPS_REACHED = range(6)
 RESULT_COLUMNS = ("status", "steps", "rejected", "sign_changes", "first_change", "final_spin")
-ROUNDOFF = 2.220446049250313e-16
 # numba-cuda 0.30.4 (the GPU machine's) overloads NumPy's row_stack, gone in NumPy 2.5, when
 # it first compiles: the alias is given back then (by name: ruff's NumPy 2 fix rewrites it)
 REMOVED_ALIAS = "row_stack"
 
 
-def _two_argument_min_max() -> None:
-    """min/max of two numbers for numba's built-in CUDA target, which types the builtins'
-    generic overloads for iterables (numba 0.68.1) and fails on a celtstone kernel's
-    ``max(a, b)``; harmless where the target has its own."""
+def _cuda_declarations() -> None:
+    """What numba's CUDA targets lack for celtstone's kernels: min/max of two numbers
+    (numba 0.68.1's built-in target types the builtins' overloads for iterables and fails
+    on ``max(a, b)``) and ``np.nextafter(t, np.inf)`` for t >= 0 (the step floor of
+    ``_step_control.smallest_step``), from ``math.frexp``; harmless where the target has
+    its own."""
+
+    def next_above(value, direction):
+        if isinstance(value, types.Float) and isinstance(direction, types.Float):
+
+            def implementation(value, direction):
+                if value == 0.0:
+                    return 5e-324
+                _, exponent = math.frexp(value)
+                return value + math.ldexp(1.0, exponent - 53)  # one ulp, for value > 0
+
+            return implementation
+        return None
 
     def larger(a, b):
         if isinstance(a, types.Number) and isinstance(b, types.Number):
@@ -94,11 +108,11 @@ def _two_argument_min_max() -> None:
             return lambda a, b: a if a <= b else b
         return None
 
-    try:
-        overload(max, target="cuda")(larger)
-        overload(min, target="cuda")(smaller)
-    except Exception as error:  # another numba's CUDA target: its own min/max serve
-        print(f"note: min/max overloads not registered ({error})", file=sys.stderr)
+    for function, implementation in ((max, larger), (min, smaller), (np.nextafter, next_above)):
+        try:
+            overload(function, target="cuda")(implementation)
+        except Exception as error:  # another numba's CUDA target: its own serves
+            print(f"note: {function.__name__} not declared for CUDA ({error})", file=sys.stderr)
 
 
 def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, finals, results):
@@ -107,23 +121,29 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
     y = cuda.local.array(N_STATE, float64)
     f = cuda.local.array(N_STATE, float64)
     y_new = cuda.local.array(N_STATE, float64)
+    f_new = cuda.local.array(N_STATE, float64)
     scratch = cuda.local.array(N_STATE, float64)
-    f_scratch = cuda.local.array(N_STATE, float64)
     stages = cuda.local.array((N_STAGES_EXTENDED, N_STATE), float64)
+    dense = cuda.local.array((DENSE_ROWS, N_STATE), float64)
     error_terms = cuda.local.array((2, N_STATE), float64)
+    stats = cuda.local.array(N_STATS, int64)
     for j in range(N_STATE):
         y[j] = y0s[point, j]
+    for j in range(N_STATS):
+        stats[j] = 0
+    work = Workspace(stages, dense, scratch, error_terms)
+    controls = Controls(rtol, atol, 0.0, 0.0, max_steps, True)
     code, normal_force = rhs(model, 0.0, y, record, f)
     status = OK
     if code != RHS_OK:
         status = RHS_FAILED
     elif normal_force < 0.0:
         status = LIFT_OFF
-    h = initial_step(model, record, y, f, ERROR_ORDER, rtol, atol, scratch, f_scratch)
+    h = initial_step(model, record, y, f, ERROR_ORDER, rtol, atol, scratch, f_new)
+    start(model, record, 0.0, y, f, controls, work, stats)
     spin = spin_of(y)
     t = 0.0
     steps = 0
-    rejected = 0
     sign_changes = 0
     first_change = math.nan
     while status == OK and t < t_end:
@@ -131,37 +151,11 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
             status = MAX_STEPS_REACHED
             break
         steps += 1
-        retried = False
-        h_next = h
-        h_try = h
-        error = 0.0
-        while True:  # _dop853.attempt: SciPy's controller
-            if h < 10.0 * ROUNDOFF * abs(t):
-                status = STEP_TOO_SMALL
-                break
-            h_try = min(h, t_end - t)
-            for j in range(N_STATE):
-                stages[0, j] = f[j]
-            error, code, normal_force = trial_step(
-                model, record, t, y, h_try, rtol, atol, stages, y_new, scratch, error_terms
-            )
-            if not math.isfinite(error):
-                h = h_try * MIN_FACTOR
-                rejected += 1
-                retried = True
-                continue
-            if error < 1.0:
-                factor = MAX_FACTOR
-                if error != 0.0:
-                    factor = min(MAX_FACTOR, SAFETY * error**ERROR_EXPONENT)
-                if retried:
-                    factor = min(1.0, factor)
-                h_next = h_try * factor
-                break
-            h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
-            rejected += 1
-            retried = True
-        if status != OK:
+        step_status, h_taken, h_next, code, normal_force = attempt(
+            model, record, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+        )
+        if step_status != STATUS_SUCCESS:
+            status = STEP_TOO_SMALL
             break
         finite = True
         for j in range(N_STATE):
@@ -176,15 +170,15 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
         if normal_force < 0.0:
             status = LIFT_OFF
             break
-        t_new = t_end if h_try == t_end - t else t + h_try
+        t_new = t_end if h_taken == t_end - t else t + h_taken
         spin_new = spin_of(y_new)
         if (spin_new > 0.0) != (spin > 0.0):
             if sign_changes == 0:
-                first_change = t + h_try * spin / (spin - spin_new)
+                first_change = t + h_taken * spin / (spin - spin_new)
             sign_changes += 1
         for j in range(N_STATE):
             y[j] = y_new[j]
-            f[j] = stages[N_STAGES, j]
+            f[j] = f_new[j]
         spin = spin_new
         t = t_new
         h = h_next
@@ -192,7 +186,7 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
         finals[point, j] = y[j]
     results[point, 0] = status
     results[point, 1] = steps
-    results[point, 2] = rejected
+    results[point, 2] = stats[STAT_REJECTED]
     results[point, 3] = sign_changes
     results[point, 4] = first_change
     results[point, 5] = spin if status == OK else math.nan
@@ -200,7 +194,7 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
 
 def ensemble_kernel():
     """The CUDA kernel: thread i integrates point i (compiled at its first launch)."""
-    _two_argument_min_max()
+    _cuda_declarations()
     if not hasattr(np, REMOVED_ALIAS):
         setattr(np, REMOVED_ALIAS, np.vstack)
     point_loop = cuda.jit(device=True)(integrate_point)

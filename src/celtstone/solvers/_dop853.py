@@ -155,7 +155,8 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
             status = STATUS_STEP_TOO_SMALL
             break
         h_try = min(h, t_end - t)
-        stages[0, :] = f
+        for j in range(f.shape[0]):  # loops, not slices: the same on the CPU, and CUDA
+            stages[0, j] = f[j]  # code (benchmarks/gpu_rolling_sweep.py) has no slice copy
         error, code, normal_force = trial_step(
             model,
             params,
@@ -189,7 +190,8 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
         stats[STAT_REJECTED] += 1
         rejected = True
-    f_new[:] = stages[N_STAGES]
+    for j in range(f_new.shape[0]):
+        f_new[j] = stages[N_STAGES, j]
     return status, h_try, h_next, code, normal_force
 
 
