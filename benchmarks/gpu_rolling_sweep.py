@@ -26,6 +26,9 @@ runs the small grid and the large one, writes ``DIR/gpu.npz`` and prints the tim
 ``--report DIR`` (any machine): agreement of the GPU with the CPU sweep on the small grid
 (final spin, sign changes, status) and points per second of each.
 
+Each stage writes its file whole or not at all and replaces an earlier one only with
+``--force``.
+
 ``--check`` runs the thread loop on a few points in numba's CUDA simulator
 (``NUMBA_ENABLE_CUDASIM=1``, no GPU: the kernels run as compiled CPU code) against the
 CPU sweep.
@@ -41,6 +44,7 @@ import platform
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -281,22 +285,43 @@ def initial_states(n_spin: int, n_alpha: int) -> np.ndarray:
     return np.array(rows)
 
 
-def prepare(directory: Path, n: int, large: int) -> None:
+def save_whole(path: Path, force: bool, option: str, **arrays: object) -> None:
+    """``np.savez`` to ``path`` through celtstone's atomic writer: whole or not at all, and
+    an existing file only replaced with ``force``."""
+    from celtstone.export import atomic_path
+
+    with atomic_path(path, overwrite=force, parameter=option) as temporary:
+        with open(temporary, "wb") as handle:
+            np.savez(handle, **arrays)  # type: ignore[arg-type]
+
+
+def load(path: Path, stage: str) -> Any:
+    """The arrays of ``path``, or a message naming the stage that makes it."""
+    if not path.is_file():
+        raise SystemExit(f"{path} does not exist: run {stage} {path.parent} first")
+    return np.load(path)
+
+
+def prepare(directory: Path, n: int, large: int, force: bool) -> None:
     directory.mkdir(parents=True, exist_ok=True)
+    if (directory / "inputs.npz").exists() and not force:  # before the sweep's minutes
+        raise SystemExit(f"{directory / 'inputs.npz'} exists: pass --force to replace it")
     results, params, y0s, seconds = cpu_sweep(n, n, T_END)
     if not all(params[k].tobytes() == params[0].tobytes() for k in range(len(params))):
         raise SystemExit("the grid's parameter records differ: this script assumes one body")
     mine = initial_states(n, n)
     order_error = float(np.abs(mine - y0s).max())
     large_y0s = initial_states(large, large)
-    np.savez(
+    save_whole(
         directory / "inputs.npz",
+        force,
+        "--prepare",
         params=params[:1],
         y0s=y0s,
         large_y0s=large_y0s,
         cpu_final_spin=np.asarray(results["final_spin"]).ravel(),
         cpu_raw_sign_changes=np.asarray(results["raw_sign_changes"]).ravel(),
-        cpu_first_crossing_status=np.asarray(results["status"]).ravel().astype(str),
+        cpu_status=np.asarray(results["status"]).ravel().astype(str),
         cpu_seconds=seconds,
         cpu_cores=len(os.sched_getaffinity(0)),
         cpu_machine=platform.processor() or platform.machine(),
@@ -315,8 +340,15 @@ def prepare(directory: Path, n: int, large: int) -> None:
     )
 
 
-def gpu(directory: Path, copies: int) -> None:
-    data = np.load(directory / "inputs.npz")
+def gpu(directory: Path, copies: int, force: bool) -> None:
+    data = load(directory / "inputs.npz", "--prepare")
+    if (directory / "gpu.npz").exists() and not force:
+        raise SystemExit(f"{directory / 'gpu.npz'} exists: pass --force to replace it")
+    if not cuda.is_available():
+        raise SystemExit(
+            "--gpu needs an NVIDIA GPU and numba's CUDA target (numba.cuda.is_available() "
+            "is False here); --check runs the thread loop in the simulator instead"
+        )
     params, t_end = data["params"], float(data["t_end"])
     print("numba", __import__("numba").__version__, "device", cuda.get_current_device().name)
     kernel = ensemble_kernel()
@@ -347,8 +379,10 @@ def gpu(directory: Path, copies: int) -> None:
         "small_steps_max": int(small[1][:, 1].max()),
     }
     print(json.dumps(figures))
-    np.savez(
+    save_whole(
         directory / "gpu.npz",
+        force,
+        "--gpu",
         small_finals=small[0],
         small_results=small[1],
         large_results=large[1],
@@ -375,8 +409,8 @@ def compare(cpu_spin, cpu_changes, results) -> dict:
 
 
 def report(directory: Path) -> None:
-    data = np.load(directory / "inputs.npz")
-    out = np.load(directory / "gpu.npz")
+    data = load(directory / "inputs.npz", "--prepare")
+    out = load(directory / "gpu.npz", "--gpu")
     figures = json.loads(str(out["figures"]))
     summary = compare(data["cpu_final_spin"], data["cpu_raw_sign_changes"], out["small_results"])
     small_s = min(figures["small_s"])
@@ -430,11 +464,15 @@ def main() -> None:
     parser.add_argument(
         "--copies", type=int, default=4, help="the large grid repeated, for throughput"
     )
+    parser.add_argument("--force", action="store_true", help="replace DIR's earlier output")
     args = parser.parse_args()
+    for name in ("grid", "large", "copies"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name} must be a whole number >= 1, not {getattr(args, name)}")
     if args.prepare:
-        prepare(args.prepare, args.grid, args.large)
+        prepare(args.prepare, args.grid, args.large, args.force)
     if args.gpu:
-        gpu(args.gpu, args.copies)
+        gpu(args.gpu, args.copies, args.force)
     if args.report:
         report(args.report)
     if args.check:
@@ -442,4 +480,9 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from celtstone.errors import CeltstoneError
+
+    try:
+        main()
+    except CeltstoneError as error:  # the atomic writer's refusals and write failures
+        raise SystemExit(f"gpu_rolling_sweep: {error}") from None

@@ -14,6 +14,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_rolling_sweep.py"
 
 
@@ -46,3 +48,43 @@ def test_check_refuses_to_run_without_the_simulator() -> None:
     )
     assert done.returncode != 0
     assert "NUMBA_ENABLE_CUDASIM=1" in done.stderr
+
+
+def _script(*arguments: str) -> subprocess.CompletedProcess[str]:
+    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), *arguments],
+        env=environment,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+
+
+def test_stages_keep_earlier_output_and_name_the_missing_stage(tmp_path: Path) -> None:
+    directory = tmp_path / "gpu"
+    small = ("--grid", "2", "--large", "2")
+    assert _script("--prepare", str(directory), *small).returncode == 0
+    inputs = directory / "inputs.npz"
+    written = inputs.read_bytes()
+    again = _script("--prepare", str(directory), *small)
+    assert again.returncode != 0
+    assert "--force" in again.stderr
+    assert inputs.read_bytes() == written  # not replaced
+    assert _script("--prepare", str(directory), *small, "--force").returncode == 0
+    missing = _script("--report", str(directory))
+    assert missing.returncode != 0
+    assert "gpu.npz does not exist: run --gpu" in missing.stderr
+    assert sorted(p.name for p in directory.iterdir()) == ["inputs.npz"]  # no temporaries
+
+
+def test_gpu_stage_without_a_gpu_says_so(tmp_path: Path) -> None:
+    from numba import cuda
+
+    if cuda.is_available():
+        pytest.skip("a GPU is here: the stage would run")
+    assert _script("--prepare", str(tmp_path), "--grid", "2", "--large", "2").returncode == 0
+    done = _script("--gpu", str(tmp_path))
+    assert done.returncode != 0
+    assert "--gpu needs an NVIDIA GPU" in done.stderr
+    assert not (tmp_path / "gpu.npz").exists()
