@@ -53,6 +53,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from numba import cuda, float64, int64, types
 from numba.core.extending import overload
 
+from celtstone.integrate import DEFAULT_ATOL, DEFAULT_RTOL
 from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
 from celtstone.kernels.system import rhs
 from celtstone.solvers._dop853 import (
@@ -67,11 +68,12 @@ from celtstone.solvers._events import spin_of
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._structures import Controls
 from celtstone.solvers.codes import N_STATS, STAT_REJECTED, STATUS_SUCCESS
+from celtstone.solvers.driver import all_finite
 
 SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
 ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
 T_END = 10.0  # [s]
-RTOL, ATOL = 1e-10, 1e-12  # the rolling default of ``simulate``
+RTOL, ATOL = DEFAULT_RTOL, DEFAULT_ATOL  # ``simulate``'s: 1e-10, 1e-12
 MAX_STEPS = 2_000_000
 THREADS_PER_BLOCK = 64
 
@@ -161,11 +163,7 @@ def integrate_point(model, record, y0s, point, t_end, rtol, atol, max_steps, fin
         if step_status != STATUS_SUCCESS:
             status = STEP_TOO_SMALL
             break
-        finite = True
-        for j in range(N_STATE):
-            if not math.isfinite(y_new[j]):
-                finite = False
-        if not finite:
+        if not all_finite(y_new):
             status = NOT_FINITE
             break
         if code != RHS_OK:

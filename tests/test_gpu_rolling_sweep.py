@@ -19,15 +19,22 @@ import pytest
 SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_rolling_sweep.py"
 
 
-def test_thread_loop_repeats_the_cpu_driver_in_the_simulator() -> None:
-    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--check"],
+def _script(*arguments: str, simulator: bool = False) -> subprocess.CompletedProcess[str]:
+    """Run the benchmark with ``arguments``, in numba's CUDA simulator or without it."""
+    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    if simulator:
+        environment["NUMBA_ENABLE_CUDASIM"] = "1"
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), *arguments],
         env=environment,
         capture_output=True,
         text=True,
         timeout=600,
     )
+
+
+def test_thread_loop_repeats_the_cpu_driver_in_the_simulator() -> None:
+    done = _script("--check", simulator=True)
     assert done.returncode == 0, done.stdout + done.stderr
     summary = json.loads(done.stdout.strip().splitlines()[-1])
     assert summary["points"] == 12
@@ -38,27 +45,9 @@ def test_thread_loop_repeats_the_cpu_driver_in_the_simulator() -> None:
 
 
 def test_check_refuses_to_run_without_the_simulator() -> None:
-    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
-    done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--check"],
-        env=environment,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    done = _script("--check")
     assert done.returncode != 0
     assert "NUMBA_ENABLE_CUDASIM=1" in done.stderr
-
-
-def _script(*arguments: str) -> subprocess.CompletedProcess[str]:
-    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
-    return subprocess.run(
-        [sys.executable, str(SCRIPT), *arguments],
-        env=environment,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
 
 
 def test_stages_keep_earlier_output_and_name_the_missing_stage(tmp_path: Path) -> None:
