@@ -73,7 +73,7 @@ HEYOKA_TOLERANCES = (1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15, 1e-16)
 REPEATS = 3
 """Timed runs per setting; the smallest wall time is reported."""
 ENSEMBLE = (
-    (0.5, 0.5, -5.0),
+    (*TILT, OMEGA0[2]),
     (0.3, 0.6, -5.0),
     (0.6, 0.3, -5.0),
     (0.5, 0.5, -4.0),
@@ -200,21 +200,31 @@ def spin_at(times: np.ndarray, spin: np.ndarray) -> list[float]:
     return values
 
 
-def run_celtstone(rtol: float) -> dict[str, Any]:
-    """celtstone DOP853 at rtol, atol = rtol/10 (compiled beforehand): best-of-3 wall time."""
-    body = cs.load_body("kane_levinson_1982")
-    model = cs.model_from_name("rolling")
-    state = cs.InitialState(OMEGA0, TILT)
+def simulate_case(rtol: float, tilt: Any = TILT, omega: Any = OMEGA0) -> cs.Trajectory:
+    """celtstone's rolling run of the case from ``tilt`` [deg] and ``omega`` [rad/s], at
+    rtol, atol = rtol/10, with N_SAMPLES samples over T_END."""
+    return cs.simulate(
+        cs.model_from_name("rolling"),
+        cs.load_body("kane_levinson_1982"),
+        cs.InitialState(omega, tilt),
+        T_END,
+        rtol=rtol,
+        atol=rtol / 10.0,
+        n_samples=N_SAMPLES,
+    )
 
-    def run() -> cs.Trajectory:
-        return cs.simulate(
-            model, body, state, T_END, rtol=rtol, atol=rtol / 10.0, n_samples=N_SAMPLES
-        )
 
-    wall, trajectory = best_time(run)
+def trajectory_spins(trajectory: cs.Trajectory) -> list[float]:
+    """The spin at CHECK_TIMES of a finished run."""
     trajectory.raise_for_status()
     data = trajectory.dataset
-    spins = spin_at(data["time"].values, data["spin"].values)
+    return spin_at(data["time"].values, data["spin"].values)
+
+
+def run_celtstone(rtol: float) -> dict[str, Any]:
+    """celtstone DOP853 at rtol, atol = rtol/10 (compiled beforehand): best-of-3 wall time."""
+    wall, trajectory = best_time(lambda: simulate_case(rtol))
+    spins = trajectory_spins(trajectory)
     stats = trajectory.statistics
     return {
         "code": "celtstone",
@@ -227,6 +237,15 @@ def run_celtstone(rtol: float) -> dict[str, Any]:
         "rejected": stats["n_rejected"],
         "spin": spins,
     }
+
+
+def grid_spin(result: tuple) -> np.ndarray:  # type: ignore[type-arg]
+    """omega . n on the grid from ``propagate_grid``'s ``result``, which must have reached the
+    grid's end."""
+    if result[0] != hy.taylor_outcome.time_limit:
+        raise RuntimeError(f"heyoka stopped early: {result[0]}")
+    states = result[-1]
+    return (states[:, 0:3] * states[:, 3:6]).sum(axis=1)
 
 
 def heyoka_run(
@@ -267,10 +286,7 @@ def heyoka_run(
         return integrator.propagate_grid(grid_fp)
 
     wall, result = best_time(run, repeats)
-    outcome, steps, states = result[0], result[3], result[-1]
-    if outcome != hy.taylor_outcome.time_limit:
-        raise RuntimeError(f"heyoka stopped early: {outcome}")
-    spin = (states[:, 0:3] * states[:, 3:6]).sum(axis=1)
+    steps, spin = result[3], grid_spin(result)
     return {
         "build_s": cold,
         "cached_build_s": cached,
@@ -331,32 +347,16 @@ def heyoka_ensemble_spins(
     for start in starts:
         integrator.time = grid_fp[0]
         integrator.state[:] = start
-        result = integrator.propagate_grid(grid_fp)
-        if result[0] != hy.taylor_outcome.time_limit:
-            raise RuntimeError(f"heyoka stopped early: {result[0]}")
-        states = np.asarray(result[-1], dtype=float)
-        spins.append(spin_at(grid, (states[:, 0:3] * states[:, 3:6]).sum(axis=1)))
+        spin = grid_spin(integrator.propagate_grid(grid_fp))
+        spins.append(spin_at(grid, np.asarray(spin, dtype=float)))
     return np.array(spins)
 
 
 def celtstone_ensemble_spins(rtol: float) -> np.ndarray:
     """The spin at CHECK_TIMES of each ENSEMBLE state, celtstone at rtol, atol = rtol/10."""
-    body = cs.load_body("kane_levinson_1982")
-    model = cs.model_from_name("rolling")
-    spins = []
-    for a, b, w in ENSEMBLE:
-        run = cs.simulate(
-            model,
-            body,
-            cs.InitialState((0.0, 0.0, w), (a, b)),
-            T_END,
-            rtol=rtol,
-            atol=rtol / 10.0,
-            n_samples=N_SAMPLES,
-        )
-        run.raise_for_status()
-        spins.append(spin_at(run.dataset["time"].values, run.dataset["spin"].values))
-    return np.array(spins)
+    return np.array(
+        [trajectory_spins(simulate_case(rtol, (a, b), (0.0, 0.0, w))) for a, b, w in ENSEMBLE]
+    )
 
 
 def ensemble_rows(variables: list[Any], rhs: list[Any]) -> list[dict[str, Any]]:
