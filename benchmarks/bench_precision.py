@@ -5,7 +5,8 @@ equally spaced output samples (celtstone ``n_samples=10001``; heyoka ``propagate
 ``np.linspace(0, 50, 10001)``). For each tolerance: wall time (best of 3), steps, and the
 error of the spin omega.n at 10 s and at 50 s against a converged reference.
 
-* celtstone: DOP853 with rtol = tol, atol = tol/10 (rtol 1e-14 is its smallest).
+* celtstone: each of ``CELTSTONE_METHODS`` (Verner's 9(8) pair, the rolling model's default,
+  and DOP853) with rtol = tol, atol = tol/10 (rtol 1e-14 is its smallest).
 * heyoka: ``taylor_adaptive`` in double precision with tol = tol (heyoka's error control is
   relative here, since |omega| > 1). The rolling equations are written below as heyoka
   expressions from the oracle's equations (``tests/oracle/rattleback.py``: contact point
@@ -68,6 +69,8 @@ CHECK_TIMES = (10.0, 50.0)
 """Times at which the spin error is reported [s]."""
 CELTSTONE_TOLERANCES = (1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14)
 """celtstone rtol values (atol = rtol/10); 1e-14 is the smallest rtol it accepts."""
+CELTSTONE_METHODS = ("vern9", "dop853")
+"""celtstone's explicit methods, the rolling model's default first."""
 HEYOKA_TOLERANCES = (1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15, 1e-16)
 """heyoka tol values in double precision."""
 REPEATS = 3
@@ -200,9 +203,9 @@ def spin_at(times: np.ndarray, spin: np.ndarray) -> list[float]:
     return values
 
 
-def simulate_case(rtol: float, tilt: Any = TILT, omega: Any = OMEGA0) -> cs.Trajectory:
-    """celtstone's rolling run of the case from ``tilt`` [deg] and ``omega`` [rad/s], at
-    rtol, atol = rtol/10, with N_SAMPLES samples over T_END."""
+def simulate_case(rtol: float, method: str, tilt: Any = TILT, omega: Any = OMEGA0) -> cs.Trajectory:
+    """celtstone's rolling run of the case from ``tilt`` [deg] and ``omega`` [rad/s] with
+    ``method``, at rtol, atol = rtol/10, with N_SAMPLES samples over T_END."""
     return cs.simulate(
         cs.model_from_name("rolling"),
         cs.load_body("kane_levinson_1982"),
@@ -211,6 +214,7 @@ def simulate_case(rtol: float, tilt: Any = TILT, omega: Any = OMEGA0) -> cs.Traj
         rtol=rtol,
         atol=rtol / 10.0,
         n_samples=N_SAMPLES,
+        method=method,
     )
 
 
@@ -221,13 +225,14 @@ def trajectory_spins(trajectory: cs.Trajectory) -> list[float]:
     return spin_at(data["time"].values, data["spin"].values)
 
 
-def run_celtstone(rtol: float) -> dict[str, Any]:
-    """celtstone DOP853 at rtol, atol = rtol/10 (compiled beforehand): best-of-3 wall time."""
-    wall, trajectory = best_time(lambda: simulate_case(rtol))
+def run_celtstone(rtol: float, method: str) -> dict[str, Any]:
+    """celtstone's ``method`` at rtol, atol = rtol/10 (compiled beforehand): best-of-3 wall
+    time."""
+    wall, trajectory = best_time(lambda: simulate_case(rtol, method))
     spins = trajectory_spins(trajectory)
     stats = trajectory.statistics
     return {
-        "code": "celtstone",
+        "code": f"celtstone {method}",
         "tolerance": f"rtol {rtol:.0e}, atol {rtol / 10:.0e}",
         "tol": rtol,
         "build_s": None,
@@ -352,10 +357,14 @@ def heyoka_ensemble_spins(
     return np.array(spins)
 
 
-def celtstone_ensemble_spins(rtol: float) -> np.ndarray:
-    """The spin at CHECK_TIMES of each ENSEMBLE state, celtstone at rtol, atol = rtol/10."""
+def celtstone_ensemble_spins(rtol: float, method: str) -> np.ndarray:
+    """The spin at CHECK_TIMES of each ENSEMBLE state, celtstone's ``method`` at rtol, atol =
+    rtol/10."""
     return np.array(
-        [trajectory_spins(simulate_case(rtol, (a, b), (0.0, 0.0, w))) for a, b, w in ENSEMBLE]
+        [
+            trajectory_spins(simulate_case(rtol, method, (a, b), (0.0, 0.0, w)))
+            for a, b, w in ENSEMBLE
+        ]
     )
 
 
@@ -365,7 +374,9 @@ def ensemble_rows(variables: list[Any], rhs: list[Any]) -> list[dict[str, Any]]:
     eps = np.finfo(np.longdouble).eps
     reference_spins = heyoka_ensemble_spins(variables, rhs, eps, np.longdouble, True)
     runs = [
-        ("celtstone", f"rtol {r:.0e}", celtstone_ensemble_spins(r)) for r in CELTSTONE_TOLERANCES
+        (f"celtstone {method}", f"rtol {r:.0e}", celtstone_ensemble_spins(r, method))
+        for method in CELTSTONE_METHODS
+        for r in CELTSTONE_TOLERANCES
     ]
     runs += [
         ("heyoka", f"tol {t:.0e}", heyoka_ensemble_spins(variables, rhs, t, float, False))
@@ -415,17 +426,19 @@ def main() -> None:
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", cs.PlausibilityWarning)  # the case must be plausible
-        run_celtstone(1e-9)  # compile or load the numba cache
-        rows = [run_celtstone(rtol) for rtol in CELTSTONE_TOLERANCES]
+        rows = []
+        for method in CELTSTONE_METHODS:
+            run_celtstone(1e-9, method)  # compile or load the numba cache
+            rows += [run_celtstone(rtol, method) for rtol in CELTSTONE_TOLERANCES]
     rows += [run_heyoka(variables, rhs, tol) for tol in HEYOKA_TOLERANCES]
     for row in rows:
         row["spin_error"] = [abs(s - r) for s, r in zip(row["spin"], ref["spin"], strict=True)]
     ensemble = ensemble_rows(variables, rhs) if args.ensemble else []
 
     tightest = {row["code"]: row for row in rows}  # the last row of each code
+    default = tightest[f"celtstone {CELTSTONE_METHODS[0]}"]
     agreement = [
-        abs(a - b)
-        for a, b in zip(tightest["celtstone"]["spin"], tightest["heyoka"]["spin"], strict=True)
+        abs(a - b) for a, b in zip(default["spin"], tightest["heyoka"]["spin"], strict=True)
     ]
     machine = (
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
@@ -464,13 +477,13 @@ def main() -> None:
     for t, text in zip(CHECK_TIMES, ref["spin_text"], strict=True):
         print(f"  spin({t:g} s) = {text} rad/s")
     print(
-        f"tightest double runs (celtstone {tightest['celtstone']['tolerance']}, heyoka "
+        f"tightest double runs (celtstone {CELTSTONE_METHODS[0]} {default['tolerance']}, heyoka "
         f"{tightest['heyoka']['tolerance']}) differ by "
         + ", ".join(f"{d:.1e} at {t:g} s" for t, d in zip(CHECK_TIMES, agreement, strict=True))
     )
     print()
     header = (
-        f"{'code':<10} {'tolerance':<26} {'build [s]':>9} {'cached':>7} {'wall [s]':>9} "
+        f"{'code':<16} {'tolerance':<26} {'build [s]':>9} {'cached':>7} {'wall [s]':>9} "
         f"{'steps':>7} {'rejected':>8} {'|err| 10 s':>11} {'|err| 50 s':>11}"
     )
     print(header)
@@ -479,7 +492,7 @@ def main() -> None:
         cached = "" if row["cached_build_s"] is None else f"{row['cached_build_s']:.3f}"
         errors = " ".join(f"{e:>11.2e}" for e in row["spin_error"])
         print(
-            f"{row['code']:<10} {row['tolerance']:<26} {build:>9} {cached:>7} "
+            f"{row['code']:<16} {row['tolerance']:<26} {build:>9} {cached:>7} "
             f"{row['wall_s']:>9.4f} {row['steps']:>7} {row['rejected']:>8} {errors}"
         )
     if ensemble:
@@ -489,12 +502,12 @@ def main() -> None:
             "[rad/s]): " + ", ".join(f"({a:g}, {b:g}, {w:g})" for a, b, w in ENSEMBLE)
         )
         print(
-            f"{'code':<10} {'tolerance':<26} {'RMS 10 s':>10} {'median 10 s':>11} "
+            f"{'code':<16} {'tolerance':<26} {'RMS 10 s':>10} {'median 10 s':>11} "
             f"{'RMS 50 s':>10} {'median 50 s':>11}"
         )
         for row in ensemble:
             print(
-                f"{row['code']:<10} {row['tolerance']:<26} {row['rms'][0]:>10.2e} "
+                f"{row['code']:<16} {row['tolerance']:<26} {row['rms'][0]:>10.2e} "
                 f"{row['median'][0]:>11.2e} {row['rms'][1]:>10.2e} {row['median'][1]:>11.2e}"
             )
 

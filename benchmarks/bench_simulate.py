@@ -6,8 +6,11 @@
   side, cross products by component, the 3x3 solve by hand, one output array per call),
   what a competent researcher writes without a compiler.
 
-Both use SciPy's DOP853 for rolling and Radau for sliding, like celtstone. Prints the wall
-times, both ratios (SciPy time / celtstone time) and, for each case, a profile table:
+Both use SciPy's DOP853 for rolling and Radau for sliding. celtstone's rolling model
+integrates with Verner's 9(8) pair by default, which is more accurate than DOP853 at the same
+rtol (docs/decisions.md §46), so the rolling case also times celtstone's DOP853, the
+baselines' own method. Prints the wall times, the ratios (SciPy time / celtstone time: for
+rolling against both of celtstone's methods) and, for each case, a profile table:
 steps accepted and rejected, right-hand-side evaluations (nfev), Jacobian evaluations (njev),
 LU factorisations (nlu), wall time and wall time per accepted step. A stick-slip (hybrid
 contact) case is profiled for celtstone alone. Wall times: celtstone best of 5 (3 for
@@ -90,8 +93,11 @@ def profile_row(
     }
 
 
-def run_celtstone(model_name: str, t_end: float, rtol: float, atol: float, repeats: int) -> dict:
-    """Time celtstone (compiled beforehand) on one case; its profile row and final spin."""
+def run_celtstone(
+    model_name: str, t_end: float, rtol: float, atol: float, repeats: int, method: str | None = None
+) -> dict:
+    """Time celtstone (compiled beforehand) on one case with ``method`` (None: the model's
+    default); its profile row and final spin."""
     body = cs.load_body("kane_levinson_1982")
     if model_name == "rolling":
         model = cs.model_from_name("rolling")
@@ -104,7 +110,7 @@ def run_celtstone(model_name: str, t_end: float, rtol: float, atol: float, repea
     progress(f"celtstone, {model_name} ...")
 
     def engine() -> cs.Trajectory:
-        return cs.simulate(model, body, state, t_end, rtol=rtol, atol=atol)
+        return cs.simulate(model, body, state, t_end, rtol=rtol, atol=atol, method=method)
 
     with warnings.catch_warnings():
         # the paper's static friction load exceeds Coulomb's bound in these runs (README)
@@ -175,6 +181,8 @@ def case(
     elif model_name == "sliding":
         title += ", f = 0.35, eps = 1 mm"
     runs = {"celtstone": run_celtstone(model_name, t_end, rtol, atol, repeats)}
+    if model_name == "rolling":  # the baselines' method, for a like-for-like ratio
+        runs["celtstone_dop853"] = run_celtstone(model_name, t_end, rtol, atol, repeats, "dop853")
     if model_name != "hybrid":
         repeats_careful = 3 if model_name == "rolling" else 1  # sliding: ~1 min a run
         runs["careful_scipy"] = run_scipy(
@@ -197,9 +205,14 @@ def case(
     if "careful_scipy" in runs:
         result["careful_scipy_s"] = runs["careful_scipy"]["row"]["wall_s"]
         result["ratio_careful"] = result["careful_scipy_s"] / engine_time
+        if "celtstone_dop853" in runs:
+            dop853_time = runs["celtstone_dop853"]["row"]["wall_s"]
+            result["ratio_careful_dop853"] = result["careful_scipy_s"] / dop853_time
     if "naive_scipy" in runs:
         result["scipy_numpy_s"] = runs["naive_scipy"]["row"]["wall_s"]
         result["ratio"] = result["scipy_numpy_s"] / engine_time
+        if "celtstone_dop853" in runs:
+            result["ratio_dop853"] = result["scipy_numpy_s"] / dop853_time
     return result
 
 
@@ -209,6 +222,9 @@ def print_case(r: dict) -> None:
         print(f"  naive SciPy / celtstone    {r['ratio']:8.1f} x")
     if "ratio_careful" in r:
         print(f"  careful SciPy / celtstone  {r['ratio_careful']:8.1f} x")
+    for key, baseline in (("ratio_dop853", "naive"), ("ratio_careful_dop853", "careful")):
+        if key in r:
+            print(f"  {baseline} SciPy / celtstone's DOP853 (their method) {r[key]:8.1f} x")
     spins = ", ".join(f"{name} {value:.9f}" for name, value in r["final_spin"].items())
     print(f"  final spin [rad/s]: {spins}")
     header = (

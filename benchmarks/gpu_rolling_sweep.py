@@ -255,8 +255,9 @@ def cpu_sweep(n_spin: int, n_alpha: int, t_end: float, workers: int | None = Non
         t_end=t_end,
         rtol=RTOL,
         atol=ATOL,
+        method="dop853",  # the thread's method (the rolling model's default is vern9)
     )
-    Sweep({"initial_spin": [-5.0]}, model="rolling", t_end=0.01).run()  # load the code
+    Sweep({"initial_spin": [-5.0]}, model="rolling", t_end=0.01, method="dop853").run()
     batch.run_batch = capturing
     try:
         start = time.perf_counter()

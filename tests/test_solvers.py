@@ -68,6 +68,20 @@ def test_every_registered_method_has_a_module_and_known_orders() -> None:
     assert not _methods.is_known(max(solvers.METHODS.values()) + 1)
 
 
+def test_the_interpolants_arrays_are_indexed_by_method_code() -> None:
+    """The driver picks a step's interpolant as ``dense_arrays(work)[code]``: only the run's
+    own method (both of auto's) has one sized to the state."""
+    n = 16
+    for code in solvers.METHODS.values():
+        arrays = _methods.dense_arrays(_methods.workspaces(code, n))
+        assert len(arrays) == len(solvers.METHODS)
+        sized = {i for i, array in enumerate(arrays) if array.shape[-1] == n}
+        expected = (
+            {codes.METHOD_DOP853, codes.METHOD_RADAU5} if code == codes.METHOD_AUTO else {code}
+        )
+        assert sized == expected
+
+
 @pytest.mark.parametrize("method", METHOD_NAMES)
 def test_fixed_step_error_falls_with_the_method_order(
     rolling_problem: tuple[np.ndarray, np.ndarray], method: str

@@ -138,10 +138,11 @@ def simulate(
     t_end : float
         Duration [s], > 0.
     method : str, optional
-        Integrator name from ``solvers.METHODS``: "dop853" (explicit), "radau5"
-        (stiff) or "auto" (each step with the cheaper of the two, switched on the
-        Jacobian's spectral radius; ``solvers._auto``). Default: dop853 for rolling,
-        auto for sliding and the slip phases of the stick–slip contact.
+        Integrator name from ``solvers.METHODS``: "vern9" (explicit, Verner's 9(8)
+        pair), "dop853" (explicit), "radau5" (stiff) or "auto" (each step with DOP853 or
+        Radau, whichever is cheaper, switched on the Jacobian's spectral radius;
+        ``solvers._auto``). Default: vern9 for rolling, auto for sliding and the slip
+        phases of the stick–slip contact.
     stick_method : str, optional
         Integrator of the stick–slip contact's stick phases (``HybridModel`` only):
         default ``method`` when it is given, else dop853.

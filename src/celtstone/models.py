@@ -211,7 +211,7 @@ class RollingModel:
     name: ClassVar[str] = "rolling"
     contact: ClassVar[str] = "rolling"
     code: ClassVar[int] = ModelCode.ROLLING.value
-    default_method: ClassVar[str] = "dop853"
+    default_method: ClassVar[str] = "vern9"
 
     def __post_init__(self) -> None:
         _check_settings(self)

@@ -11,11 +11,11 @@ def add_method_args(parser: argparse.ArgumentParser, hybrid_words: str) -> None:
     parser.add_argument(
         "--method",
         default=None,
-        help="dop853, radau5 or auto (default: dop853 rolling, auto sliding)",
+        help="vern9, dop853, radau5 or auto (default: vern9 rolling, auto sliding)",
     )
     parser.add_argument(
         "--stick-method",
         default=None,
         help=f"the integrator of the stick–slip contact's stick phases{hybrid_words}: "
-        "dop853, radau5 or auto (default: --method if given, else dop853)",
+        "vern9, dop853, radau5 or auto (default: --method if given, else dop853)",
     )

@@ -35,6 +35,9 @@ from celtstone.solvers.codes import (
     METHOD_RADAU5 as METHOD_RADAU5,
 )
 from celtstone.solvers.codes import (
+    METHOD_VERN9 as METHOD_VERN9,
+)
+from celtstone.solvers.codes import (
     METHODS as METHODS,
 )
 from celtstone.solvers.codes import (
@@ -95,6 +98,7 @@ __all__ = [
     "METHODS",
     "METHOD_DOP853",
     "METHOD_RADAU5",
+    "METHOD_VERN9",
     "STATISTICS",
     "STATUS_LIFT_OFF",
     "STATUS_MAX_PHASES",

@@ -91,7 +91,7 @@ class Step(NamedTuple):
     """An accepted step [t_old, t_old + h] and its interpolant."""
 
     method: int  # method code
-    dense: np.ndarray  # the interpolant's coefficients (``_methods.dense_coefficients``)
+    dense: np.ndarray  # the interpolant's coefficients (``_methods.dense_arrays``)
     y_old: np.ndarray  # state at t_old
     t_old: float  # [s]
     h: float  # [s]

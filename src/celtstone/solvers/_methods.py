@@ -48,8 +48,8 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    state at t + x h, x in [0, 1], with ``dense`` those coefficients and ``y_old`` the
    state at t; it reads nothing else, so events and samples pass just these. The
    interpolant must be continuous from step to step and pass through y and y_new;
-   its order is the method's to state (DOP853: 7, Radau IIA: 3, the collocation
-   polynomial). Sampling and event location use nothing else.
+   its order is the method's to state (DOP853: 7, Verner's pair: 8, Radau IIA: 3, the
+   collocation polynomial). Sampling and event location use nothing else.
 8. **The error norm** is the RMS over the n components of (error estimate) / (atol +
    max(|y|, |y_new|) rtol), as SciPy's (``_step_control.rms_scaled``); a step is
    accepted when it is at most 1.
@@ -73,7 +73,7 @@ code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method'
 the others, one at a time: ``active(method, work.auto)`` names the method that takes the
 next step, and the driver passes that code to ``attempt`` (with the run's code),
 ``dense``, ``dense_every_step`` and ``interpolate`` for the step, with that method's
-coefficients (each method's ``dense_coefficients`` looked up once per run);
+coefficients (``dense_arrays`` looked up once per run);
 ``after_step`` takes the run's code. Each method's step is compiled once however many
 codes route to it.
 """
@@ -89,16 +89,19 @@ from celtstone.kernels.layout import RHS_UNKNOWN_CODE
 from celtstone.solvers import _auto as auto
 from celtstone.solvers import _dop853 as dop853
 from celtstone.solvers import _radau as radau5
+from celtstone.solvers import _vern9 as vern9
 from celtstone.solvers._compile import inlined
 from celtstone.solvers.codes import (
     METHOD_AUTO,
     METHOD_DOP853,
     METHOD_RADAU5,
+    METHOD_VERN9,
     STATUS_SUCCESS,
     STATUS_UNKNOWN_CODE,
 )
 
-MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5, METHOD_AUTO: auto}  # for Python
+# for Python
+MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5, METHOD_AUTO: auto, METHOD_VERN9: vern9}
 
 
 class Workspaces(NamedTuple):
@@ -108,12 +111,18 @@ class Workspaces(NamedTuple):
     dop853: dop853.Workspace
     radau5: radau5.Workspace
     auto: np.ndarray
+    vern9: vern9.Workspace
 
 
 @kernel
 def is_known(method):
     """Whether ``method`` is a registered method code."""
-    return method == METHOD_DOP853 or method == METHOD_RADAU5 or method == METHOD_AUTO
+    return (
+        method == METHOD_DOP853
+        or method == METHOD_RADAU5
+        or method == METHOD_AUTO
+        or method == METHOD_VERN9
+    )
 
 
 @kernel
@@ -124,6 +133,7 @@ def workspaces(method, n):
         dop853.workspace(n if method == METHOD_DOP853 or switching else 0),
         radau5.workspace(n if method == METHOD_RADAU5 or switching else 0),
         auto.workspace(),
+        vern9.workspace(n if method == METHOD_VERN9 else 0),
     )
 
 
@@ -136,6 +146,8 @@ def error_order(method):
         return radau5.ERROR_ORDER
     if method == METHOD_AUTO:
         return auto.ERROR_ORDER
+    if method == METHOD_VERN9:
+        return vern9.ERROR_ORDER
     return -1
 
 
@@ -148,6 +160,8 @@ def dense_every_step(method):
         return radau5.DENSE_EVERY_STEP
     if method == METHOD_AUTO:
         return auto.DENSE_EVERY_STEP
+    if method == METHOD_VERN9:
+        return vern9.DENSE_EVERY_STEP
     return True
 
 
@@ -170,6 +184,8 @@ def start(method, model, params, t, y, f, h, controls, work, stats):
         radau5.start(model, params, t, y, f, controls, work.radau5, stats)
     elif method == METHOD_AUTO:
         auto.start(work.auto, model, params, t, y, f, h, controls, work, stats)
+    elif method == METHOD_VERN9:
+        vern9.start(model, params, t, y, f, controls, work.vern9, stats)
 
 
 @inlined
@@ -187,6 +203,10 @@ def attempt(method, stepper, model, params, t, y, f, h, t_end, controls, work, y
     if stepper == METHOD_RADAU5:
         return radau5.attempt(
             model, params, t, y, f, h, t_end, controls, work.radau5, y_new, f_new, stats
+        )
+    if stepper == METHOD_VERN9:
+        return vern9.attempt(
+            model, params, t, y, f, h, t_end, controls, work.vern9, y_new, f_new, stats
         )
     return STATUS_UNKNOWN_CODE, h, h, RHS_UNKNOWN_CODE, np.nan
 
@@ -206,16 +226,15 @@ def dense(method, model, params, t, y, y_new, h, work, stats):
         dop853.dense(model, params, t, y, y_new, h, work.dop853, stats)
     elif method == METHOD_RADAU5:
         radau5.dense(model, params, t, y, y_new, h, work.radau5, stats)
+    elif method == METHOD_VERN9:
+        vern9.dense(model, params, t, y, y_new, h, work.vern9, stats)
 
 
 @inlined
-def dense_coefficients(method, work):
-    """The method's interpolant coefficients ``work.<method>.dense`` (contract item 7)."""
-    if method == METHOD_DOP853:
-        return work.dop853.dense
-    if method == METHOD_RADAU5:
-        return work.radau5.dense
-    return np.full((0, 0), np.nan)
+def dense_arrays(work):
+    """Every method's interpolant coefficients ``work.<method>.dense`` (contract item 7),
+    indexed by method code; an empty array at a code that takes no steps itself (``auto``)."""
+    return (work.dop853.dense, work.radau5.dense, np.full((0, 0), np.nan), work.vern9.dense)
 
 
 @inlined
@@ -225,5 +244,7 @@ def interpolate(method, dense, y_old, x, out):
         dop853.interpolate(dense, y_old, x, out)
     elif method == METHOD_RADAU5:
         radau5.interpolate(dense, y_old, x, out)
+    elif method == METHOD_VERN9:
+        vern9.interpolate(dense, y_old, x, out)
     else:
         out[:] = np.nan

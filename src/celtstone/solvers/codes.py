@@ -7,9 +7,15 @@ import enum
 METHOD_DOP853 = 0
 METHOD_RADAU5 = 1
 METHOD_AUTO = 2  # DOP853 and Radau by turns, switched on stiffness (``solvers._auto``)
+METHOD_VERN9 = 3  # Verner's 9(8) pair (``solvers._vern9``)
 
 # the methods registry: name -> code; each code has its module (``solvers._methods``)
-METHODS = {"dop853": METHOD_DOP853, "radau5": METHOD_RADAU5, "auto": METHOD_AUTO}
+METHODS = {
+    "dop853": METHOD_DOP853,
+    "radau5": METHOD_RADAU5,
+    "auto": METHOD_AUTO,
+    "vern9": METHOD_VERN9,
+}
 
 # slots of the integrator's int64 statistics array (8 long); the compiled loop adds to
 # them, so one array sums the phases of a hybrid run

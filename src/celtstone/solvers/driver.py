@@ -31,7 +31,6 @@ from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._structures import RunEnd
 from celtstone.solvers.codes import (
     METHOD_AUTO,
-    METHOD_DOP853,
     METHOD_RADAU5,
     STAT_ACCEPTED,
     STAT_NFEV,
@@ -183,8 +182,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     # the switching record and the interpolants' arrays looked up once, and the whole
     # workspace handed only to the helpers that need it: per step, those lookups and
     # hand-overs cost about 10 % of a rolling run (docs/decisions.md §43)
-    dense_dop853 = methods.dense_coefficients(METHOD_DOP853, work)
-    dense_radau5 = methods.dense_coefficients(METHOD_RADAU5, work)
+    dense_of = methods.dense_arrays(work)  # by method code
     switching = work.auto
     rate = events.spin_rate(y, f)
     h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
@@ -216,9 +214,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         if code != RHS_OK:
             status = rhs_failure(code)
             break
-        step = events.Step(
-            stepper, dense_dop853 if stepper == METHOD_DOP853 else dense_radau5, y, t, h_taken
-        )
+        step = events.Step(stepper, dense_of[stepper], y, t, h_taken)
         all_decided = events.all_decided_by_ends(
             table, values, spin_new, normal_new, rate, rate_new, h_taken
         )
