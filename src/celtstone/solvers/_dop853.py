@@ -21,7 +21,7 @@ from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._step_control import smallest_step
+from celtstone.solvers._step_control import explicit_step, smallest_step
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,
@@ -43,9 +43,6 @@ ORDER = 8  # of the method: global error O(h^8)
 ERROR_ORDER = 7  # of its local error estimate (the 5th- and 3rd-order embedded pair, combined)
 DENSE_ROWS = 7
 DENSE_EVERY_STEP = False  # the interpolant's 3 stages only for a step that is read
-SAFETY = 0.9  # step-size factors, as SciPy's DOP853
-MIN_FACTOR = 0.2
-MAX_FACTOR = 10.0
 ERROR_EXPONENT = -1.0 / (ERROR_ORDER + 1)  # -1/8, exact in binary
 
 
@@ -174,20 +171,11 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         if not controls.adaptive:
             h_next = h
             break
-        if not math.isfinite(error):
-            h = h_try * MIN_FACTOR
-            stats[STAT_REJECTED] += 1
-            rejected = True
-            continue
-        if error < 1.0:
-            factor = MAX_FACTOR
-            if error != 0.0:
-                factor = min(MAX_FACTOR, SAFETY * error**ERROR_EXPONENT)
-            if rejected:
-                factor = min(1.0, factor)
-            h_next = h_try * factor
+        accepted, h_proposed = explicit_step(error, h_try, rejected, ERROR_EXPONENT)
+        if accepted:
+            h_next = h_proposed
             break
-        h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
+        h = h_proposed
         stats[STAT_REJECTED] += 1
         rejected = True
     for j in range(f_new.shape[0]):

@@ -8,6 +8,12 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.system import rhs
+from celtstone.solvers._compile import inlined
+
+# SciPy's step-size factors for its explicit pairs (``scipy.integrate.DOP853``)
+SAFETY = 0.9
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
 
 
 @kernel
@@ -46,3 +52,24 @@ def initial_step(model, params, y0, f0, order, rtol, atol, scratch, f1):
 def smallest_step(t):
     """The step below which a method gives up at time t: ten units of round-off of t [s]."""
     return 10.0 * abs(np.nextafter(t, np.inf) - t)
+
+
+@inlined
+def explicit_step(error, h_try, rejected, exponent):
+    """SciPy's rule for an explicit pair: whether the trial step of size h_try [s] with
+    error norm ``error`` is accepted, and the step size to try next [s].
+
+    The next step is h_try 0.9 error^exponent within [0.2, 10] h_try, and at most h_try
+    right after a rejection (``rejected``); a non-finite error retries at 0.2 h_try.
+    ``exponent`` is -1/(q + 1) for an error estimate of order q.
+    """
+    if not math.isfinite(error):
+        return False, h_try * MIN_FACTOR
+    if error < 1.0:
+        factor = MAX_FACTOR
+        if error != 0.0:
+            factor = min(MAX_FACTOR, SAFETY * error**exponent)
+        if rejected:
+            factor = min(1.0, factor)
+        return True, h_try * factor
+    return False, h_try * max(MIN_FACTOR, SAFETY * error**exponent)

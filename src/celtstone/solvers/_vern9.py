@@ -22,7 +22,7 @@ from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._step_control import smallest_step
+from celtstone.solvers._step_control import explicit_step, smallest_step
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,
@@ -39,13 +39,11 @@ B = _TABLE["B"]  # (16,)
 C = _TABLE["C"]  # (21,)
 E = _TABLE["E"]  # (16,): the 8th-order weights minus the 9th-order ones
 P = _TABLE["P"]  # (21, 8): the interpolant's weight of stage i is sum_j P[i, j] x^(j+1)
+P_ROWS = np.ascontiguousarray(P.T)  # (8, 21): row j weighs the stages for x^(j+1)
 ORDER = 9
 ERROR_ORDER = 8
 DENSE_ROWS = 8
 DENSE_EVERY_STEP = False
-SAFETY = 0.9
-MIN_FACTOR = 0.2
-MAX_FACTOR = 10.0
 ERROR_EXPONENT = -1.0 / (ERROR_ORDER + 1)
 
 
@@ -72,17 +70,23 @@ def start(model, params, t, y, f, controls, work, stats):
     return
 
 
+@inlined
+def weighted_sum(weights, count, stages, out):
+    """out = Σ_k weights[k] stages[k] over the first ``count`` stages, in k's order; a zero
+    weight's terms are skipped (a third of the table's)."""
+    out[:] = 0.0
+    for k in range(count):
+        weight = weights[k]
+        if weight != 0.0:
+            for j in range(out.shape[0]):
+                out[j] += weight * stages[k, j]
+
+
 @kernel
 def evaluate_stage(model, params, s, t, y, h, stages, scratch):
     """Stage s: stages[s] = f(t + c_s h, y + h Σ_k a_sk stages[k])."""
-    n = y.shape[0]
-    scratch[:] = 0.0
-    for k in range(s):
-        weight = A[s, k]
-        if weight != 0.0:
-            for j in range(n):
-                scratch[j] += weight * stages[k, j]
-    for j in range(n):
+    weighted_sum(A[s], s, stages, scratch)
+    for j in range(y.shape[0]):
         scratch[j] = y[j] + h * scratch[j]
     rhs(model, t + C[s] * h, scratch, params, stages[s])
 
@@ -99,15 +103,12 @@ def trial_step(model, params, t, y, h, rtol, atol, stages, y_new, scratch, error
         evaluate_stage(model, params, s, t, y, h, stages, scratch)
     y_new[:] = 0.0
     error_term[:] = 0.0
-    for k in range(N_STAGES):
+    for k in range(N_STAGES):  # both sums in one pass over the stages
         weight = B[k]
-        if weight != 0.0:
-            for j in range(n):
-                y_new[j] += weight * stages[k, j]
-        weight = E[k]
-        if weight != 0.0:
-            for j in range(n):
-                error_term[j] += weight * stages[k, j]
+        error_weight = E[k]
+        for j in range(n):
+            y_new[j] += weight * stages[k, j]
+            error_term[j] += error_weight * stages[k, j]
     for j in range(n):
         y_new[j] = y[j] + h * y_new[j]
     code, normal_force = rhs(model, t + h, y_new, params, stages[N_STAGES])
@@ -158,20 +159,11 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         if not controls.adaptive:
             h_next = h
             break
-        if not math.isfinite(error):
-            h = h_try * MIN_FACTOR
-            stats[STAT_REJECTED] += 1
-            rejected = True
-            continue
-        if error < 1.0:
-            factor = MAX_FACTOR
-            if error != 0.0:
-                factor = min(MAX_FACTOR, SAFETY * error**ERROR_EXPONENT)
-            if rejected:
-                factor = min(1.0, factor)
-            h_next = h_try * factor
+        accepted, h_proposed = explicit_step(error, h_try, rejected, ERROR_EXPONENT)
+        if accepted:
+            h_next = h_proposed
             break
-        h = h_try * max(MIN_FACTOR, SAFETY * error**ERROR_EXPONENT)
+        h = h_proposed
         stats[STAT_REJECTED] += 1
         rejected = True
     for j in range(f_new.shape[0]):
@@ -194,12 +186,7 @@ def dense(model, params, t, y, y_new, h, work, stats):
         scratch[j] = y_new[j] - y[j]
     for i in range(DENSE_ROWS - 1):
         row = dense[i]
-        row[:] = 0.0
-        for k in range(N_STAGES_EXTENDED):
-            weight = P[k, i]
-            if weight != 0.0:
-                for j in range(n):
-                    row[j] += weight * stages[k, j]
+        weighted_sum(P_ROWS[i], N_STAGES_EXTENDED, stages, row)
         for j in range(n):
             row[j] = h * row[j]
             scratch[j] -= row[j]
