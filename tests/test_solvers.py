@@ -425,3 +425,23 @@ def test_dop853_evaluates_its_interpolant_only_in_steps_that_are_read(
     interpolated_steps = (one.nfev - 2 - 12 * attempts) // 3
     assert one.nfev == 2 + 12 * attempts + 3 * interpolated_steps
     assert 1 <= interpolated_steps <= 10 * one.crossings.size
+
+
+def test_the_rolling_default_places_a_sensitive_reversal() -> None:
+    """K&L with a rolling-friction length of 1e-5 m over 50 s (the report's realistic long
+    run): the spin creeps through zero near 40.9 s, so an error of 1e-3 rad/s moves that
+    reversal by tenths of a second (DOP853 at the default rtol put it 0.70 s early,
+    docs/decisions.md §46). The rolling model's default method at the default tolerances
+    places every reversal within 0.01 s of a run converged at rtol 1e-13."""
+    body = cs.load_body("kane_levinson_1982")
+    model = cs.RollingModel(rolling_resistance=1e-5)
+
+    def reversals(**options: float) -> np.ndarray:
+        run = cs.simulate(model, body, STATE, 50.0, n_samples=10_001, **options)
+        run.raise_for_status()
+        return cs.reversals.dataset_reversal_times(run.dataset)
+
+    converged = reversals(rtol=1e-13, atol=1e-15)
+    default = reversals()
+    assert converged.size == default.size == 3
+    np.testing.assert_allclose(default, converged, rtol=0, atol=0.01)
