@@ -73,7 +73,7 @@ def start(model, params, t, y, f, controls, work, stats):
 @inlined
 def weighted_sum(weights, count, stages, out):
     """out = Σ_k weights[k] stages[k] over the first ``count`` stages, in k's order; a zero
-    weight's terms are skipped (a third of the table's)."""
+    weight's terms are skipped (79 of A's 210 stage weights, 69 of P's 168)."""
     out[:] = 0.0
     for k in range(count):
         weight = weights[k]
