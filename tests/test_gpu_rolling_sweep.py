@@ -1,9 +1,11 @@
 """The GPU rolling sweep's thread loop (benchmarks/gpu_rolling_sweep.py) against the CPU sweep.
 
-No GPU is needed: numba's CUDA simulator runs the kernel's Python with celtstone's kernels
-as their compiled CPU code, so the loop must repeat the CPU driver's steps exactly (final
-spins to the last bit, the same spin sign changes). The CUDA build itself is checked only
-on a GPU machine (docs/decisions.md §44).
+No GPU is needed: numba's CUDA simulator runs the kernel's Python with celtstone's
+kernels as their compiled CPU code, so the loop must repeat the CPU driver's steps
+exactly (final spins to the last bit, the same spin sign changes but for pairs of
+crossings inside one step, which only the CPU's event location sees), with each of the
+thread's methods. The CUDA build itself is checked only on a GPU machine
+(docs/decisions.md §44).
 """
 
 from __future__ import annotations
@@ -36,12 +38,23 @@ def _script(*arguments: str, simulator: bool = False) -> subprocess.CompletedPro
 def test_thread_loop_repeats_the_cpu_driver_in_the_simulator() -> None:
     done = _script("--check", simulator=True)
     assert done.returncode == 0, done.stdout + done.stderr
-    summary = json.loads(done.stdout.strip().splitlines()[-1])
-    assert summary["points"] == 12
-    assert summary["status_agrees"] == 12
-    assert summary["max_final_spin_difference"] == 0.0
-    assert summary["sign_changes_agree"] == 12
-    assert summary["sign_changes"] > 0  # the grid's runs reverse within 3 s: crossings compared
+    summaries = {s["method"]: s for s in map(json.loads, done.stdout.strip().splitlines())}
+    assert sorted(summaries) == ["dop853", "vern9"]  # both thread methods by default
+    for summary in summaries.values():
+        assert summary["points"] == 12
+        assert summary["status_agrees"] == 12
+        assert summary["max_final_spin_difference"] == 0.0
+        assert summary["sign_changes"] > 0  # the runs reverse within 3 s: crossings compared
+    assert summaries["dop853"]["sign_changes_agree"] == 12
+    # Verner's longer steps carry one pair of crossings that only event location sees
+    assert summaries["vern9"]["sign_changes_agree"] == 11
+    assert summaries["vern9"]["sign_changes_short_by_pairs"] == 1
+
+
+def test_methods_option_names_the_allowed_methods() -> None:
+    done = _script("--check", "--methods", "vern9,rk4", simulator=True)
+    assert done.returncode != 0
+    assert "expected distinct names among vern9, dop853" in done.stderr
 
 
 def test_check_refuses_to_run_without_the_simulator() -> None:
