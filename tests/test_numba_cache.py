@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib
 import multiprocessing
+import os
 import pkgutil
 import subprocess
 import sys
@@ -155,3 +156,63 @@ def test_a_run_from_the_cache_loads_no_compiler_and_a_later_compile_still_works(
     subprocess.run(command, capture_output=True, text=True, check=True)  # fills the cache
     done = subprocess.run(command, capture_output=True, text=True, check=True)
     assert done.stdout.split("\n")[:3] == ["[]", "12.0", "True"], done.stdout + done.stderr
+
+
+# A cached kernel loaded, then linked into a new compile (fresh cache: NUMBA_CACHE_DIR)
+LAZY_LINK_SCRIPT = """
+from numba import njit
+from celtstone.kernels.vector import dot
+
+a, b = (1.0, 2.0, 3.0), (4.0, 5.0, 6.0)
+value = dot(a, b)
+library = dot.overloads[dot.signatures[0]].library
+print(type(library).__name__, "_pending_bitcode" in library.__dict__)
+
+
+@njit
+def twice(a, b):
+    return 2.0 * dot(a, b)
+
+
+doubled = twice(a, b)  # compiles twice, linking dot's library in
+pending = "_pending_bitcode" in library.__dict__
+print(value, doubled, pending, library._shared_module is not None)
+"""
+
+
+def test_a_loaded_kernel_parses_its_linking_bitcode_only_when_a_compile_links_it(
+    tmp_path: Path,
+) -> None:
+    """A kernel loaded from an entry celtstone saved runs with its linking bitcode unparsed
+    (the engine knows its symbols from the entry's list); a compile that calls it then
+    parses and links it, and both give the same result."""
+    command = [sys.executable, "-c", LAZY_LINK_SCRIPT]
+    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    compiled = subprocess.run(command, capture_output=True, text=True, env=environment)
+    assert compiled.returncode == 0, compiled.stderr
+    assert compiled.stdout.splitlines()[0] == "JITCodeLibrary False"  # compiled here, saved
+    loaded = subprocess.run(command, capture_output=True, text=True, env=environment)
+    assert loaded.returncode == 0, loaded.stderr
+    assert loaded.stdout.splitlines() == ["LazyLinkingLibrary True", "32.0 64.0 False True"]
+
+
+def test_the_symbol_list_is_added_only_to_an_object_entry() -> None:
+    import llvmlite.binding as llvm
+
+    from celtstone.kernels._cache import LAZY_KIND, with_symbol_list
+
+    module = llvm.parse_assembly(
+        'define double @"f"(double %x) {\n  ret double %x\n}\n'
+        "@g = global i32 0\n"
+        "declare double @h(double)\n"
+    )
+    entry = ("library", "object", (b"machine code", module.as_bitcode()))
+    payload = with_symbol_list((entry, "the rest"))
+    name, kind, (object_code, bitcode, symbols) = payload[0]
+    assert (name, kind, object_code, bitcode) == ("library", LAZY_KIND, *entry[2])
+    assert symbols == ("f", "g")  # defined ones only: h is a declaration
+    assert payload[1:] == ("the rest",)
+    other = (("name", "bitcode", b"..."), "the rest")
+    assert with_symbol_list(other) is other
+    assert with_symbol_list(()) == ()
+    assert with_symbol_list(7) == 7
