@@ -53,7 +53,7 @@ import contextlib
 import itertools
 import os
 from collections.abc import Iterator
-from typing import Any, NamedTuple
+from typing import Any
 
 import llvmlite.binding as llvm
 from numba.core.caching import FunctionCache, IndexDataCacheFile
@@ -69,20 +69,6 @@ LOCK_NAME = "celtstone-numba-cache.lock"  # one lock file per cache directory
 # a library entry (name, kind, data) of numba's kind "object", (machine code, linking
 # bitcode), with the names of the symbols that bitcode defines added to its data
 LAZY_KIND = "celtstone-object"
-
-
-class _Symbol(NamedTuple):
-    """A defined symbol, as ``JitEngine._load_defined_symbols`` reads an LLVM value."""
-
-    name: str
-    is_declaration: bool = False
-
-
-class _SymbolTable(NamedTuple):
-    """Defined symbols, as ``JitEngine._load_defined_symbols`` reads an LLVM module."""
-
-    functions: tuple[_Symbol, ...]
-    global_variables: tuple[_Symbol, ...]
 
 
 def defined_symbols(module: Any) -> tuple[str, ...]:
@@ -135,8 +121,7 @@ class LazyLinkingLibrary(JITCodeLibrary):
         library._set_compiled_object(object_code)
         library.__dict__["_pending_bitcode"] = bitcode
         library._finalize_final_module()
-        table = _SymbolTable(tuple(_Symbol(symbol) for symbol in symbols), ())
-        codegen._engine._load_defined_symbols(table)
+        codegen._engine._defined_symbols.update(symbols)  # as _load_defined_symbols does
         return library
 
 
