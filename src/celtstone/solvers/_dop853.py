@@ -18,16 +18,12 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._step_control import explicit_step, smallest_step
+from celtstone.solvers._step_control import explicit_attempt
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,
-    STAT_REJECTED,
-    STATUS_STEP_TOO_SMALL,
-    STATUS_SUCCESS,
 )
 
 _TABLE = table("dop853")
@@ -139,48 +135,25 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     Returns (status, h_taken, h_next, rhs status, normal force [N] at y_new); ``y_new`` and
     ``f_new`` = f(t + h_taken, y_new).
     """
-    stages = work.stages
-    min_step = smallest_step(t)
-    status = STATUS_SUCCESS
-    rejected = False
-    h_next = h
-    h_try = h
-    code = RHS_OK
-    normal_force = math.nan
-    while True:
-        if h < min_step:
-            status = STATUS_STEP_TOO_SMALL
-            break
-        h_try = min(h, t_end - t)
-        for j in range(f.shape[0]):  # loops, not slices: the same on the CPU, and CUDA
-            stages[0, j] = f[j]  # code (benchmarks/gpu_rolling_sweep.py) has no slice copy
-        error, code, normal_force = trial_step(
-            model,
-            params,
-            t,
-            y,
-            h_try,
-            controls.rtol,
-            controls.atol,
-            stages,
-            y_new,
-            work.scratch,
-            work.error_terms,
-        )
-        stats[STAT_NFEV] += N_STAGES
-        if not controls.adaptive:
-            h_next = h
-            break
-        accepted, h_proposed = explicit_step(error, h_try, rejected, ERROR_EXPONENT)
-        if accepted:
-            h_next = h_proposed
-            break
-        h = h_proposed
-        stats[STAT_REJECTED] += 1
-        rejected = True
-    for j in range(f_new.shape[0]):
-        f_new[j] = stages[N_STAGES, j]
-    return status, h_try, h_next, code, normal_force
+    return explicit_attempt(
+        trial_step,
+        N_STAGES,
+        ERROR_EXPONENT,
+        model,
+        params,
+        t,
+        y,
+        f,
+        h,
+        t_end,
+        controls,
+        work.stages,
+        work.scratch,
+        work.error_terms,
+        y_new,
+        f_new,
+        stats,
+    )
 
 
 @inlined

@@ -7,8 +7,15 @@ import math
 import numpy as np
 
 from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import RHS_OK
 from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
+from celtstone.solvers.codes import (
+    STAT_NFEV,
+    STAT_REJECTED,
+    STATUS_STEP_TOO_SMALL,
+    STATUS_SUCCESS,
+)
 
 # SciPy's step-size factors for its explicit pairs (``scipy.integrate.DOP853``)
 SAFETY = 0.9
@@ -73,3 +80,75 @@ def explicit_step(error, h_try, rejected, exponent):
             factor = min(1.0, factor)
         return True, h_try * factor
     return False, h_try * max(MIN_FACTOR, SAFETY * error**exponent)
+
+
+@inlined
+def explicit_attempt(
+    trial_step,
+    n_stages,
+    exponent,
+    model,
+    params,
+    t,
+    y,
+    f,
+    h,
+    t_end,
+    controls,
+    stages,
+    scratch,
+    error_work,
+    y_new,
+    f_new,
+    stats,
+):
+    """An explicit pair's step from (t, y) with f = f(t, y): trial steps of ``trial_step`` (the
+    method's: ``n_stages`` evaluations, f(t + h, y_new) left in stage row ``n_stages``;
+    ``stages``, ``scratch`` and ``error_work`` its workspace's arrays), from h [s] down
+    until the error norm is below 1 by :func:`explicit_step` with ``exponent``; the step
+    never passes ``t_end``.
+
+    Returns (status, h_taken, h_next, rhs status, normal force [N] at y_new); ``y_new`` and
+    ``f_new`` = f(t + h_taken, y_new).
+    """
+    min_step = smallest_step(t)
+    status = STATUS_SUCCESS
+    rejected = False
+    h_next = h
+    h_try = h
+    code = RHS_OK
+    normal_force = math.nan
+    while True:
+        if h < min_step:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        h_try = min(h, t_end - t)
+        for j in range(f.shape[0]):  # loops, not slices: the same on the CPU, and CUDA
+            stages[0, j] = f[j]  # code (benchmarks/gpu_rolling_sweep.py) has no slice copy
+        error, code, normal_force = trial_step(
+            model,
+            params,
+            t,
+            y,
+            h_try,
+            controls.rtol,
+            controls.atol,
+            stages,
+            y_new,
+            scratch,
+            error_work,
+        )
+        stats[STAT_NFEV] += n_stages
+        if not controls.adaptive:
+            h_next = h
+            break
+        accepted, h_proposed = explicit_step(error, h_try, rejected, exponent)
+        if accepted:
+            h_next = h_proposed
+            break
+        h = h_proposed
+        stats[STAT_REJECTED] += 1
+        rejected = True
+    for j in range(f_new.shape[0]):
+        f_new[j] = stages[n_stages, j]
+    return status, h_try, h_next, code, normal_force
