@@ -238,7 +238,9 @@ def test_shipped_table_is_the_generators() -> None:
     with np.load(TABLE_FILE, allow_pickle=False) as data:
         ratios = data["ratios"]
         slips, directions, aspects = node_coordinates(*ratios.shape[1:])
-        np.testing.assert_array_equal(data["aspects"], aspects)
+        # the nodes are exp(linspace(...)): NumPy's exp may round one node differently on
+        # another processor (its SIMD paths), so equal to a few ulps, not bit for bit
+        np.testing.assert_allclose(data["aspects"], aspects, rtol=4 * np.finfo(float).eps, atol=0)
         assert float(data["aspect_min"]) == ASPECT_MIN
     assert COEFFICIENTS.size <= 50_000
     rng = np.random.default_rng(3)

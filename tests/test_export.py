@@ -164,10 +164,15 @@ def test_write_refuses_an_existing_file(small_dataset: xr.Dataset, tmp_path: Pat
 def test_write_replaces_an_existing_file_when_asked(
     small_dataset: xr.Dataset, tmp_path: Path
 ) -> None:
+    """An earlier table of celtstone's (its mark) is replaced: a new file is moved in."""
     target = tmp_path / "run.csv"
-    target.write_text("old contents\n", encoding="utf-8")
+    export.write(small_dataset.isel(time=[0, 1]), target)
     export.write(small_dataset, target, overwrite=True)
     assert target.read_text(encoding="utf-8").startswith("# synthetic")
+    lines = target.read_text(encoding="utf-8").splitlines()
+    assert (
+        len([line for line in lines if not line.startswith("#")]) == 1 + small_dataset.sizes["time"]
+    )
     assert [p.name for p in tmp_path.iterdir()] == ["run.csv"]
 
 
@@ -257,12 +262,13 @@ def test_failed_write_keeps_the_previous_file(
     small_dataset: xr.Dataset, tmp_path: Path, failing_format, kind: type[BaseException]
 ) -> None:
     suffix, _, install = failing_format
-    install(kind)
     target = tmp_path / f"run{suffix}"
-    target.write_bytes(b"the previous, complete file")
+    export.write(small_dataset, target)  # the previous, complete file (celtstone's)
+    previous = target.read_bytes()
+    install(kind)
     with pytest.raises(kind):
         export.write(small_dataset, target, overwrite=True)
-    assert target.read_bytes() == b"the previous, complete file"
+    assert target.read_bytes() == previous
     assert list(tmp_path.iterdir()) == [target]
 
 

@@ -3,7 +3,8 @@
 * every writing command refuses an existing ``--out`` (exit 2, one line naming ``out``,
   the path and ``--overwrite``), the file untouched byte for byte;
 * ``--overwrite`` replaces a file, never a directory; a sweep replaces only a celtstone
-  sweep store, recognised by its own metadata;
+  sweep store, recognised by its own metadata (what else a directory output may hold is
+  tested in ``test_output_ownership.py``);
 * temporaries are named after their process: those of a process that is gone are
   removed by the next write to the same target, never those of a live process, never
   other files; SIGKILL and SIGTERM during a NetCDF write leave no partial target;
@@ -32,9 +33,10 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
+from matplotlib.figure import Figure
 
 import celtstone as cs
-from celtstone import export
+from celtstone import export, ownership
 from celtstone.cli.main import Terminated, build_parser, main
 from celtstone.errors import OutputError
 from celtstone.plotting import save_figure
@@ -169,20 +171,26 @@ def test_directory_is_refused_even_with_overwrite(
 def test_overwrite_replaces_a_file(
     capsys: pytest.CaptureFixture[str], run_file: Path, argv: list[str], name: str
 ) -> None:
+    """An earlier output of the command is replaced (a new file moved in); a file
+    celtstone did not write is kept where its format carries a mark
+    (``test_output_ownership.py``)."""
     target = run_file.parent / name
-    target.write_bytes(b"old")
+    assert main(_argv(argv, run_file, target)) == 0, capsys.readouterr()
+    earlier = target.stat().st_ino
     assert main([*_argv(argv, run_file, target), "--overwrite"]) == 0, capsys.readouterr()
-    assert target.read_bytes() != b"old"
+    assert target.stat().st_ino != earlier
     assert target.stat().st_size > 100
     assert sorted(p.name for p in run_file.parent.iterdir()) == sorted({"run.nc", name})
 
 
 @pytest.mark.skipif(not _run_has_overwrite(), reason="`celtstone run` has no --overwrite yet")
 def test_run_overwrite_replaces_a_file(tmp_path: Path) -> None:
+    """An earlier run (celtstone's, by its mark) is replaced; ``test_output_ownership.py``
+    has the NetCDF file that is not."""
     target = tmp_path / "x.nc"
-    target.write_bytes(b"old")
-    assert main(["run", "--t-end", "0.1", "--out", str(target), "--overwrite"]) == 0
-    assert export.read_run(target).sizes["time"] >= 2
+    assert main(["run", "--t-end", "0.1", "--out", str(target)]) == 0
+    assert main(["run", "--t-end", "0.2", "--out", str(target), "--overwrite"]) == 0
+    assert float(export.read_run(target)["time"][-1]) == pytest.approx(0.2)
 
 
 def test_export_refuses_an_unrelated_csv_beside_the_run(
@@ -218,9 +226,8 @@ def test_empty_paths_are_one_line(
 
 
 def test_python_api_has_the_same_policy(run_dataset: xr.Dataset, tmp_path: Path) -> None:
-    """Every writer refuses an existing file unless ``overwrite=True``; never a directory."""
-    from matplotlib.figure import Figure
-
+    """Every writer refuses an existing file unless ``overwrite=True``; never a directory;
+    a file of a format with a mark (NetCDF, figures) only if celtstone wrote it."""
     figure = Figure()
     writers = {
         "a.nc": lambda path, **kw: export.write(run_dataset, path, **kw),
@@ -236,6 +243,13 @@ def test_python_api_has_the_same_policy(run_dataset: xr.Dataset, tmp_path: Path)
             write(target)
         assert caught.value.name == "out"
         assert target.read_bytes() == b"old"
+        if ownership.is_marked_file(target) is not None:  # not celtstone's: kept
+            with pytest.raises(cs.ParameterError, match="celtstone's mark"):
+                write(target, overwrite=True)
+            assert target.read_bytes() == b"old"
+            target.unlink()
+            write(target)
+            assert ownership.is_marked_file(target)
         write(target, overwrite=True)
         assert target.read_bytes() != b"old"
         folder = tmp_path / f"folder{Path(name).suffix}"
@@ -625,7 +639,8 @@ def test_full_disk_sweep_store(small_disk: Path) -> None:
         SweepStore.create(small_disk / "t.zarr", layout, coords, attrs)
     assert caught.value.errno == errno.ENOSPC
     assert str(caught.value).startswith(f"{small_disk / 't.zarr'}: ")
-    assert [p.name for p in small_disk.iterdir()] == ["s.zarr"]
+    # the store still open for writing holds its lock (beside it, until closed)
+    assert sorted(p.name for p in small_disk.iterdir()) == [".s.zarr.lock", "s.zarr"]
     results = {name: np.ones(2) for name in STORE_FIELDS}  # every field of a sweep
     results["status"] = np.array(["success"] * 2)
     results["message"] = np.array(["a long message " * 500] * 2)
@@ -668,8 +683,9 @@ def test_reproduce_records_its_run_and_the_report_tells_runs_apart(tmp_path: Pat
     for run in runs:
         assert f"`{run['id']}`" in report and run["finished_utc"] in report
     assert _staging(tmp_path) == []
-    # one run for both bodies: one identity, no warning
-    reproduce(["threshold"], tmp_path, [_tiny_study(KL), _tiny_study(TOY)], progress=False)
+    # one run for both bodies (replacing their earlier results): one identity, no warning
+    studies = [_tiny_study(KL), _tiny_study(TOY)]
+    reproduce(["threshold"], tmp_path, studies, progress=False, overwrite=True)
     report = (tmp_path / "report.md").read_text(encoding="utf-8")
     assert "different runs" not in report
     assert _staging(tmp_path) == []
@@ -691,10 +707,12 @@ def test_interrupted_reproduce_leaves_the_old_files_and_no_staging(
     sig: signal.Signals,
 ) -> None:
     """A signal in the second run of a target: nothing of that target reaches ``out``,
-    an older file of the same name is untouched, the staging directory is gone, and a
-    staging directory left by a killed process is removed too."""
-    old = tmp_path / f"threshold_{KL}.png"
-    old.write_bytes(b"the figure of an earlier, finished run")
+    the files of an earlier, finished run it was to replace (``--overwrite``) are
+    untouched, the staging directory is gone, and a staging directory left by a killed
+    process is removed too."""
+    reproduce(["threshold"], tmp_path, [_tiny_study(KL)], progress=False)
+    earlier = _snapshot(tmp_path)
+    assert f"threshold_{KL}.png" in earlier
     live = tmp_path / f".reproduce.{os.getppid()}.{RANDOM}.part"
     stale = tmp_path / f".reproduce.{_dead_pid()}.{RANDOM}.part"
     for staging in (live, stale):
@@ -711,12 +729,13 @@ def test_interrupted_reproduce_leaves_the_old_files_and_no_staging(
 
     monkeypatch.setattr(reproduce_cases, "simulate", signalled)
     argv = ["reproduce", "threshold", "--quick", "--no-progress", "--out", str(tmp_path)]
-    status = main([*argv, "--body", KL])
+    status = main([*argv, "--body", KL, "--overwrite"])
     line = _one_error_line(capsys, status, 128 + sig, after_warnings=True)
     assert "no partial output was written" in line
-    assert old.read_bytes() == b"the figure of an earlier, finished run"
     assert not stale.exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([old.name, live.name])
+    after = _snapshot(tmp_path)
+    assert {k: v for k, v in after.items() if not k.startswith(live.name)} == earlier
+    assert live.is_dir()
 
 
 def test_a_signal_during_the_final_moves_waits_for_them() -> None:

@@ -221,6 +221,31 @@ PYTHON_CASES = [
         "[-10000, 10000]",
     ),
     ("omega-two", lambda: cs.InitialState(omega=(0, -5)), "omega", (0, -5), "three"),
+    # booleans and text are not numbers (tests/test_api_validation.py has the variants)
+    ("omega-bool", lambda: cs.InitialState(omega=True), "omega", True, "three"),
+    ("omega-text", lambda: cs.InitialState(omega="005"), "omega", "005", "three"),
+    (
+        "f-text",
+        lambda: cs.SlidingModel(friction_coefficient="0.3"),
+        "friction_coefficient",
+        "0.3",
+        ">= 0",
+    ),
+    (
+        "f-bool",
+        lambda: cs.SlidingModel(friction_coefficient=True),
+        "friction_coefficient",
+        True,
+        ">= 0",
+    ),
+    (
+        # the Hertz radius replaces a fixed one: both given is a contradiction, not a choice
+        "eps-with-hertz",
+        lambda: cs.SlidingModel(contact_radius=2e-3, elastic_modulus=2e9, poisson_ratio=0.35),
+        "contact_radius",
+        2e-3,
+        "no value with elastic_modulus",
+    ),
     (
         "euler-90",
         lambda: cs.InitialState(euler_angles=(90.0, 0.0)),
@@ -286,6 +311,10 @@ def test_python_rejects(build, name: str, value: object, allowed: str) -> None:
         ({"n_samples": 1}, "n_samples", 1, "[2, 1e+06]"),
         ({"n_samples": 10**12}, "n_samples", 10**12, "[2, 1e+06]"),
         ({"max_steps": 0}, "max_steps", 0, ">= 1"),
+        ({"t_end": "5"}, "t_end", "5", "(0, 1e+06]"),
+        ({"t_end": True}, "t_end", True, "(0, 1e+06]"),
+        ({"n_samples": 2.5}, "n_samples", 2.5, "an integer in [2, 1e+06]"),
+        ({"max_steps": 2.5}, "max_steps", 2.5, "an integer >= 1"),
     ],
     ids=lambda v: str(v) if not isinstance(v, dict) else "-".join(map(str, v.items())),
 )
@@ -487,6 +516,25 @@ CLI_CASES = [
     (["--samples", "nan"], "n_samples", ("nan",), ("[2, 1e+06]",)),
     (["--samples", "inf"], "n_samples", ("inf",), ("[2, 1e+06]",)),
     (["--samples", "1e12"], "n_samples", ("1e12", "1000000000000.0"), ("[2, 1e+06]",)),
+    # counts are integers, and Python's float() reads more than a command line should
+    (["--samples", "2.5"], "n_samples", ("2.5",), ("an integer in [2, 1e+06]",)),
+    (["--samples", "1_0"], "n_samples", ("1_0",), ("[2, 1e+06]",)),
+    (["--t-end", "1_0"], "t_end", ("1_0",), ("(0, 1e+06]",)),
+    (
+        [
+            "--model",
+            "sliding",
+            "--contact-radius",
+            "0.002",
+            "--elastic-modulus",
+            "2e9",
+            "--poisson-ratio",
+            "0.35",
+        ],
+        "contact_radius",
+        ("0.002",),
+        ("no value with elastic_modulus",),
+    ),
     (["--out", "file.txt"], "out", ("file.txt",), (".nc", ".csv")),
     (["--out", "file"], "out", ("file",), (".nc", ".csv")),
 ]

@@ -13,6 +13,7 @@ __all__ = [
     "BodyFileError",
     "CeltstoneError",
     "CeltstoneWarning",
+    "FitQualityWarning",
     "FrictionBoundWarning",
     "FrictionSingularityError",
     "IdentifiabilityWarning",
@@ -50,10 +51,19 @@ class ParameterError(CeltstoneError, ValueError):
         self.value = value
         self.allowed = allowed
         self.hint = hint
-        message = f"{name} = {value!r} is not allowed: expected {allowed}"
+        message = f"{name} = {_shown(value)} is not allowed: expected {allowed}"
         if hint:
             message += f" ({hint})"
         super().__init__(message)
+
+
+def _shown(value: object, longest: int = 4200) -> str:
+    """``repr(value)`` on one line (an array's repr spans lines, and an error is one line),
+    cut at ``longest`` characters (more than any path) so that a long list stays readable."""
+    text = repr(value)
+    if "\n" in text or "\r" in text:
+        text = " ".join(text.split())
+    return text if len(text) <= longest else text[: longest - 3] + "..."
 
 
 class BodyFileError(ParameterError):
@@ -133,7 +143,14 @@ class OutputError(OSError):
 
 
 class CeltstoneWarning(UserWarning):
-    """Base class of every warning celtstone issues; the CLI prints each as one line."""
+    """Base class of every warning celtstone issues; the CLI prints each as one line.
+
+    A warning whose advice names an argument spells it as Python does
+    (``friction_load="dynamic"``); its ``command_line``, where set, is the same text spelled
+    as the command line does (``--friction-load dynamic``), and the CLI prints that one.
+    """
+
+    command_line: str | None = None
 
 
 class PlausibilityWarning(CeltstoneWarning):
@@ -165,7 +182,11 @@ def require_choice(name: str, value: object, options: Iterable[object]) -> None:
     """Raise :class:`ParameterError` naming ``name`` unless ``value`` is one of ``options``
     (listed in the message, with the closest as a suggestion)."""
     choices = list(options)
-    if value not in choices:
+    try:
+        found = value in choices
+    except (TypeError, ValueError):  # an array compares element by element
+        found = False
+    if not found:
         allowed = "one of: " + ", ".join(str(c) for c in choices)
         raise ParameterError(name, value, allowed, did_you_mean(value, choices))
 
@@ -176,3 +197,9 @@ class IdentifiabilityWarning(CeltstoneWarning):
     Their |correlation| is above the limit, or the Jacobian has no full rank
     (``celtstone.fitting``).
     """
+
+
+class FitQualityWarning(CeltstoneWarning):
+    """A fit not to be believed as it stands: residuals above the noise or not white,
+    a parameter at its bound, no convergence, too little in the record
+    (``celtstone.fitting.assess``)."""

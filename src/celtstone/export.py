@@ -5,8 +5,10 @@ only when it is complete. The policy, shared by the CLI and the Python API:
 
 * an existing target is refused (:class:`ParameterError` naming ``out``) unless
   ``overwrite=True`` (``--overwrite``), and ``overwrite`` replaces only a file,
-  never a directory; without it the final move cannot replace a file that appeared
-  while the output was computed (a hard link, which fails if the name is taken);
+  never a directory, and only one that carries celtstone's mark where its format has
+  one (``ownership.is_marked_file``: all but JSON and Markdown); without it the final
+  move cannot replace a file that appeared while the output was computed (a hard
+  link, which fails if the name is taken);
 * a temporary is named ``.NAME.<pid>.<random>.part``: a process killed while writing
   (SIGKILL) leaves one behind, and the next write to the same target removes those
   whose process is gone (:func:`remove_stale_temporaries`), never one of a live
@@ -32,7 +34,10 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from celtstone._about import version
+from celtstone._path_names import check_path_name
 from celtstone.errors import OutputError, ParameterError
+from celtstone.ownership import CSV_MARK, SOFTWARE, is_marked_file
 from celtstone.schema import current_attributes
 
 if TYPE_CHECKING:  # imported where used: a JSON-only command needs neither
@@ -103,6 +108,14 @@ def _refuse_existing(target: Path, *, overwrite: bool, parameter: str) -> None:
                 "a file name, not a device, pipe or socket",
                 "--overwrite replaces only a regular file",
             )
+    if is_marked_file(target) is False:
+        raise ParameterError(
+            parameter,
+            str(target),
+            "a file celtstone wrote",
+            "--overwrite replaces only a file that carries celtstone's mark; this one "
+            "does not: move it or choose another name",
+        )
 
 
 def check_target(
@@ -142,6 +155,7 @@ def check_target(
     allowed = "a file name ending in " + " or ".join(formats)
     if str(path) == "":
         raise ParameterError(parameter, str(path), allowed, "the path is empty")
+    check_path_name(path, parameter)
     target = Path(path)
     if target.suffix.lower() not in formats:
         raise ParameterError(parameter, str(path), allowed)
@@ -437,6 +451,7 @@ def atomic_path(
         neither the target nor the temporary is left.
     """
     target = Path(path)
+    check_path_name(target, parameter)
     if not _directory(target).is_dir():
         raise ParameterError(parameter, str(path), "a file in an existing directory")
     _refuse_existing(target, overwrite=overwrite, parameter=parameter)
@@ -483,6 +498,7 @@ def to_csv(dataset: xr.Dataset, path: Path) -> None:
     names = list(columns)
     with open(path, "w", encoding="utf-8", newline="") as stream:
         stream.write(f"# {dataset.attrs.get('title', 'celtstone run')}\n")
+        stream.write(f"{CSV_MARK} {version()}\n")  # celtstone's: --overwrite may replace it
         stream.write("# units: " + ", ".join(f"{k} [{units[k]}]" for k in names) + "\n")
         stream.write(",".join(names) + "\n")
         count = len(columns["time"])
@@ -531,8 +547,9 @@ def write(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = False) -> 
     target = check_target(path, overwrite=overwrite)
     suffix = target.suffix.lower()
     with atomic_path(target, overwrite=overwrite) as temporary:
-        if suffix == ".nc":
-            _to_netcdf(dataset, temporary, target)
+        if suffix == ".nc":  # marked as celtstone's (a run already is): --overwrite may replace it
+            marked = dataset.assign_attrs(software=dataset.attrs.get("software", SOFTWARE))
+            _to_netcdf(marked, temporary, target)
         else:
             to_csv(dataset, temporary)
     return target
@@ -555,7 +572,8 @@ def write_table(
         The CSV file; :func:`read_table` reads it back.
     provenance : Mapping
         The header: the body source, model, friction law, tolerances and the celtstone
-        version.
+        version (``software``, added first if it does not name celtstone: the file's
+        mark, ``ownership.CSV_MARK``).
     overwrite : bool, optional
         Whether an existing table may be replaced (it is refused otherwise).
 
@@ -565,9 +583,12 @@ def write_table(
         The CSV file written.
     """
     target = Path(path)
+    header = dict(provenance)
+    if not str(header.get("software", "")).startswith(SOFTWARE):  # the mark (CSV_MARK)
+        header = {"software": f"{SOFTWARE} {version()}", **header}
     with atomic_path(target, overwrite=overwrite) as temporary:
         with open(temporary, "w", encoding="utf-8", newline="") as stream:
-            for key, value in provenance.items():
+            for key, value in header.items():
                 text = str(value).replace("\n", " ")
                 stream.write(f"# {key}: {text}\n")
             table.to_csv(stream, index=False, float_format="%.12g")

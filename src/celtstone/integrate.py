@@ -21,6 +21,8 @@ from celtstone.kernels import layout
 from celtstone.models import (
     HybridModel,
     Model,
+    RollingModel,
+    SlidingModel,
     contact_settings,
     initial_vector,
     kernel_parameters,
@@ -78,16 +80,25 @@ STICK_METHOD = "dop853"  # the stick phases' default: rolling without sliding is
 
 def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> np.ndarray:
     if sample_times is not None:
-        times = np.asarray(sample_times, dtype=float)
+        allowed = "a 1-D array of finite times in s"
+        if isinstance(sample_times, str | bytes):
+            raise ParameterError("sample_times", sample_times, allowed)
+        try:
+            given = np.asarray(sample_times)
+        except ValueError:  # ragged nested lists
+            raise ParameterError("sample_times", sample_times, allowed) from None
+        if given.dtype.kind not in ("i", "u", "f"):  # booleans, text, None are not times
+            raise ParameterError("sample_times", sample_times, allowed)
+        times = given.astype(float)
         if times.ndim != 1 or times.size < 1 or not np.all(np.isfinite(times)):
-            raise ParameterError("sample_times", sample_times, "a 1-D array of finite times in s")
+            raise ParameterError("sample_times", sample_times, allowed)
         if times[0] < 0.0 or times[-1] > t_end or np.any(np.diff(times) <= 0.0):
             raise ParameterError(
                 "sample_times", sample_times, f"increasing times in [0, {t_end:g}] s"
             )
         return times
     if n_samples is not None:
-        return np.linspace(0.0, t_end, int(schema.check("n_samples", n_samples)))
+        return np.linspace(0.0, t_end, schema.check_count("n_samples", n_samples))
     count = max(201, round(t_end * SAMPLES_PER_SECOND) + 1)
     if count > schema.MAX_SAMPLES:
         count = schema.MAX_SAMPLES
@@ -99,6 +110,28 @@ def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> 
             stacklevel=3,
         )
     return np.linspace(0.0, t_end, count)
+
+
+# what each of simulate's three objects must be, and how to make one
+_RUN_OBJECTS = (
+    ("model", (RollingModel, SlidingModel), "a RollingModel, SlidingModel or HybridModel",
+     "e.g. celtstone.model_from_name('sliding', friction_coefficient=0.3)"),
+    ("body", (Body,), "a Body", "e.g. celtstone.load_body('kane_levinson_1982')"),
+    ("initial_state", (InitialState,), "an InitialState",
+     "e.g. celtstone.InitialState(omega=(0, 0, -5), euler_angles=(0.5, 0.5))"),
+)  # fmt: skip
+
+
+def _check_run_objects(model: object, body: object, initial_state: object) -> None:
+    """The model, body and initial state are the validated objects, not names, classes
+    or tuples: the numbers in them were checked when they were made."""
+    for (name, kinds, allowed, hint), value in zip(
+        _RUN_OBJECTS, (model, body, initial_state), strict=True
+    ):
+        if not isinstance(value, kinds):
+            if isinstance(value, type) and issubclass(value, kinds):
+                hint = f"an instance, e.g. {value.__name__}(), not the class"
+            raise ParameterError(name, value, allowed, hint)
 
 
 def _status_message(status: str, code: int, t_stop: float, final_n: np.ndarray) -> str:
@@ -167,10 +200,14 @@ def simulate(
         failure): ``status`` says why and the samples reach the stop time. Call
         ``raise_for_status()`` to turn that into an exception.
     """
+    _check_run_objects(model, body, initial_state)
     t_end = schema.check("t_end", t_end)
     rtol = schema.check("rtol", rtol)
     atol = schema.check("atol", atol)
-    max_steps = int(schema.check("max_steps", max_steps))
+    max_steps = schema.check_count("max_steps", max_steps)
+    max_crossings = schema.check_count("max_crossings", max_crossings)
+    if progress is not None and not callable(progress):
+        raise ParameterError("progress", progress, "None or a function of the time reached [s]")
     method_name, stick_method_name = method_names(model, method, stick_method)
     times = _sample_times(t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
@@ -294,11 +331,12 @@ def _warn_friction_bound(trajectory: Trajectory) -> None:
     ratio = trajectory.max_friction_bound_ratio
     if trajectory.samples.attrs.get("friction_load") == "static" and ratio is not None:
         if ratio > 1.0:
-            warnings.warn(
+            text = (
                 f"the friction force reached {ratio:.3g} f N for the true normal force N, "
                 f"{100.0 * (ratio - 1.0):.3g} % above Coulomb's bound: the friction law is "
-                "loaded with m g (the paper's first approximation); use --friction-load "
-                "dynamic for the consistent load",
-                FrictionBoundWarning,
-                stacklevel=3,
+                "loaded with m g (the paper's first approximation); use {} for the "
+                "consistent load"
             )
+            warning = FrictionBoundWarning(text.format('friction_load="dynamic"'))
+            warning.command_line = text.format("--friction-load dynamic")
+            warnings.warn(warning, stacklevel=3)

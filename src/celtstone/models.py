@@ -53,6 +53,9 @@ __all__ = [
 
 FRICTION_LOAD_OPTIONS = {option.name.lower(): option.value for option in FrictionLoad}
 
+# ε [m] of the sliding model by default: the paper's 1 mm Hertz contact radius
+FIXED_CONTACT_RADIUS = 1e-3
+
 # ω_0 [rad/s] of the rolling resistance: 0.5 % of the rolling rate of a K&L stone rocking
 # at 2° (about 0.2 rad/s); docs/decisions.md §25 measures its effect
 DEFAULT_ROLLING_RESISTANCE_RATE = 1e-3
@@ -135,8 +138,8 @@ SETTINGS: dict[str, Setting] = {
         Setting(  # the record holds E* (effective_modulus)
             "elastic_modulus",
             optional=True,
-            default_words="not set: the fixed contact_radius; with poisson_ratio, the Hertz "
-            "radius replaces it",
+            default_words="not set: the fixed contact_radius; given with poisson_ratio, the "
+            "Hertz radius, and contact_radius may not be given",
         ),
         Setting("poisson_ratio", optional=True, default_words="not set; given with E"),
         Setting("capture_speed", optional=True, default_words="100 atol"),  # resolved per run
@@ -246,8 +249,9 @@ class SlidingModel:
     friction_coefficient : float
         Coefficient f of dry friction [1], >= 0.
     contact_radius : float
-        Radius ε of the contact disk [m], > 0; not used when ``elastic_modulus`` is
-        given.
+        Radius ε of the contact disk [m], > 0; with ``elastic_modulus`` the radius is
+        Hertz's, and a ``contact_radius`` other than the default is refused (it would
+        have no effect).
     friction_load : {"static", "dynamic"}
         The normal force in the friction law: N = m g (the paper's first
         approximation) or the consistent normal force.
@@ -282,7 +286,7 @@ class SlidingModel:
     """
 
     friction_coefficient: float = 0.35
-    contact_radius: float = 1e-3
+    contact_radius: float = FIXED_CONTACT_RADIUS
     friction_load: str = "static"
     damping: float = 0.0
     regularisation_speed: float = 1e-10
@@ -302,6 +306,8 @@ class SlidingModel:
     def __post_init__(self) -> None:
         _check_settings(self)
         _check_elastic(self.elastic_modulus, self.poisson_ratio)
+        if self.contact_radius != FIXED_CONTACT_RADIUS:
+            _check_radius_source(self.contact_radius, self.elastic_modulus)
         _check_ellipse(self)
 
     @property
@@ -346,6 +352,20 @@ def _check_elastic(elastic_modulus: float | None, poisson_ratio: float | None) -
         if given is not None and value is None:
             allowed = schema.PARAMETERS[missing].allowed
             raise ParameterError(missing, None, allowed, "E and nu are given together")
+
+
+def _check_radius_source(contact_radius: object, elastic_modulus: float | None) -> None:
+    """A fixed ε and the Hertz radius of E, ν are two answers to one question: refused
+    together, so that no run records a contact radius it did not use."""
+    if elastic_modulus is not None:
+        raise ParameterError(
+            "contact_radius",
+            contact_radius,
+            "no value with elastic_modulus",
+            "with elastic_modulus and poisson_ratio the contact's size is Hertz's, from the "
+            "normal force and the curvature at the contact, and a fixed contact_radius has "
+            "no effect: give one or the other",
+        )
 
 
 def _check_ellipse(model: SlidingModel) -> None:
@@ -489,6 +509,8 @@ def model_from_name(name: str, **settings: float | str | None) -> Model:
                     f"no value with the rolling model (its settings: {', '.join(own)})",
                     "the contact does not slide; use the model 'sliding' for friction settings",
                 )
+    if "contact_radius" in settings:  # given, even at its default value
+        _check_radius_source(settings["contact_radius"], settings.get("elastic_modulus"))  # type: ignore[arg-type]
     return cls(**settings)  # type: ignore[arg-type]
 
 
@@ -515,12 +537,11 @@ class InitialState:
     def __post_init__(self, tilt: tuple[float, float] | None) -> None:
         if tilt is not None:
             raise schema.renamed("tilt", tilt)
-        if len(self.omega) != 3:
-            raise ParameterError("omega", self.omega, "three numbers W1,W2,W3 in rad/s")
-        if len(self.euler_angles) != 2:
-            raise ParameterError("euler_angles", self.euler_angles, "two numbers ALPHA,BETA in deg")
-        object.__setattr__(self, "omega", tuple(schema.check("omega", w) for w in self.omega))
-        angles = tuple(schema.check("euler_angles", angle) for angle in self.euler_angles)
+        omega = schema.check_components("omega", self.omega, 3, "three numbers W1,W2,W3 in rad/s")
+        angles = schema.check_components(
+            "euler_angles", self.euler_angles, 2, "two numbers ALPHA,BETA in deg"
+        )
+        object.__setattr__(self, "omega", omega)
         object.__setattr__(self, "euler_angles", angles)
 
     @property

@@ -7,7 +7,9 @@ validators, the CLI help and the ``units`` attributes of exported data read it.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+import numbers
+import re
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,7 +23,12 @@ __all__ = [
     "Quantity",
     "Variable",
     "check",
+    "check_components",
+    "check_count",
     "current_attributes",
+    "parse_count",
+    "parse_number",
+    "real_number",
     "renamed",
     "renamed_hint",
 ]
@@ -32,7 +39,8 @@ class Quantity:
     """A physical quantity: name, the paper's symbol, SI unit and allowed interval.
 
     ``lower``/``upper`` bound the allowed values; ``lower_open``/``upper_open``
-    say whether the bound itself is excluded.
+    say whether the bound itself is excluded; ``integer`` makes it a count, whose
+    values are integers (:func:`check_count`).
     """
 
     name: str
@@ -43,21 +51,35 @@ class Quantity:
     upper: float = math.inf
     lower_open: bool = False
     upper_open: bool = False
+    integer: bool = False
 
     @property
     def allowed(self) -> str:
-        """The allowed range in words, e.g. ``"> 0"`` or ``"in [0, 1)"``."""
+        """The allowed range in words, e.g. ``"a number > 0"`` or ``"an integer in [2, 1e+06]"``."""
+        kind = "an integer" if self.integer else "a number"
         has_lower = math.isfinite(self.lower)
         has_upper = math.isfinite(self.upper)
         if has_lower and has_upper:
             left = "(" if self.lower_open else "["
             right = ")" if self.upper_open else "]"
-            return f"a number in {left}{self.lower:g}, {self.upper:g}{right}"
+            return f"{kind} in {left}{self.lower:g}, {self.upper:g}{right}"
         if has_lower:
-            return f"a number {'>' if self.lower_open else '>='} {self.lower:g}"
+            return f"{kind} {'>' if self.lower_open else '>='} {self.lower:g}"
         if has_upper:
-            return f"a number {'<' if self.upper_open else '<='} {self.upper:g}"
-        return "a finite number"
+            return f"{kind} {'<' if self.upper_open else '<='} {self.upper:g}"
+        return "an integer" if self.integer else "a finite number"
+
+    def contains(self, number: float) -> bool:
+        """Whether ``number`` is finite and inside the allowed interval."""
+        if not math.isfinite(number):
+            return False
+        if math.isfinite(self.lower) and not (
+            number > self.lower if self.lower_open else number >= self.lower
+        ):
+            return False
+        return not math.isfinite(self.upper) or (
+            number < self.upper if self.upper_open else number <= self.upper
+        )
 
     def help(self) -> str:
         """One line for CLI help: description, symbol, unit and range."""
@@ -69,6 +91,10 @@ def _q(name: str, symbol: str, unit: str, description: str, **bounds: float | bo
     return Quantity(name, symbol, unit, description, **bounds)  # type: ignore[arg-type]
 
 
+def _count(name: str, description: str, lower: float, upper: float = math.inf) -> Quantity:
+    return Quantity(name, name, "", description, lower=lower, upper=upper, integer=True)
+
+
 # Bounds beyond which no run means anything or the output cannot be held in memory:
 MAX_SAMPLES = 1_000_000  # output samples of one run (about 0.3 GB with derived quantities)
 MAX_T_END = 1e6  # s; a rolling K&L run takes ~360 steps/s, so 1e6 s is 3.6e8 steps
@@ -77,6 +103,8 @@ MAX_ANGULAR_SPEED = 1e4  # rad/s (95 000 rpm); spun faster, every stone lifts of
 # m; a rolling-friction length is a fraction of the contact size (Cross 2016: ~1e-6 to
 # 1e-3 m for balls on hard to soft floors); 1 cm is past any rattleback's contact
 MAX_ROLLING_RESISTANCE = 1e-2
+# spin zero crossings one run stores: 8 bytes each, allocated before the run starts
+MAX_CROSSINGS = 10_000_000
 
 _POSITIVE = {"lower": 0.0, "lower_open": True}
 _NON_NEGATIVE = {"lower": 0.0}
@@ -183,8 +211,10 @@ PARAMETERS: dict[str, Quantity] = {
             lower=-89.0,
             upper=89.0,
         ),
-        _q("max_steps", "max_steps", "", "largest number of integrator steps", lower=1.0),
-        _q("n_samples", "n_samples", "", "number of output samples", lower=2.0, upper=MAX_SAMPLES),
+        _count("max_steps", "largest number of integrator steps", lower=1),
+        _count("n_samples", "number of output samples", lower=2, upper=MAX_SAMPLES),
+        _count("max_crossings", "largest number of spin zero crossings stored", 1, MAX_CROSSINGS),
+        _count("workers", "number of threads running the runs", lower=1),
         _q(
             "reversal_band",
             "band",
@@ -197,7 +227,7 @@ PARAMETERS: dict[str, Quantity] = {
 
 
 # Inputs renamed so that each name has one meaning across CLI, JSON, Dataset and docs
-# (README, "Renamed in this version"): old name -> new name, as Python and sweeps spell
+# (CHANGELOG.md, "Renamed"): old name -> new name, as Python and sweeps spell
 # them (the CLI with dashes). An old name is refused with the new one (``renamed``).
 RENAMED: dict[str, str] = {
     "normal_force": "friction_load",  # the option static|dynamic; normal_force is N [N]
@@ -252,7 +282,8 @@ class Variable:
     ``axis`` names the second dimension of a vector (after ``time``). Without a source
     a variable is filled where it is made: the time coordinate, the spin crossings and
     phases of a run, the result fields of a sweep (``solvers.batch.RESULT_FIELDS``),
-    or a parameter drawn on an axis.
+    or a parameter drawn on an axis. ``missing`` says in words what a NaN of a finished
+    run means (a map's legend names such cells).
     """
 
     unit: str
@@ -263,6 +294,7 @@ class Variable:
     plot_scale: float = 1.0
     source: str = ""
     axis: str = ""
+    missing: str = ""
 
     @property
     def attributes(self) -> dict[str, str]:
@@ -371,6 +403,7 @@ VARIABLES: dict[str, Variable] = {
         "s",
         "first reversal of the sense of spin (hysteresis band), NaN if none",
         "first reversal time",
+        missing="no reversal in the run",
     ),
     "n_reversals": Variable(
         "1", "number of spin reversals (hysteresis band)", "number of spin reversals"
@@ -420,8 +453,36 @@ VARIABLES: dict[str, Variable] = {
 }
 
 
-def check(name: str, value: float) -> float:
-    """Return ``value`` as float if it is finite and inside the range of ``name``.
+def real_number(value: object) -> float | None:
+    """``value`` as a float if it is a real number, else None.
+
+    Real numbers are Python's ``int`` and ``float``, NumPy's integer and floating scalars
+    and 0-d arrays of them. Booleans, text, None and sequences are not: a string is
+    turned into a number only where the command line reads it (:func:`parse_number`).
+    """
+    if isinstance(value, bool) or type(value).__name__ in ("bool_", "bool"):  # NumPy's too
+        return None
+    if isinstance(value, numbers.Real):
+        return float(value)
+    dtype = getattr(value, "dtype", None)
+    if getattr(value, "ndim", None) == 0 and getattr(dtype, "kind", "") in ("i", "u", "f"):
+        return float(value)  # type: ignore[arg-type]
+    return None
+
+
+def _kind_hint(value: object) -> str:
+    """``"a str, not a number"``: why a value of the wrong type is refused."""
+    if value is None:
+        return "None, not a number"
+    return f"a {type(value).__name__}, not a number"
+
+
+def check(name: str, value: object) -> float:
+    """Return ``value`` as float if it is a real number, finite and inside the range of ``name``.
+
+    The one check of every number a user gives, from Python and from the command line
+    alike: text, booleans and None are refused (:func:`real_number`), and a count (a
+    quantity with ``integer``) must also be an integer (:func:`check_count`).
 
     Raises
     ------
@@ -429,16 +490,135 @@ def check(name: str, value: float) -> float:
         naming the parameter, the value and the allowed range.
     """
     quantity = PARAMETERS[name]
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, quantity.allowed) from None
-    ok = math.isfinite(number)
-    if ok and math.isfinite(quantity.lower):
-        ok = number > quantity.lower if quantity.lower_open else number >= quantity.lower
-    if ok and math.isfinite(quantity.upper):
-        ok = number < quantity.upper if quantity.upper_open else number <= quantity.upper
-    if not ok:
+    if quantity.integer:
+        return float(check_count(name, value))
+    number = real_number(value)
+    if number is None:
+        raise ParameterError(name, value, quantity.allowed, _kind_hint(value))
+    if not quantity.contains(number):
         unit = f" {quantity.unit}" if quantity.unit else ""
         raise ParameterError(name, value, quantity.allowed + unit)
     return number
+
+
+def check_count(name: str, value: object) -> int:
+    """Return ``value`` as int if it is an integer inside the range of the count ``name``.
+
+    Integers are Python's ``int``, NumPy's integer scalars and 0-d integer arrays; a
+    float is refused even when it is whole (``2.5`` and ``10.0`` alike: counts are
+    integers), as are booleans and text.
+
+    Parameters
+    ----------
+    name : str
+        A count of :data:`PARAMETERS` (``n_samples``, ``max_steps``, ``max_crossings``,
+        ``workers``).
+    value : object
+        The value given.
+
+    Raises
+    ------
+    ParameterError
+        naming the parameter, the value and the allowed range.
+    """
+    quantity = PARAMETERS[name]
+    dtype = getattr(value, "dtype", None)
+    is_integer = isinstance(value, numbers.Integral) or getattr(dtype, "kind", "") in ("i", "u")
+    if real_number(value) is None or not is_integer:
+        kind = "None" if value is None else f"a {type(value).__name__}"
+        raise ParameterError(name, value, quantity.allowed, f"{kind}, not an integer")
+    count = int(value)  # type: ignore[call-overload]
+    if not quantity.contains(count):
+        raise ParameterError(name, value, quantity.allowed)
+    return count
+
+
+def check_components(name: str, value: object, count: int, allowed: str) -> tuple[float, ...]:
+    """``value`` as a tuple of ``count`` floats, each checked as ``name`` (:func:`check`).
+
+    A list, tuple or 1-D array of that length is accepted; text, a mapping, a set, a
+    scalar, None or another length is refused with ``allowed`` (``"three numbers
+    W1,W2,W3 in rad/s"``).
+
+    Raises
+    ------
+    ParameterError
+        naming the parameter, the value and what is allowed.
+    """
+    is_array = getattr(value, "ndim", None) == 1
+    if isinstance(value, str | bytes) or not (isinstance(value, Sequence) or is_array):
+        raise ParameterError(name, value, allowed)
+    items: tuple[object, ...] = tuple(value)  # type: ignore[arg-type]
+    if len(items) != count:
+        raise ParameterError(name, value, allowed)
+    return tuple(check(name, item) for item in items)
+
+
+# a decimal number as the command line reads it: no underscores ("1_0"), no other digits
+# than 0-9, no hexadecimal; inf and nan are read, and refused by the range check
+_NUMBER = re.compile(
+    r"[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf|infinity|nan)", re.I
+)
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+
+
+def _allowed(name: str) -> str:
+    return PARAMETERS[name].allowed if name in PARAMETERS else "a number"
+
+
+def parse_number(name: str, text: str, allowed: str | None = None) -> float:
+    """The number written as ``text`` on the command line, checked for form only.
+
+    Python's ``float`` also reads ``"1_0"`` as 10 and digits of other scripts; a
+    command line takes a plain decimal (``5``, ``-0.5``, ``1e-3``, ``.5``), with
+    spaces around it ignored. The range is checked where the number is used.
+
+    Parameters
+    ----------
+    name : str
+        The parameter, as its error names it.
+    text : str
+        What was typed.
+    allowed : str, optional
+        What is allowed, in words; default the range of ``PARAMETERS[name]``.
+
+    Raises
+    ------
+    ParameterError
+        for anything but a decimal number.
+    """
+    words = allowed if allowed is not None else _allowed(name)
+    if not isinstance(text, str) or not _NUMBER.fullmatch(text.strip()):
+        raise ParameterError(name, text, words, "written as a plain decimal such as 0.5 or 1e-3")
+    return float(text)
+
+
+def parse_count(name: str, text: str) -> int:
+    """The integer written as ``text`` on the command line (``200``, ``1e3``), in the range
+    of the count ``name`` when it is one of :data:`PARAMETERS` (:func:`check_count`).
+
+    A decimal that is not a whole number (``2.5``), an underscore or any other
+    character is refused; the error shows ``text`` as it was typed.
+
+    Raises
+    ------
+    ParameterError
+        for anything but a whole decimal number in the count's range.
+    """
+    allowed = _allowed(name)
+    if isinstance(text, str) and _INTEGER.fullmatch(text.strip()):
+        try:
+            count = int(text)
+        except ValueError:  # more digits than Python converts
+            raise ParameterError(name, text, allowed) from None
+    else:
+        number = parse_number(name, text, allowed)
+        if not (math.isfinite(number) and number == int(number)):
+            raise ParameterError(name, text, allowed, "a count is a whole number")
+        count = int(number)
+    if name in PARAMETERS:
+        try:
+            check_count(name, count)
+        except ParameterError as error:
+            raise ParameterError(name, text, error.allowed, error.hint) from None
+    return count

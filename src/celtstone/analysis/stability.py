@@ -23,7 +23,9 @@ are the pitch mode.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -50,6 +52,7 @@ __all__ = [
 
 MODE_NAMES = ("pitch", "pitch", "roll", "roll")  # order of the four eigenvalues per spin
 MAX_SPIN_COUNT = 100_000
+PROGRESS_EVERY = 100  # spin rates between progress reports
 # relative finite-difference step; the contact point r(n) of a body of aspect ratio
 # c/a varies on the scale δn ~ c/a, so the extrapolated truncation error is
 # ~ (STEP a/c)^4, far below rounding for any body short of 1e-3 aspect ratio
@@ -121,14 +124,29 @@ def linearised_matrix(
     right-hand side is quadratic in ω, so the ω columns are exact; the n columns
     move n on the unit sphere.
     """
+    model = _rolling(model)
+    _check_body(body)
+    spin_rate = _finite_spin(spin_rate)
+    return _jacobian(kernel_parameters(model, body), spin_rate)
+
+
+def _rolling(model: RollingModel | None) -> RollingModel:
     model = RollingModel() if model is None else model
     if not isinstance(model, RollingModel):
         raise ParameterError("model", getattr(model, "name", model), "the rolling model")
-    _check_body(body)
+    return model
+
+
+def _finite_spin(spin_rate: float) -> float:
     spin_rate = float(spin_rate)
     if not math.isfinite(spin_rate):
         raise ParameterError("spin", spin_rate, "a finite number in rad/s")
-    params = kernel_parameters(model, body)
+    return spin_rate
+
+
+def _jacobian(params: np.record, spin_rate: float) -> np.ndarray:
+    """J at ``spin_rate`` for the kernel parameters ``params`` (see
+    :func:`linearised_matrix`, which checks what this takes as given)."""
     base = _steady_state(spin_rate)
     work = np.zeros(layout.N_STATE)
     state = np.zeros(layout.N_STATE)
@@ -198,22 +216,22 @@ class SpinStability:
     eigenvalues: np.ndarray
     mirror_eigenvalues: np.ndarray = field(repr=False)
 
-    @property
+    @cached_property
     def growth_rate_pitch(self) -> np.ndarray:
         """Growth rate of the pitch mode, max Re λ of its pair [1/s], shape (k,)."""
         return _max_growth(self.eigenvalues[:, :2])
 
-    @property
+    @cached_property
     def growth_rate_roll(self) -> np.ndarray:
         """Growth rate of the roll mode, max Re λ of its pair [1/s], shape (k,)."""
         return _max_growth(self.eigenvalues[:, 2:])
 
-    @property
+    @cached_property
     def frequency_pitch(self) -> np.ndarray:
         """Angular frequency of the pitch mode, max |Im λ| of its pair [rad/s], shape (k,)."""
         return np.max(np.abs(self.eigenvalues[:, :2].imag), axis=1)
 
-    @property
+    @cached_property
     def frequency_roll(self) -> np.ndarray:
         """Angular frequency of the roll mode, max |Im λ| of its pair [rad/s], shape (k,)."""
         return np.max(np.abs(self.eigenvalues[:, 2:].imag), axis=1)
@@ -362,7 +380,10 @@ class SpinStability:
 
 
 def spin_stability(
-    body: Body, spin_rates: np.ndarray | list[float], model: RollingModel | None = None
+    body: Body,
+    spin_rates: np.ndarray | list[float],
+    model: RollingModel | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> SpinStability:
     """Linearise the rolling model about steady spin and find its eigenvalues.
 
@@ -376,13 +397,16 @@ def spin_stability(
         Spin rates s = ω · n [rad/s], shape (k,), finite, 1 <= k <= MAX_SPIN_COUNT.
     model : RollingModel, optional
         The rolling model (damping σ); default σ = 0.
+    progress : callable, optional
+        Called with the number of spin rates done so far and their total, every
+        ``PROGRESS_EVERY`` of them and at the end (a progress bar).
 
     Returns
     -------
     SpinStability
         Eigenvalues for each spin rate and at its mirror image.
     """
-    model = RollingModel() if model is None else model
+    model = _rolling(model)
     spins = np.asarray(spin_rates, dtype=float)
     if spins.ndim != 1 or not 1 <= spins.size <= MAX_SPIN_COUNT:
         raise ParameterError("spin", spin_rates, f"1 to {MAX_SPIN_COUNT} spin rates in rad/s")
@@ -393,8 +417,17 @@ def spin_stability(
             f"finite spin rates in [-{schema.MAX_ANGULAR_SPEED:g}, {schema.MAX_ANGULAR_SPEED:g}] "
             "rad/s",
         )
-    eigenvalues = np.array([_ordered_eigenvalues(linearised_matrix(body, s, model)) for s in spins])
-    mirror = np.array([_ordered_eigenvalues(linearised_matrix(body, -s, model)) for s in spins])
+    _check_body(body)
+    params = kernel_parameters(model, body)  # once: each spin costs two Jacobians only
+    eigenvalues = np.empty((spins.size, 4), dtype=complex)
+    mirror = np.empty((spins.size, 4), dtype=complex)
+    for index, spin_rate in enumerate(spins):
+        eigenvalues[index] = _ordered_eigenvalues(_jacobian(params, float(spin_rate)))
+        mirror[index] = _ordered_eigenvalues(_jacobian(params, -float(spin_rate)))
+        if progress is not None and (index + 1) % PROGRESS_EVERY == 0:
+            progress(index + 1, spins.size)
+    if progress is not None and spins.size % PROGRESS_EVERY:
+        progress(spins.size, spins.size)
     return SpinStability(body, model, spins, eigenvalues, mirror)
 
 

@@ -45,6 +45,7 @@ from celtstone.export import (
 )
 from celtstone.integrate import simulate
 from celtstone.models import Model
+from celtstone.ownership import check_replaceable
 from celtstone.reproduce.cases import ENERGY_MONOTONE_TOLERANCE, case_name, summarise
 from celtstone.reproduce.figure2 import figure2_models
 from celtstone.reproduce.findings import FINDINGS, JUDGES
@@ -677,6 +678,8 @@ def write_atlas(dataset: xr.Dataset, path: str | Path, *, overwrite: bool = Fals
             "a new path, or an atlas store with overwrite",
             "an existing atlas store is replaced only with overwrite; nothing else ever",
         )
+    if os.path.lexists(target):  # a store holding a user's file is not replaced either
+        check_replaceable(target, "reproduce atlas", zarr=True)
     text = [name for name, v in dataset.variables.items() if v.dtype.kind == "U"]
     # text as variable-length strings, which Zarr v3 specifies (fixed-width ones it warns of)
     dataset = dataset.assign({name: dataset[name].astype(object) for name in text})

@@ -5,8 +5,13 @@ from __future__ import annotations
 import argparse
 
 from celtstone import ParameterError
+from celtstone.cli._progress import progress_bar
 from celtstone.visual import VIDEO_FPS_LIMITS, VIDEO_FRAME_LIMITS, animate, load_run
 from celtstone.visual.animation import check_video_target
+
+# frames from which the command says what it does when not at a terminal (several
+# seconds of drawing)
+ANNOUNCED_FRAME_COUNT = 300
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -43,6 +48,11 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--fps", default=None, help=f"frames per second (at most: mp4 {mp4}; gif {gif})"
     )
     parser.add_argument("--size", default=None, metavar="WxH", help="pixels (mp4: multiples of 16)")
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (at a terminal, shown once the frames take over a second)",
+    )
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -51,9 +61,18 @@ def handle(args: argparse.Namespace) -> int:
     speed = _float("speed", args.speed)
     fps = _float("fps", args.fps) if args.fps is not None else None
     size = _size(args.size) if args.size is not None else None
-    info = animate(
-        load_run(args.run), args.out, speed=speed, fps=fps, size=size, overwrite=args.overwrite
-    )
+    run = load_run(args.run)
+    with progress_bar(
+        "animate",
+        "frame",
+        enabled=not args.no_progress,
+        announcement=f"drawing {{total}} frames into {args.out}",
+        announce_from=ANNOUNCED_FRAME_COUNT,
+    ) as progress:
+        info = animate(
+            run, args.out, speed=speed, fps=fps, size=size, overwrite=args.overwrite,
+            progress=progress,
+        )  # fmt: skip
     pace = "real time" if info.speed == 1.0 else f"{info.speed:.3g} × real time"
     print(
         f"wrote {info.path}: {info.frames} frames at {info.fps:.3g} fps ({pace}), "

@@ -6,6 +6,7 @@ import argparse
 
 from celtstone.errors import ParameterError
 from celtstone.export import check_target, output_beside, read_run, write
+from celtstone.ownership import check_inputs_outside
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -21,6 +22,7 @@ def handle(args: argparse.Namespace) -> int:
     if not args.csv:
         raise ParameterError("format", "none", "--csv")
     out = args.out if args.out is not None else output_beside(args.run, ".csv")
+    check_inputs_outside(out, [args.run])  # RUN.nc is never its own output
     target = check_target(out, (".csv",), overwrite=args.overwrite)
     print(f"csv: {write(read_run(args.run), target, overwrite=args.overwrite)}")
     return 0

@@ -18,7 +18,8 @@ from celtstone.contact import (
 )
 from celtstone.errors import require_choice
 from celtstone.export import atomic_path, check_target
-from celtstone.schema import PARAMETERS
+from celtstone.ownership import figure_metadata
+from celtstone.schema import PARAMETERS, parse_number
 
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 
@@ -26,7 +27,7 @@ PLOT_FORMATS = (".png", ".svg", ".pdf")
 def _ratios(text: str) -> list[float]:
     allowed = "comma-separated numbers >= 0"
     try:
-        values = [float(part) for part in text.split(",")]
+        values = [parse_number("u", part) for part in text.split(",")]
     except ValueError:
         raise ParameterError("u", text, allowed) from None
     if not all(math.isfinite(v) and v >= 0.0 for v in values):
@@ -105,7 +106,7 @@ def handle(args: argparse.Namespace) -> int:
 def _semi_axes(text: str) -> tuple[float, float]:
     allowed = "two semi-axes A,B [m] with A >= B > 0"
     try:
-        values = [float(part) for part in text.split(",")]
+        values = [parse_number("ellipse", part) for part in text.split(",")]
     except ValueError:
         raise ParameterError("ellipse", text, allowed) from None
     if len(values) != 2 or not (0.0 < values[1] <= values[0] < math.inf):
@@ -117,7 +118,7 @@ def _degrees(text: str | None) -> float:
     if text is None:
         return 0.0
     try:
-        value = float(text)
+        value = parse_number("direction", text)
     except ValueError:
         raise ParameterError("direction", text, "a finite angle [deg]") from None
     if not math.isfinite(value):
@@ -197,4 +198,4 @@ def _plot(path: str, pressure: str, *, overwrite: bool) -> None:
     figure = friction_law_figure(pressure)
     suffix = Path(path).suffix.lower().lstrip(".")
     with atomic_path(path, overwrite=overwrite, parameter="plot") as temporary:
-        figure.savefig(temporary, format=suffix)
+        figure.savefig(temporary, format=suffix, metadata=figure_metadata(suffix))

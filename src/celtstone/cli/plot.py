@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from celtstone.export import output_beside, read_run
+from celtstone.export import output_beside
 from celtstone.plotting.save import check_figure_target
-from celtstone.schema import check
+from celtstone.schema import check, parse_number
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -29,10 +29,11 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 def handle(args: argparse.Namespace) -> int:
     """Draw the run and write the figure."""
     from celtstone.plotting import plot_run, save_figure
+    from celtstone.visual import load_run  # the one check of a run file for drawing
 
     out = args.out if args.out is not None else output_beside(args.run, ".png")
     target = check_figure_target(out, overwrite=args.overwrite)
-    band = None if args.band is None else check("reversal_band", args.band)
-    figure = plot_run(read_run(args.run), threshold=band)
+    band = None if args.band is None else check("reversal_band", parse_number("band", args.band))
+    figure = plot_run(load_run(args.run), threshold=band)
     print(f"figure: {save_figure(figure, target, overwrite=args.overwrite)}")
     return 0

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Callable
-from pathlib import Path
 
+from celtstone._path_names import check_path_name
 from celtstone.reproduce.study import (
     REALISTIC_STUDIES,
     STUDIES,
@@ -84,6 +84,11 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         help="shortened runs and a 6-point f grid: a smoke test, not the reproduction",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace results of an earlier reproduction in --out (never a file it did not write)",
+    )
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -91,6 +96,8 @@ def handle(args: argparse.Namespace) -> int:
     from celtstone.atlas.target import AtlasTarget, atlas_grid
     from celtstone.reproduce.targets import reproduce
 
+    if str(args.out):  # the empty path: refused by reproduce, with its reason
+        check_path_name(args.out, "out")  # before any run, not when the files are moved
     contacts = list(CONTACTS) if args.contact == "all" else [args.contact]
     studies = [
         CONTACTS[contact][1](name)
@@ -103,6 +110,8 @@ def handle(args: argparse.Namespace) -> int:
         studies = [reduced(study) for study in studies]
     show = not args.no_progress and sys.stderr.isatty()
     atlas = AtlasTarget(atlas_grid(args.atlas_grid), quick=args.quick)
-    report = reproduce(args.targets, Path(args.out), studies, progress=show, atlas=atlas)
+    report = reproduce(
+        args.targets, args.out, studies, progress=show, atlas=atlas, overwrite=args.overwrite
+    )
     print(f"report: {report}")
     return 0

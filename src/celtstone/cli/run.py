@@ -19,17 +19,18 @@ from celtstone import (
 from celtstone.cli._methods import add_method_args
 from celtstone.export import check_target, write
 from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
-from celtstone.schema import PARAMETERS, RENAMED, check, renamed
+from celtstone.schema import PARAMETERS, RENAMED, parse_count, parse_number, renamed
 
 MAX_PHASE_LINES = 10  # stick/slip phases listed in the text summary
 
 
 def _numbers(name: str, count: int):
     def parse(text: str) -> tuple[float, ...]:
+        allowed = f"{count} comma-separated numbers"
         try:
-            values = tuple(float(part) for part in text.split(","))
-        except ValueError:
-            raise ParameterError(name, text, f"{count} comma-separated numbers") from None
+            values = tuple(parse_number(name, part, allowed) for part in text.split(","))
+        except ParameterError:
+            raise ParameterError(name, text, allowed) from None
         if len(values) != count or not all(math.isfinite(v) for v in values):
             raise ParameterError(name, text, f"{count} comma-separated finite numbers")
         return values
@@ -39,16 +40,13 @@ def _numbers(name: str, count: int):
 
 def _number(name: str):
     def parse(text: str) -> float:
-        try:
-            return float(text)
-        except ValueError:
-            raise ParameterError(name, text, PARAMETERS[name].allowed) from None
+        return parse_number(name, text)
 
     return parse
 
 
 def _optional_number(name: str, text: str | None) -> float | None:
-    return None if text is None else _number(name)(text)
+    return None if text is None else parse_number(name, text)
 
 
 def _words(value: object, setting: Setting) -> str:
@@ -175,7 +173,7 @@ def handle(args: argparse.Namespace) -> int:
     atol = _number("atol")(args.atol)
     n_samples = None
     if args.samples is not None:
-        n_samples = int(check("n_samples", _number("n_samples")(args.samples)))
+        n_samples = parse_count("n_samples", args.samples)
     if args.out is not None:
         check_target(args.out, overwrite=args.overwrite)  # before the run, not after it
     model = model_from_name(args.model, **settings)

@@ -7,8 +7,11 @@ import json
 from pathlib import Path
 
 from celtstone import ParameterError, RollingModel, load_body
+from celtstone._about import version
 from celtstone.analysis.stability import SpinStability, parse_spin_range, spin_stability
+from celtstone.cli._progress import progress_bar
 from celtstone.export import atomic_path, check_target, write
+from celtstone.ownership import CSV_MARK
 from celtstone.plotting.save import check_figure_target, save_figure
 from celtstone.plotting.stability import growth_rate_figure
 from celtstone.schema import PARAMETERS
@@ -37,6 +40,16 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--overwrite", action="store_true", help="replace existing --csv, --netcdf, --plot files"
     )
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (shown on a terminal when the spins take over a second)",
+    )
+
+
+# spin rates from which the command says what it does when not at a terminal (about a
+# second of linearising)
+ANNOUNCED_SPIN_COUNT = 2_000
 
 
 def _write_csv(result: SpinStability, path: Path, overwrite: bool) -> None:
@@ -48,6 +61,7 @@ def _write_csv(result: SpinStability, path: Path, overwrite: bool) -> None:
         open(temporary, "w", encoding="utf-8") as stream,
     ):
         stream.write(f"# celtstone linear stability of steady spin, {result.body.name}\n")
+        stream.write(f"{CSV_MARK} {version()}\n")  # celtstone's: --overwrite may replace it
         stream.write("# " + ", ".join(f"{k} = {v}" for k, v in options.items()) + "\n")
         stream.write("# units: " + ", ".join(f"{k} [{table[k][0]}]" for k in names) + "\n")
         stream.write(",".join(names) + "\n")
@@ -72,7 +86,14 @@ def handle(args: argparse.Namespace) -> int:
     if args.plot is not None:
         plot = check_figure_target(args.plot, "plot", overwrite=replace)
     body = load_body(args.body)
-    result = spin_stability(body, spins, model)
+    with progress_bar(
+        "stability",
+        "spin",
+        enabled=not args.no_progress,
+        announcement="linearising the rolling model at {total} spin rates and their mirror images",
+        announce_from=ANNOUNCED_SPIN_COUNT,
+    ) as progress:
+        result = spin_stability(body, spins, model, progress=progress)
     if csv is not None:
         _write_csv(result, csv, replace)
     if netcdf is not None:
@@ -96,6 +117,10 @@ def handle(args: argparse.Namespace) -> int:
 
 
 def _print_text(result: SpinStability, summary: dict) -> None:
+    """The table, one row per spin (each column computed once, not once per row)."""
+    spin = result.spin
+    pitch_growth, roll_growth = result.growth_rate_pitch, result.growth_rate_roll
+    pitch_frequency, roll_frequency = result.frequency_pitch, result.frequency_roll
     lines = [
         f"linear stability of steady spin, rolling model, {result.body.name} "
         f"(damping {result.model.damping:g} N m s)",
@@ -106,11 +131,11 @@ def _print_text(result: SpinStability, summary: dict) -> None:
         f"  {'spin [rad/s]':>12} {'pitch Re λ [1/s]':>17} {'pitch Im λ [rad/s]':>19} "
         f"{'roll Re λ [1/s]':>16} {'roll Im λ [rad/s]':>18}",
     ]
-    for row in range(result.spin.size):
+    for row in range(spin.size):
         lines.append(
-            f"  {result.spin[row]:12.6g} {result.growth_rate_pitch[row]:17.6g} "
-            f"{result.frequency_pitch[row]:19.6g} {result.growth_rate_roll[row]:16.6g} "
-            f"{result.frequency_roll[row]:18.6g}"
+            f"  {spin[row]:12.6g} {pitch_growth[row]:17.6g} "
+            f"{pitch_frequency[row]:19.6g} {roll_growth[row]:16.6g} "
+            f"{roll_frequency[row]:18.6g}"
         )
     for key in ("csv", "netcdf", "plot"):
         if summary[key] is not None:

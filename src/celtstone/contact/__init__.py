@@ -15,14 +15,12 @@ from celtstone.contact.laws import choice_words as choice_words
 from celtstone.contact.laws import friction_functions as friction_functions
 from celtstone.contact.quadrature import friction_integrals as friction_integrals
 
+# the public names; LAW_WORDS, PRESSURE_WORDS, SHAPE_WORDS and choice_words, the help
+# texts of the options, are importable from here for the CLI but are not the user's API
 __all__ = [
     "CONTACT_PRESSURES",
     "CONTACT_SHAPES",
     "FRICTION_LAWS",
-    "LAW_WORDS",
-    "PRESSURE_WORDS",
-    "SHAPE_WORDS",
-    "choice_words",
     "effective_modulus",
     "friction_functions",
     "friction_integrals",

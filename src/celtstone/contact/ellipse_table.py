@@ -36,6 +36,7 @@ import numpy as np
 from scipy import optimize, special
 
 from celtstone.contact.ellipse import elliptic_friction_functions, zero_slip_moment
+from celtstone.contact.laws import unit_speeds
 from celtstone.kernels.friction_ellipse import (
     direction_coordinate,
     elliptic_contact_friction,
@@ -71,10 +72,12 @@ def fast_friction_functions(
     ``contact.ellipse.elliptic_friction_functions``: F/(fN) in the ellipse's axes and
     M/(fNA), for Ω_n > 0, u = |V|/(A|Ω_n|), the slip at ``direction`` [rad] from the
     major axis, ``aspect`` = B/A in [ASPECT_MIN, 1]; ``law`` "pade" or "exact" names the
-    disk law that the tabulated ratios correct (``kernels.friction_ellipse``)."""
-    slip = (u * math.cos(direction), u * math.sin(direction), 0.0)
+    disk law that the tabulated ratios correct (``kernels.friction_ellipse``). Both
+    speeds are at most 1 m/s (``contact.laws.unit_speeds``), so no finite u overflows."""
+    slip_speed, spin_rate = unit_speeds(u)
+    slip = (slip_speed * math.cos(direction), slip_speed * math.sin(direction), 0.0)
     force, moment = elliptic_contact_friction(
-        slip, 1.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0,
+        slip, spin_rate, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0,
         FrictionLaw[law.upper()].value,
     )  # fmt: skip
     return np.array(force[:2]), moment

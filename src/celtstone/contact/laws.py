@@ -21,6 +21,7 @@ __all__ = [
     "SHAPE_WORDS",
     "choice_words",
     "friction_functions",
+    "unit_speeds",
 ]
 
 # names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
@@ -91,16 +92,20 @@ def friction_functions(
     """
     require_choice("friction_law", law, FRICTION_LAWS)
     require_choice("contact_pressure", pressure, CONTACT_PRESSURES)
-    ratios = np.asarray(u, dtype=float)
+    given = np.asarray(u)
+    if given.dtype.kind not in ("i", "u", "f"):  # booleans and text are not ratios
+        raise ParameterError("slip_ratio", u, "finite numbers >= 0")
+    ratios = given.astype(float)
     if not np.all(np.isfinite(ratios)) or np.any(ratios < 0.0):
         raise ParameterError("slip_ratio", u, "finite numbers >= 0")
     force = np.empty_like(ratios)
     moment = np.empty_like(ratios)
     for index, ratio in np.ndenumerate(ratios):
-        # ε = 1 m, Ω_n = 1 rad/s, V1 = u e1 and no regularisation
+        # ε = 1 m, V1 along e1 and no regularisation
+        slip_speed, spin_rate = unit_speeds(float(ratio))
         vector, pivot = contact_friction(
-            (float(ratio), 0.0, 0.0),
-            1.0,
+            (slip_speed, 0.0, 0.0),
+            spin_rate,
             1.0,
             0.0,
             FRICTION_LAWS[law],
@@ -109,3 +114,28 @@ def friction_functions(
         force[index] = -vector[0]
         moment[index] = -pivot
     return force, moment
+
+
+def unit_speeds(u: float) -> tuple[float, float]:
+    """A slip speed and a spin rate with ratio u and neither above 1, for ε = 1 m.
+
+    The laws depend on u = |V1| / (ε|Ω_n|) only, but the kernels square |V1|:
+    evaluating u = 1e155 as |V1| = 1e155 m/s overflows to a zero force instead of
+    F = f N (paper section 2's pure-sliding limit). Each speed is at most 1 m/s here,
+    so every finite u >= 0 is evaluated without overflow.
+
+    Parameters
+    ----------
+    u : float
+        Slip ratio [1], finite, >= 0.
+
+    Returns
+    -------
+    slip_speed : float
+        |V1| [m/s]: u for u <= 1, else 1.
+    spin_rate : float
+        Ω_n [rad/s]: 1 for u <= 1, else 1/u.
+    """
+    if u <= 1.0:
+        return u, 1.0
+    return 1.0, 1.0 / u

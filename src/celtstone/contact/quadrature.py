@@ -25,7 +25,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-__all__ = ["PRESSURE_DENSITIES", "friction_integrals"]
+from celtstone.errors import ParameterError, require_choice
+from celtstone.schema import real_number
+
+__all__ = ["MAX_QUADRATURE_SLIP_RATIO", "PRESSURE_DENSITIES", "friction_integrals"]
+
+# largest u the quadrature answers: beyond it the rays that meet the disk span an angle
+# of 2/u around φ = 3π/2, and the error grows from about 1e-12 at u = 1e4 to 1e-9 at
+# 1e6 and a zero force at 1e155 (the closed forms, ``friction_functions``, have none)
+MAX_QUADRATURE_SLIP_RATIO = 1e4
 
 
 def _hertz(rho2: float) -> float:
@@ -98,7 +106,7 @@ def friction_integrals(
     Parameters
     ----------
     u : float
-        Slip ratio [1], finite, >= 0.
+        Slip ratio [1], in [0, ``MAX_QUADRATURE_SLIP_RATIO``] (1e4).
     pressure : str, optional
         ``"hertz"`` (paper eq. 2) or ``"uniform"``.
     rtol : float, optional
@@ -110,9 +118,24 @@ def friction_integrals(
         |F| / (f N) [1].
     moment : float
         |M| / (f N ε) [1].
+
+    Raises
+    ------
+    ParameterError
+        for u outside its range or an unknown pressure.
     """
     from scipy.integrate import quad  # on first use: SciPy's quadrature is slow to import
 
+    ratio = real_number(u)
+    if ratio is None or not 0.0 <= ratio <= MAX_QUADRATURE_SLIP_RATIO:
+        raise ParameterError(
+            "slip_ratio",
+            u,
+            f"a number in [0, {MAX_QUADRATURE_SLIP_RATIO:g}]",
+            "the quadrature loses accuracy beyond; friction_functions has the closed forms",
+        )
+    u = ratio
+    require_choice("contact_pressure", pressure, PRESSURE_DENSITIES)
     density = PRESSURE_DENSITIES[pressure]
     if u <= 1.0:
         start, stop = 0.0, 2.0 * math.pi

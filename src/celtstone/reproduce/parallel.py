@@ -1,79 +1,21 @@
-"""A target's independent runs on the cores: results in order, stoppable at once.
-
-The compiled loop releases the GIL, so runs on threads run side by side. The threads are
-daemons and take no new run once the caller stops reading (an error, Ctrl-C, SIGTERM):
-the command stops within a tenth of a second, as a single run does (``cases.simulate_case``),
-instead of waiting for the queued runs (what ``concurrent.futures``' pools do on exit).
-"""
+"""A target's independent runs on the cores: results in order, stoppable at once
+(``celtstone._threads``, which a fit's runs share)."""
 
 from __future__ import annotations
 
-import os
-import queue
-import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import TypeVar
+
+from celtstone import _threads
+from celtstone._threads import POLL_INTERVAL as POLL_INTERVAL
+from celtstone._threads import thread_count as thread_count
 
 Item = TypeVar("Item")
 Result = TypeVar("Result")
 
-POLL_INTERVAL = 0.1  # s, how often the waiting thread wakes to take a signal
-
-
-def thread_count(jobs: int) -> int:
-    """Threads for ``jobs`` runs: one per core this process may use, at most ``jobs``."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(jobs, cores or 1))
-
 
 def map_in_threads(function: Callable[[Item], Result], items: Iterable[Item]) -> Iterator[Result]:
-    """``function(item)`` for every item, computed on :func:`thread_count` daemon threads,
-    yielded in the items' order; an exception of a call is raised when its turn comes.
-
-    ``function`` must be safe to call from several threads at once (``simulate`` is) and
-    must not change the process's warning filters: set them around the whole map
-    (``warnings.catch_warnings`` is not thread-safe).
-    """
+    """``function(item)`` for every item on :func:`thread_count` daemon threads, in the
+    items' order (:func:`celtstone._threads.map_in_threads`)."""
     work = list(items)
-    workers = thread_count(len(work))
-    if workers == 1:
-        yield from map(function, work)
-        return
-    results: list[Result | None] = [None] * len(work)
-    errors: list[BaseException | None] = [None] * len(work)
-    done = [False] * len(work)
-    todo: queue.SimpleQueue[int] = queue.SimpleQueue()
-    for index in range(len(work)):
-        todo.put(index)
-    stop = threading.Event()
-    ready = threading.Condition()
-
-    def serve() -> None:
-        while not stop.is_set():
-            try:
-                index = todo.get_nowait()
-            except queue.Empty:
-                return
-            value: Result | None = None
-            error: BaseException | None = None
-            try:
-                value = function(work[index])
-            except BaseException as exception:  # handed to the reader, raised there
-                error = exception
-            with ready:
-                results[index], errors[index], done[index] = value, error, True
-                ready.notify_all()
-
-    for number in range(workers):
-        threading.Thread(target=serve, name=f"celtstone-run-{number}", daemon=True).start()
-    try:
-        for index in range(len(work)):
-            with ready:
-                while not done[index]:
-                    ready.wait(POLL_INTERVAL)
-            error = errors[index]
-            if error is not None:
-                raise error
-            yield results[index]  # type: ignore[misc]
-    finally:
-        stop.set()
+    return _threads.map_in_threads(function, work, workers=thread_count(len(work)))

@@ -22,8 +22,11 @@ from celtstone.export import (
     temporary_directory,
     write_json,
 )
+from celtstone.ownership import file_entry
+from celtstone.reproduce.directory import ReproductionDirectory
 from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3
+from celtstone.reproduce.ingredients import ingredient_models
 from celtstone.reproduce.progress import Progress, progress_bar
 from celtstone.reproduce.report import write_report
 from celtstone.reproduce.study import REALISTIC_STUDIES, STUDIES, TARGETS, Study
@@ -36,6 +39,7 @@ ATLAS_TARGET = "atlas"
 ``celtstone.atlas.target.AtlasTarget`` that the caller passes (the atlas builds on this
 package, so this package cannot import it)."""
 _STORES = ("atlas.zarr",)  # directories a target writes, moved into ``out`` whole
+ATLAS_SOURCE = "the atlas family"  # what the atlas's result was computed for
 
 
 class FamilyTarget(Protocol):
@@ -67,7 +71,7 @@ def _targets(names: Sequence[str], atlas: FamilyTarget | None) -> list[str]:
 
 def _runs(study: Study, target: str) -> int:
     if target == "fig2":
-        return len(figure2_models(study))
+        return len(figure2_models(study)) + len(ingredient_models(study))
     if target == "fig3":
         return 2
     return len(study.friction_grid())
@@ -142,9 +146,14 @@ def _restore_handler(previous: dict[signal.Signals, Any], number: signal.Signals
     signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
-def _move_files(staging: Path, out: Path, last: Path) -> None:
+def _move_files(
+    staging: Path, directory: ReproductionDirectory, last: Path, source: str, run: str
+) -> None:
     """Every file of ``staging`` to the same place in ``out``, ``last`` last; a store
-    (``_STORES``, a directory) moves whole."""
+    (``_STORES``, a directory) moves whole. Nothing moves unless every destination may be
+    replaced (``ReproductionDirectory.check_moves``); the manifest lists them after."""
+    out = directory.out
+    result = last.stem
     stores = [staging / name for name in _STORES if (staging / name).is_dir()]
     files = [
         *sorted(
@@ -154,33 +163,45 @@ def _move_files(staging: Path, out: Path, last: Path) -> None:
         ),
         last,
     ]
+    moves = {p.relative_to(staging).as_posix(): p for p in (*stores, *files)}
+    directory.check_moves(moves, result)
+    entries = {
+        p.relative_to(staging).as_posix(): file_entry(p)
+        for p in (*files, *(f for s in stores for f in s.rglob("*") if f.is_file()))
+    }
     with _signals_deferred():
         for store in stores:
             replace_directory(store, out / store.relative_to(staging))
-        for source in files:
-            destination = out / source.relative_to(staging)
+        for path in files:
+            destination = out / path.relative_to(staging)
             try:
                 destination.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(source, destination)
+                os.replace(path, destination)
             except OSError as error:
                 raise output_error(destination, error) from error
+        try:
+            directory.record(entries, result, source, run)
+        except OSError as error:
+            raise output_error(out, error) from error
 
 
 def _run_target(
     run: Callable[[Path, Progress], dict[str, Any]],
-    out: Path,
+    directory: ReproductionDirectory,
     progress: Progress,
     identity: dict[str, Any],
+    source: str,
 ) -> None:
     """One target, staged: its files reach ``out`` only once it is done."""
+    out = directory.out
     with temporary_directory(out / _STAGING) as staging:
         try:
             result = run(staging, progress)
             numbers = staging / "data" / f"{result['target']}_{result['key']}.json"
             stamped = {**result, "run": {**identity, "finished_utc": _utc_now()}}
             numbers.parent.mkdir(exist_ok=True)
-            write_json(stamped, numbers, overwrite=True)
-            _move_files(staging, out, numbers)
+            write_json(stamped, numbers, overwrite=True)  # the target's own, in staging
+            _move_files(staging, directory, numbers, source, identity["id"])
         except OutputError as error:  # name the file where it went, not the staging area
             path = Path(error.path)
             if path.is_relative_to(staging):
@@ -190,20 +211,60 @@ def _run_target(
             raise
 
 
+def _body_source(study: Study) -> str:
+    """What a study's results were computed for: the body file (resolved) or the shipped
+    body; two sources must not share a result's name."""
+    text = study.body
+    if text.endswith(".toml") or Path(text).is_file():
+        return f"body file {os.path.realpath(text)}"
+    return f"shipped body {text}"
+
+
+def _planned(
+    chosen: Sequence[str], studies: Sequence[Study], atlas: FamilyTarget | None
+) -> tuple[dict[str, str], dict[str, str]]:
+    """The results (stem -> source) and stores (name -> result) a reproduction writes;
+    two bodies of the same name from different sources are refused, naming both."""
+    results: dict[str, str] = {}
+    bodies: dict[str, Study] = {}
+    for target in chosen:
+        if target == ATLAS_TARGET and atlas is not None:
+            results[f"{ATLAS_TARGET}_{ATLAS_TARGET}"] = ATLAS_SOURCE
+            continue
+        for study in studies:
+            if target not in study.targets:
+                continue
+            source = _body_source(study)
+            other = bodies.setdefault(study.key, study)
+            if _body_source(other) != source:
+                raise ParameterError(
+                    "body",
+                    study.body,
+                    f"bodies whose results have different names (this one's are {study.key})",
+                    f"{other.body} has the same name; rename one of the files",
+                )
+            results[f"{target}_{study.key}"] = source
+    stores = {name: f"{ATLAS_TARGET}_{ATLAS_TARGET}" for name in _STORES}
+    return results, stores if ATLAS_TARGET in chosen and atlas is not None else {}
+
+
 def reproduce(
     targets: Sequence[str],
     out: str | Path = "results",
     studies: Sequence[Study] = STUDIES + REALISTIC_STUDIES,
     progress: bool = True,
     atlas: FamilyTarget | None = None,
+    *,
+    overwrite: bool = False,
 ) -> Path:
     """Run ``targets`` for each study and rebuild the report.
 
     Writes figures, tables and NetCDF runs into ``out`` and rebuilds
     ``out/report.md`` from every target's numbers found there. Each target reaches
     ``out`` whole or not at all (see the module docstring): an interrupted run leaves
-    the finished targets and nothing of the others. A target's files from an earlier
-    run are replaced by the new ones.
+    the finished targets and nothing of the others. A result already in ``out`` is
+    replaced only with ``overwrite``, and a file celtstone did not write there never
+    is (``reproduce.directory``): both are refused before the first run.
 
     Parameters
     ----------
@@ -218,17 +279,36 @@ def reproduce(
     atlas : FamilyTarget, optional
         The atlas (``celtstone.atlas.target.AtlasTarget``), run once after the studies;
         ``all`` includes it when it is given.
+    overwrite : bool, optional
+        Whether results of an earlier reproduction in ``out`` may be replaced.
 
     Returns
     -------
     pathlib.Path
         The report ``out/report.md``.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``out`` (empty, not a directory, a file there that may not be replaced,
+        another process writing it) or ``body`` (two bodies of the same name).
     """
+    if str(out) == "":
+        raise ParameterError("out", str(out), "a directory", "the path is empty")
     chosen = _targets(targets, atlas)
-    directory = Path(out)
-    if directory.exists() and not directory.is_dir():
-        raise ParameterError("out", str(out), "a directory")
-    directory.mkdir(parents=True, exist_ok=True)
+    results, stores = _planned(chosen, studies, atlas)
+    with ReproductionDirectory(Path(out), overwrite=overwrite) as directory:
+        directory.check_planned(results, stores)
+        return _reproduce(chosen, directory, studies, progress, atlas)
+
+
+def _reproduce(
+    chosen: Sequence[str],
+    directory: ReproductionDirectory,
+    studies: Sequence[Study],
+    progress: bool,
+    atlas: FamilyTarget | None,
+) -> Path:
     identity = run_identity(chosen, studies)
     total = sum(
         _runs(study, target) for study in studies for target in chosen if target in study.targets
@@ -239,12 +319,12 @@ def reproduce(
     try:
         for target in chosen:
             if target == ATLAS_TARGET and atlas is not None:
-                _run_target(atlas, directory, bar, identity)
+                _run_target(atlas, directory, bar, identity, ATLAS_SOURCE)
                 continue
             for study in studies:
                 if target in study.targets:  # a study may run some targets only
                     run = functools.partial(_RUNNERS[target], study)
-                    _run_target(run, directory, bar, identity)
+                    _run_target(run, directory, bar, identity, _body_source(study))
     finally:
         bar.close()
-    return write_report(directory)
+    return write_report(directory.out, directory)

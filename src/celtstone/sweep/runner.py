@@ -476,7 +476,7 @@ class Sweep:
         target = None if out is None else Path(out)
         store: SweepStore | None = None
         if target is not None and resume and target.exists():
-            store = SweepStore.open(target, expected_spec=attrs["sweep_spec"])
+            store = SweepStore.open(target, expected_spec=attrs["sweep_spec"], lock=True)
         pool: _Pool = _DaskPool(scheduler) if scheduler is not None else _ThreadPool(threads)
         try:
             if target is not None and store is None:
@@ -500,10 +500,13 @@ class Sweep:
                     progress(end - first, int(np.sum(fields["status"] != "success")))
 
             self._execute(blocks, task_points, pool, write)
+            if store is not None:
+                store.mark_complete()
         finally:
             pool.close()
+            if store is not None:
+                store.close()  # another process may write it now
         if store is not None:
-            store.mark_complete()
             return open_sweep(store.path)
         return self._dataset(layout, memory, attrs)
 

@@ -176,10 +176,14 @@ class Axis:
 
     def __post_init__(self) -> None:
         check_name(self.name)
-        try:
-            values = tuple(float(v) for v in self.values)
-        except (TypeError, ValueError):
-            raise ParameterError(self.name, self.values, "a list of numbers") from None
+        given = self.values
+        is_list = isinstance(given, Sequence) or getattr(given, "ndim", None) == 1
+        if isinstance(given, str | bytes) or not is_list:
+            raise ParameterError(self.name, given, "a list of numbers")
+        numbers = [schema.real_number(v) for v in given]
+        if any(number is None for number in numbers):
+            raise ParameterError(self.name, given, "a list of numbers")
+        values = tuple(float(number) for number in numbers if number is not None)
         if not values:
             raise ParameterError(self.name, self.values, "at least one value")
         if not all(math.isfinite(v) for v in values):
@@ -188,10 +192,7 @@ class Axis:
 
 
 def _float(name: str, text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise ParameterError(name, text, "a number") from None
+    return schema.parse_number(name, text, "a number")
 
 
 def _count(name: str, text: str) -> int:
@@ -199,12 +200,9 @@ def _count(name: str, text: str) -> int:
     read without making anything of that size."""
     allowed = f"a whole number from 1 to {budget.HARD_POINT_LIMIT}"
     try:
-        count = int(text)
-    except ValueError:
-        value = _float(f"{name} count", text)
-        if not (math.isfinite(value) and value == int(value)):
-            raise ParameterError(f"{name} count", text, allowed) from None
-        count = int(value)
+        count = schema.parse_count(f"{name} count", text)
+    except ParameterError:
+        raise ParameterError(f"{name} count", text, allowed) from None
     if not 1 <= count <= budget.HARD_POINT_LIMIT:
         raise ParameterError(f"{name} count", text, allowed)
     return count
@@ -341,6 +339,50 @@ def parse_setting(text: str) -> tuple[str, float | str]:
     return name, _float(name, value)
 
 
+def _fixed_number(name: str, value: object) -> float:
+    """A fixed number of a sweep (``--set`` reads text with :func:`parse_setting`): a real
+    number, not text or a boolean (``schema.real_number``)."""
+    number = schema.real_number(value)
+    if number is None:
+        raise ParameterError(name, value, "a number")
+    return number
+
+
+def _column(name: str, values: object) -> np.ndarray:
+    """A varied parameter's values at every point, shape (n_points,): real numbers."""
+    array = np.asarray(values)
+    if array.ndim != 1 or array.dtype.kind not in ("i", "u", "f"):
+        raise ParameterError(name, values, "a 1-D array of numbers, one per point")
+    return array.astype(float)
+
+
+def _refuse_without_effect(
+    model_name: str, choices: Mapping[str, str], values: Mapping[str, object]
+) -> None:
+    """A number that no point of the sweep uses is refused, not swept in vain: a fixed
+    contact_radius where the contact's size is Hertz's (``elastic_modulus`` given, as the
+    elliptic contact needs)."""
+    if model_name == "rolling" or "contact_radius" not in values:
+        return
+    if "elastic_modulus" in values or choices.get("contact_shape") == "ellipse":
+        why = (
+            "the Hertz ellipse's semi-axes follow from elastic_modulus, poisson_ratio, the "
+            "normal force and the curvatures"
+            if choices.get("contact_shape") == "ellipse"
+            else "the Hertz radius follows from elastic_modulus, poisson_ratio, the normal "
+            "force and the curvature"
+        )
+        given = values["contact_radius"]
+        if isinstance(given, np.ndarray):  # varied: say what, not every value
+            given = f"{given.size} values from {given.min():g} to {given.max():g} m"
+        raise ParameterError(
+            "contact_radius",
+            given,
+            "no value with elastic_modulus or contact_shape ellipse",
+            f"it has no effect at any point: {why}; vary elastic_modulus instead",
+        )
+
+
 def _rotated_inertia(inertia: np.ndarray, angle: float) -> np.ndarray:
     """``inertia`` with its horizontal principal axes turned to ``angle`` from axis 1 [rad]."""
     block = inertia[:2, :2]
@@ -430,7 +472,7 @@ class PointBuilder:
             require_choice(name, value, CHOICES[name])
         for name in settings:  # an old or unknown name first, before its value
             check_name(name)
-        numbers = {name: _float(name, str(value)) for name, value in settings.items()}
+        numbers = {name: _fixed_number(name, value) for name, value in settings.items()}
         for name in columns:
             check_name(name)
             if name in numbers:
@@ -447,7 +489,8 @@ class PointBuilder:
         self.choices = choices
         self.base_body = base_body
         self.fixed = numbers
-        self.columns = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
+        self.columns = {name: _column(name, values) for name, values in columns.items()}
+        _refuse_without_effect(model_name, choices, {**numbers, **self.columns})
         self.n_points = next(iter(self.columns.values())).size if self.columns else 1
         self._groups = {
             group: [name for name in self.columns if PARAMETERS[name].group == group]

@@ -18,11 +18,18 @@ to the target: a store killed at any moment is never corrupt, only unfinished.
 
 An existing path is replaced (``overwrite``) only if it is a celtstone sweep store,
 recognised by its own group metadata (``zarr.json`` with ``format`` =
-``celtstone-sweep-1``); any other directory or file is refused and left as it is.
-The old store is moved aside, the new one moved in, then the old one deleted. The
-skeleton and the store moved aside are named ``.NAME.<pid>.<random>.part``, so
-that the next store made at the same path removes those of a killed process
-(``export.remove_stale_temporaries``).
+``celtstone-sweep-1``), and only if it holds nothing but the store's own files, its
+metadata and the chunks of its arrays (``ownership.check_replaceable``): a notes
+file, the ``--points`` file or anything else put into the store keeps it from being
+replaced, and so does any other directory or file. The old store is moved aside, the
+new one moved in, then the old one deleted. The skeleton and the store moved aside are
+named ``.NAME.<pid>.<random>.part``, so that the next store made at the same path
+removes those of a killed process (``export.remove_stale_temporaries``).
+
+A store being written (made, filled or resumed) is locked against a second writer:
+an exclusive lock on ``.NAME.lock`` beside it (``ownership.WriterLock``), held until
+:meth:`SweepStore.close`; a second ``sweep`` on the same store is refused in one line
+naming the store and the writing process.
 """
 
 from __future__ import annotations
@@ -30,15 +37,17 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from celtstone._path_names import check_path_name
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.export import output_error, replace_directory, temporary_directory
+from celtstone.ownership import WriterLock, check_replaceable
 from celtstone.schema import VARIABLES
 from celtstone.solvers import batch
 
@@ -72,6 +81,7 @@ MASK = "completed"
 FORMAT = "celtstone-sweep-1"
 _METADATA = "zarr.json"
 _METADATA_SIZE_LIMIT = 64 << 20  # bytes; a store's group metadata is far smaller
+_COMMAND = "sweep"  # the command named by the store's manifest
 
 
 def is_sweep_store(path: str | Path) -> bool:
@@ -93,12 +103,20 @@ def is_sweep_store(path: str | Path) -> bool:
     return isinstance(attributes, dict) and attributes.get("format") == FORMAT
 
 
-def check_store_target(path: str | Path, *, overwrite: bool = False, resume: bool = False) -> Path:
+def check_store_target(
+    path: str | Path,
+    *,
+    overwrite: bool = False,
+    resume: bool = False,
+    inputs: Iterable[str | Path] = (),
+) -> Path:
     """``path`` as a Path if a sweep store may be made (or resumed) there.
 
     Free paths are allowed; an existing one only with ``resume`` or ``overwrite``,
-    and then only if it is a celtstone sweep store (:func:`is_sweep_store`). Call it
-    before any computation; :meth:`SweepStore.create` checks again.
+    and then only if it is a celtstone sweep store (:func:`is_sweep_store`); with
+    ``overwrite``, one that holds nothing but its own files and none of ``inputs``
+    (``ownership.check_replaceable``). Call it before any computation;
+    :meth:`SweepStore.create` checks again.
 
     Raises
     ------
@@ -109,6 +127,7 @@ def check_store_target(path: str | Path, *, overwrite: bool = False, resume: boo
     target = Path(path)
     if str(path) == "":
         raise ParameterError("out", str(path), "a path for the store", "the path is empty")
+    check_path_name(target, "out")
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
         raise ParameterError("out", str(path), "a path in an existing directory")
@@ -128,7 +147,17 @@ def check_store_target(path: str | Path, *, overwrite: bool = False, resume: boo
             + ("--overwrite" if overwrite else "--resume")
             + " never touches anything else",
         )
+    if overwrite and not resume:
+        check_replaceable(target, _COMMAND, inputs=inputs, zarr=True)
     return target
+
+
+def _lock(target: Path) -> WriterLock:
+    """Hold ``target`` against a second writer (see the module docstring)."""
+    try:
+        return WriterLock(target.with_name(f".{target.name}.lock"), target)
+    except OSError as error:
+        raise output_error(target, error) from error
 
 
 @dataclass(frozen=True)
@@ -235,10 +264,24 @@ def _build(
 class SweepStore:
     """An open sweep store (see the module docstring)."""
 
-    def __init__(self, path: Path, group: zarr.Group, layout: Layout) -> None:
+    def __init__(
+        self, path: Path, group: zarr.Group, layout: Layout, lock: WriterLock | None = None
+    ) -> None:
         self.path = path
         self.group = group
         self.layout = layout
+        self._lock = lock
+
+    def close(self) -> None:
+        """Let another process write the store (release its lock); nothing if unlocked."""
+        if self._lock is not None:
+            self._lock.release()
+
+    def __enter__(self) -> SweepStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     @classmethod
     def create(
@@ -249,36 +292,72 @@ class SweepStore:
         attrs: Mapping[str, Any],
         *,
         overwrite: bool = False,
+        inputs: Iterable[str | Path] = (),
     ) -> SweepStore:
         """Build the empty store in a temporary directory and move it to ``path``.
 
-        With ``overwrite`` an existing celtstone sweep store at ``path`` is replaced;
-        anything else there is refused (:func:`check_store_target`).
+        With ``overwrite`` an existing celtstone sweep store at ``path`` that holds only
+        its own files is replaced; anything else there is refused
+        (:func:`check_store_target`). The store returned is locked until
+        :meth:`close`.
 
         Raises
         ------
         ParameterError
-            naming ``out`` (see :func:`check_store_target`).
+            naming ``out`` (see :func:`check_store_target`), or another process is
+            writing the store.
         OutputError
             if the store cannot be written (disk full, ...): nothing is left behind.
         """
-        target = check_store_target(path, overwrite=overwrite)
-        with temporary_directory(target) as temporary:
-            try:
-                _build(temporary, layout, coords, attrs)
-            except OSError as error:
-                raise output_error(target, error) from error
-            if os.path.lexists(target) and not (overwrite and is_sweep_store(target)):
-                check_store_target(target, overwrite=overwrite)  # it changed since the check
-            replace_directory(temporary, target)
-        return cls.open(target, expected_spec=attrs["sweep_spec"])
+        target = check_store_target(path, overwrite=overwrite, inputs=inputs)
+        lock = _lock(target)
+        try:
+            check_store_target(target, overwrite=overwrite, inputs=inputs)  # now it is held
+            with temporary_directory(target) as temporary:
+                try:
+                    _build(temporary, layout, coords, attrs)
+                except OSError as error:
+                    raise output_error(target, error) from error
+                if os.path.lexists(target):  # it may have changed since the check
+                    check_store_target(target, overwrite=overwrite, inputs=inputs)
+                replace_directory(temporary, target)
+            return cls.open(target, expected_spec=attrs["sweep_spec"], lock=lock)
+        except BaseException:
+            lock.release()
+            raise
 
     @classmethod
-    def open(cls, path: str | Path, expected_spec: str | None = None) -> SweepStore:
-        """Open an existing store for writing; ``expected_spec`` must equal its spec."""
+    def open(
+        cls,
+        path: str | Path,
+        expected_spec: str | None = None,
+        *,
+        lock: bool | WriterLock = False,
+    ) -> SweepStore:
+        """Open an existing store for writing; ``expected_spec`` must equal its spec.
+
+        With ``lock`` (True, or a lock already held) no other process may write it
+        until :meth:`close`.
+        """
+        target = Path(path)
+        held = _lock(target) if lock is True else lock or None
+        try:
+            return cls._open(target, path, expected_spec, held)
+        except BaseException:
+            if held is not None:
+                held.release()
+            raise
+
+    @classmethod
+    def _open(
+        cls,
+        target: Path,
+        path: str | Path,
+        expected_spec: str | None,
+        lock: WriterLock | None,
+    ) -> SweepStore:
         import zarr
 
-        target = Path(path)
         if not is_sweep_store(target):  # never opened for writing unless it is ours
             what = "does not exist" if not os.path.lexists(target) else "is not one"
             raise ParameterError("out", str(path), "a celtstone sweep store", f"it {what}")
@@ -306,7 +385,7 @@ class SweepStore:
         chunks = tuple(int(c) for c in mask.chunks)
         dims = tuple(str(d) for d in getattr(mask.metadata, "dimension_names", None) or ())
         layout = Layout(dims, shape, chunks)
-        return cls(target, group, layout)
+        return cls(target, group, layout, lock)
 
     @property
     def complete(self) -> bool:

@@ -16,7 +16,7 @@ import os
 import re
 import subprocess
 import tempfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -26,6 +26,7 @@ import numpy as np
 
 from celtstone.errors import OutputError, ParameterError
 from celtstone.export import atomic_path, check_target
+from celtstone.ownership import video_mark
 from celtstone.visual import scene
 from celtstone.visual.frames import (
     VIDEO_FPS_LIMITS,
@@ -125,7 +126,7 @@ class _Panel:
         (self.long_axis,) = ax.plot([], [], [], color="black", lw=1.8, zorder=4)
         (self.principal,) = ax.plot([], [], [], color="tab:orange", lw=1.2, ls="--", zorder=4)
         (self.contact,) = ax.plot([], [], [], "o", color="tab:red", ms=4, zorder=5)
-        ax.set_title(label, fontsize=font + 1)
+        ax.set_title(label, fontsize=font + 1 if font > 8.0 else font)  # a gif: 360 px tall
         self.readout = ax.text2D(0.03, 0.03, "", transform=ax.transAxes, fontsize=font)
         # what changes from frame to frame, in drawing order
         self.moving = [
@@ -136,14 +137,32 @@ class _Panel:
             self.contact,
             self.readout,
         ]
+        self._legend(font)
+
+    def _legend(self, font: float) -> None:
+        """The key to the lines, at the reader's font size, in the panel's top left corner
+        (the body is drawn at the centre)."""
+        from matplotlib.lines import Line2D
+
         delta = math.degrees(self.geometry.misalignment_angle)
-        ax.text2D(
-            0.02,
-            0.93,
-            f"— long axis    -- principal axis (δ = {delta:.2f}°)    — contact track",
-            transform=ax.transAxes,
-            fontsize=font - 2,
-            color="0.3",
+        keys = [
+            (self.long_axis, "long axis"),
+            (self.principal, f"principal axis (δ = {delta:.2f}°)"),
+            (self.trail, "contact track"),
+        ]
+        handles = [
+            Line2D([], [], color=line.get_color(), linestyle=line.get_linestyle(), label=label)
+            for line, label in keys
+        ]
+        self.ax.legend(
+            handles=handles,
+            loc="upper left",
+            bbox_to_anchor=(0.0, 0.95),
+            fontsize=font,
+            frameon=False,
+            handlelength=1.8,
+            borderaxespad=0.2,
+            labelspacing=0.25,
         )
 
     @staticmethod
@@ -222,11 +241,17 @@ def _grid_spacing(width: float) -> float:
     return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= raw)
 
 
-def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.ndarray]:
+def _frames(
+    figure: Any,
+    panels: list[_Panel],
+    plan: FramePlan,
+    progress: Callable[[int, int], None] | None = None,
+) -> Iterator[np.ndarray]:
     """RGB frames; the static scene (plane, grid, whole track, titles) is drawn once.
 
     Each frame restores that background and draws only the moving artists on it,
-    in their z-order (blitting).
+    in their z-order (blitting). ``progress(frames drawn, frames in all)`` is called
+    after each.
     """
     canvas = figure.canvas
     for panel in panels:
@@ -238,7 +263,7 @@ def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.n
     for panel in panels:
         for artist in panel.moving:
             artist.set_visible(True)
-    for time in plan.times:
+    for index, time in enumerate(plan.times):
         canvas.restore_region(background)
         for panel in panels:
             panel.show(float(time), plan.speed)
@@ -247,6 +272,8 @@ def _frames(figure: Any, panels: list[_Panel], plan: FramePlan) -> Iterator[np.n
                     artist.do_3d_projection()
                 panel.ax.draw_artist(artist)
         yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
+        if progress is not None:
+            progress(index + 1, plan.count)
 
 
 def _write(
@@ -270,7 +297,8 @@ def _write_gif(temporary: Path, frames: Iterator[np.ndarray], fps: float) -> Non
     duration_ms = 1000.0 / fps
     with opener(buffer, "w", extension=".gif", plugin="pillow") as file:
         for frame in frames:
-            file.write(frame, duration=duration_ms, loop=0, is_batch=False)
+            # the comment marks the file as celtstone's: --overwrite may replace it later
+            file.write(frame, duration=duration_ms, loop=0, is_batch=False, comment=video_mark())
     temporary.write_bytes(buffer.getvalue())
 
 
@@ -318,6 +346,8 @@ def _write_mp4(temporary: Path, target: Path, frames: Iterator[np.ndarray], fps:
         "yuv420p",
         "-crf",
         str(_MP4_CRF),
+        "-metadata",  # marks the file as celtstone's: --overwrite may replace it later
+        f"comment={video_mark().decode()}",
         "-f",
         "mp4",
         str(temporary),
@@ -399,6 +429,7 @@ def animate_comparison(
     fps: float | None = None,
     size: tuple[int, int] | None = None,
     overwrite: bool = False,
+    progress: Callable[[int, int], None] | None = None,
 ) -> VideoInfo:
     """Animate runs side by side on a common clock (e.g. rolling beside sliding, Figure 2).
 
@@ -421,6 +452,8 @@ def animate_comparison(
     overwrite : bool, optional
         Replace ``path`` if it is a file (never a directory); without it an existing
         ``path`` is refused before any frame is drawn.
+    progress : callable, optional
+        Called with (frames drawn, frames in all) as the frames are drawn (a progress bar).
 
     Returns
     -------
@@ -449,19 +482,22 @@ def animate_comparison(
     width, height = size if size is not None else _default_size(suffix, len(runs))
     if suffix == ".mp4" and (width % 16 or height % 16):
         raise ParameterError("size", (width, height), "multiples of 16 pixels for mp4")
+    if progress is not None:  # before matplotlib's import and the first frame: a second
+        progress(0, plan.count)
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
     figure.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.95, wspace=0.0)
-    font = 9.0 if width / len(runs) >= 600 else 7.0
+    font = 9.0 if width / len(runs) >= 600 else 8.0  # [pt]; 8 pt is 11 px at 100 dpi
     panels = [
         _Panel(figure, i, len(runs), ds, label, font)
         for i, (ds, label) in enumerate(zip(runs, labels, strict=True))
     ]
     FigureCanvasAgg(figure)
-    _write(target, suffix, _frames(figure, panels, plan), plan.fps, overwrite=overwrite)
+    frames = _frames(figure, panels, plan, progress)
+    _write(target, suffix, frames, plan.fps, overwrite=overwrite)
     return VideoInfo(
         path=target,
         frames=plan.count,
@@ -488,6 +524,7 @@ def animate(
     size: tuple[int, int] | None = None,
     label: str | None = None,
     overwrite: bool = False,
+    progress: Callable[[int, int], None] | None = None,
 ) -> VideoInfo:
     """Animate one run in 3-D: shaded body, plane, contact track and read-out.
 
@@ -507,6 +544,8 @@ def animate(
         The title; default the model and body of the run.
     overwrite : bool, optional
         Replace ``path`` if it is a file (never a directory).
+    progress : callable, optional
+        Called with (frames drawn, frames in all) as the frames are drawn (a progress bar).
 
     Returns
     -------
@@ -515,5 +554,12 @@ def animate(
     """
     title = label if label is not None else default_label(dataset)
     return animate_comparison(
-        [dataset], [title], path, speed=speed, fps=fps, size=size, overwrite=overwrite
+        [dataset],
+        [title],
+        path,
+        speed=speed,
+        fps=fps,
+        size=size,
+        overwrite=overwrite,
+        progress=progress,
     )

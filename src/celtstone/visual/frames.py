@@ -1,7 +1,7 @@
 """Which samples become frames, and how long series are thinned for plots.
 
-Limits (the README's "See it move" states them)
------------------------------------------------
+Limits (docs/benchmarks.md, "Videos and the viewer", measures them)
+-------------------------------------------------------------------
 Video: at most ``VIDEO_FPS_LIMITS`` frames per second of playback (30 for mp4,
 20 for gif, whose frame delays are whole centiseconds) and at most
 ``VIDEO_FRAME_LIMITS`` frames (1800 for mp4, 300 for gif). Real time by default;

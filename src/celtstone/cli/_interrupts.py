@@ -1,0 +1,132 @@
+"""Ctrl-C and SIGTERM in the command: exit 130 or 143 with one line, whatever the moment.
+
+Three stretches of a command's life take a signal differently:
+
+* while the command starts (``celtstone._early_signals``, the package's first import),
+  nothing has been written yet: the process says so and exits at once (:func:`stop_at_once`);
+* while :func:`celtstone.cli.main.main` runs, SIGINT raises ``KeyboardInterrupt`` and
+  SIGTERM :class:`Terminated`, so that ``finally`` blocks remove temporaries before the
+  one-line message (:func:`unwinding`);
+* once ``main`` has returned, the command's work is done: the process exits at once again.
+
+The first and last apply only when the process *is* the command (the ``celtstone`` script
+or ``python -m celtstone``), never when a program or a test calls ``main`` in-process:
+there the previous handlers are put back.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from types import FrameType
+from typing import Any
+
+from celtstone._early_signals import exit_now, is_the_command, stop_at_once
+
+__all__ = [
+    "Interruption",
+    "Terminated",
+    "Termination",
+    "is_the_command",
+    "stop_at_once",
+    "unwinding",
+]
+
+_REDELIVERY_DELAY = 0.01  # s, for the hook to return before the signal comes again
+_Handler = Callable[[int, FrameType | None], Any] | int | None  # what getsignal gives
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that it unwinds like Ctrl-C.
+
+    ``finally`` blocks remove temporaries, and every ``except KeyboardInterrupt``
+    (the sweep's resume message) handles it as it handles Ctrl-C.
+    """
+
+
+class Interruption:
+    """The SIGINT handler inside ``main``: raises ``KeyboardInterrupt``; in the command, a
+    second Ctrl-C during the clean-up ends the process at once (one line, exit 130)
+    instead of raising again wherever the clean-up is (a traceback)."""
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        if is_the_command():
+            signal.signal(signal.SIGINT, exit_now)
+        raise KeyboardInterrupt
+
+
+class Termination:
+    """The SIGTERM handler inside ``main``: raises :class:`Terminated` once and remembers
+    that it came; a second SIGTERM is ignored so that it cannot cut the clean-up short
+    (SIGKILL still ends the process)."""
+
+    def __init__(self) -> None:
+        self.received = False
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        self.received = True
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated
+
+
+def _redelivering(
+    previous: Callable[[Any], object], interruption: Interruption, termination: Termination
+) -> Callable[[Any], object]:
+    """An unraisable hook that sends again a signal whose exception was swallowed.
+
+    A signal's exception is raised in whatever Python code runs at that moment; in a
+    finaliser or a weak reference's callback (the import system has some) Python only
+    prints it ("Exception ignored in ...") and carries on: the command would print a
+    traceback and not stop. The signal is sent again, to be raised in the next code.
+    """
+
+    def hook(unraisable: Any) -> object:
+        kind = unraisable.exc_type
+        if kind is None or not issubclass(kind, KeyboardInterrupt):
+            return previous(unraisable)
+        signum = signal.SIGINT
+        signal.signal(signal.SIGINT, interruption)  # the first handler, once more
+        if issubclass(kind, Terminated):
+            signal.signal(signal.SIGTERM, termination)  # it ignores a second SIGTERM
+            signum = signal.SIGTERM
+        # sent from another thread a moment later: sent from here, its handler would run
+        # at once, inside this hook, and be swallowed again
+        threading.Timer(_REDELIVERY_DELAY, signal.raise_signal, (signum,)).start()
+        return None
+
+    return hook
+
+
+@contextmanager
+def unwinding() -> Iterator[Termination]:
+    """Inside: SIGINT raises ``KeyboardInterrupt`` and SIGTERM :class:`Terminated` (main
+    thread only; an ignored signal stays ignored). Afterwards: in the command, both end
+    the process at once (:func:`stop_at_once`); in-process, the previous handlers are back."""
+    interruption, termination = Interruption(), Termination()
+    handlers: dict[signal.Signals, _Handler] = {
+        signal.SIGINT: interruption,
+        signal.SIGTERM: termination,
+    }
+    previous: dict[signal.Signals, _Handler] = {}
+    for number, handler in handlers.items():
+        try:
+            before = signal.getsignal(number)
+            if before is not signal.SIG_IGN:
+                signal.signal(number, handler)
+                previous[number] = before
+        except ValueError:  # not the main thread: signals stay as they are
+            break
+    hook = sys.unraisablehook
+    sys.unraisablehook = _redelivering(hook, interruption, termination)
+    try:
+        yield termination
+    finally:
+        sys.unraisablehook = hook
+        if is_the_command():
+            stop_at_once()
+        else:
+            for signum, before in previous.items():
+                signal.signal(signum, signal.SIG_DFL if before is None else before)

@@ -1,0 +1,253 @@
+"""Ctrl-C and SIGTERM at any moment of a command: exit 130 or 143, one line, no traceback
+(issue 37, "Interruptions"). Real processes, real signals: the moment after the command's
+first line of Python (read from the kernel: the process has started to catch SIGTERM) plus
+a delay that lands in the imports, numba's loading, the runs and the writes."""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from celtstone.cli.main import main
+
+pytestmark = pytest.mark.skipif(
+    not Path("/proc/self/status").exists(), reason="reads a process's signal mask from /proc"
+)
+
+CELTSTONE = Path(sys.executable).with_name("celtstone")
+DELAYS = (0.0, 0.05, 0.2, 0.5, 1.0)  # s after the command's first line runs
+SIGNALS = (signal.SIGINT, signal.SIGTERM)
+WAIT = 300  # s: the clean-up after a signal is short; this only stops a hung test
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A saved run (for animate) and a spin record (for fit) in a folder."""
+    folder = tmp_path_factory.mktemp("inputs")
+    assert main(["run", "--t-end", "3", "--out", str(folder / "run.nc")]) == 0
+    time_s = np.linspace(0.0, 5.0, 501)
+    spin = -5.0 * np.exp(-0.1 * time_s)  # any record: the fit only has to be running
+    rows = "".join(f"{float(t)!r},{float(s)!r}\n" for t, s in zip(time_s, spin, strict=True))
+    (folder / "spin.csv").write_text("time,spin\n" + rows, encoding="utf-8")
+    return folder
+
+
+def _command(name: str, inputs: Path, out: Path) -> list[str]:
+    """A command that runs for well over a second, writing into ``out``."""
+    commands = {
+        "run": ["run", "--t-end", "200", "--model", "sliding", "--out", str(out / "r.nc")],
+        "sweep": [
+            "sweep", "--vary", "friction_coefficient=0.1:0.5:8", "--t-end", "30",
+            "--out", str(out / "s.zarr"),
+        ],
+        "fit": [
+            "fit", str(inputs / "spin.csv"), "--body", "kane_levinson_1982",
+            "--column", "omega3=spin", "--free", "friction_coefficient,contact_radius",
+            "--set", "omega3=-5", "--out", str(out / "fit"),
+        ],
+        "animate": ["animate", str(inputs / "run.nc"), "--out", str(out / "a.mp4")],
+        "reproduce": ["reproduce", "fig2", "--quick", "--out", str(out / "paper")],
+    }  # fmt: skip
+    return commands[name]
+
+
+def _catches_sigterm(pid: int) -> bool:
+    """Whether the process has a handler for SIGTERM: celtstone's first line has run."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
+    return bool(int(caught.split()[1], 16) >> (signal.SIGTERM - 1) & 1)
+
+
+def _interrupt(launcher: list[str], arguments: list[str], signum: int, delay: float | None):
+    """Start the command, send ``signum`` ``delay`` s after its first line ran (None: at
+    once, before the interpreter itself may have started), return (exit status, stderr)."""
+    process = subprocess.Popen(
+        [*launcher, *arguments],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONWARNINGS": ""},
+    )
+    try:
+        if delay is not None:
+            deadline = time.monotonic() + WAIT
+            while not _catches_sigterm(process.pid) and process.poll() is None:
+                assert time.monotonic() < deadline, "the command never started"
+                time.sleep(0.001)
+            time.sleep(delay)
+        assert process.poll() is None, "the command ended before the signal"
+        process.send_signal(signum)
+        _, error = process.communicate(timeout=WAIT)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    return process.returncode, error
+
+
+def _assert_stopped_cleanly(status: int, error: str, signum: int) -> None:
+    """128 + signum and one line of celtstone's on stderr (a progress bar aside)."""
+    assert "Traceback" not in error and "Exception ignored" not in error, error
+    assert status == 128 + signum, error
+    said = [line for line in re.split(r"[\r\n]", error) if line.startswith("celtstone")]
+    word = "interrupted" if signum == signal.SIGINT else "terminated"
+    assert len(said) == 1 and said[0].startswith(f"celtstone: {word}"), error
+
+
+@pytest.mark.parametrize("delay", DELAYS)
+@pytest.mark.parametrize("signum", SIGNALS, ids=lambda s: signal.Signals(s).name)
+@pytest.mark.parametrize("command", ["run", "sweep", "fit", "animate", "reproduce"])
+def test_a_signal_at_any_moment_gives_one_line_and_130_or_143(
+    command: str, signum: int, delay: float, inputs: Path, tmp_path: Path
+) -> None:
+    status, error = _interrupt([str(CELTSTONE)], _command(command, inputs, tmp_path), signum, delay)
+    _assert_stopped_cleanly(status, error, signum)
+    # whatever was under way, nothing partial is left at the targets (the sweep's store
+    # and the reproduction's folder keep their finished parts, for --resume)
+    left = [p.name for p in tmp_path.iterdir()]
+    if command == "sweep":
+        # known gap (reported): Zarr's writing thread can recreate the store's temporary
+        # just after it is removed; the next write removes such a temporary
+        left = [name for name in left if not re.fullmatch(r"\.s\.zarr\.\d+\.\w{8}\.part", name)]
+    assert all(name in ("s.zarr", "paper", "fit") for name in left), left
+
+
+@pytest.mark.parametrize("delay", (0.0, 0.02, 0.2))
+@pytest.mark.parametrize("signum", SIGNALS, ids=lambda s: signal.Signals(s).name)
+def test_python_dash_m_stops_as_the_script_does(
+    signum: int, delay: float, inputs: Path, tmp_path: Path
+) -> None:
+    status, error = _interrupt(
+        [sys.executable, "-m", "celtstone"], _command("run", inputs, tmp_path), signum, delay
+    )
+    _assert_stopped_cleanly(status, error, signum)
+
+
+@pytest.mark.parametrize("signum", SIGNALS, ids=lambda s: signal.Signals(s).name)
+def test_a_signal_before_python_reaches_celtstone_leaves_no_traceback_of_ours(
+    signum: int, inputs: Path, tmp_path: Path
+) -> None:
+    """Sent as soon as the process exists: either the interpreter had not started (the
+    signal's default action ends it, which a shell reports as 128 + signum) or celtstone's
+    handler took it."""
+    status, error = _interrupt([str(CELTSTONE)], _command("run", inputs, tmp_path), signum, None)
+    if status == -signum:
+        assert error == ""
+    else:
+        _assert_stopped_cleanly(status, error, signum)
+
+
+def test_a_second_signal_during_the_clean_up_gives_no_traceback(
+    inputs: Path, tmp_path: Path
+) -> None:
+    process = subprocess.Popen(
+        [str(CELTSTONE), *_command("run", inputs, tmp_path)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        while not _catches_sigterm(process.pid):
+            time.sleep(0.001)
+        time.sleep(0.5)
+        for _ in range(20):  # a user pressing Ctrl-C again and again
+            if process.poll() is not None:
+                break
+            process.send_signal(signal.SIGINT)
+            time.sleep(0.001)
+        _, error = process.communicate(timeout=WAIT)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert "Traceback" not in error, error
+    # 130; or, for a Ctrl-C that lands once Python has put the default handlers back
+    # while the process exits, ended by SIGINT itself (which a shell reports as 130)
+    assert process.returncode in (130, -signal.SIGINT), error
+
+
+def test_main_in_process_leaves_the_callers_handlers_alone() -> None:
+    """A program calling ``main`` keeps its own Ctrl-C and SIGTERM handling."""
+    before = (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM))
+    assert main(["bodies"]) == 0
+    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+
+
+SWALLOWED = """
+import sys, time, weakref
+from celtstone.cli import bodies, main as cli
+
+class Thing:
+    pass
+
+def handle(args):
+    thing = Thing()
+
+    def callback(reference):  # as the import system's module-lock callbacks
+        raise cli.Terminated  # what the SIGTERM handler raises, landing here
+
+    reference = weakref.ref(thing, callback)
+    import signal
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # as the handler leaves it
+    del thing  # the callback runs: Python prints and swallows its exception
+    for _ in range(3000):
+        time.sleep(0.01)
+    print("not stopped", file=sys.stderr)
+    return 0
+
+bodies.handle = handle
+sys.exit(cli.main(["bodies"]))
+"""
+
+
+def test_a_signal_raised_inside_a_callback_is_not_swallowed() -> None:
+    """A signal's exception raised in a weak reference's callback (the import system
+    has some) is only printed by Python: it is sent again and stops the command."""
+    done = subprocess.run(
+        [sys.executable, "-c", SWALLOWED], capture_output=True, text=True, timeout=WAIT
+    )
+    assert "Traceback" not in done.stderr and "Exception ignored" not in done.stderr
+    assert done.stderr == "celtstone: terminated; no partial output was written\n"
+    assert done.returncode == 143
+
+
+def test_an_interrupt_python_wrapped_is_still_an_interrupt(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Python 3.11 wraps a signal that lands while a class is made ("Error calling
+    __set_name__") in a RuntimeError: still exit 130, one line."""
+    from celtstone.cli import bodies
+
+    def wrapped(args: object) -> int:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as stop:
+            raise RuntimeError("Error calling __set_name__ on 'Field' instance") from stop
+
+    monkeypatch.setattr(bodies, "handle", wrapped)
+    assert main(["bodies"]) == 130
+    assert capsys.readouterr().err == "celtstone: interrupted; no partial output was written\n"
+
+
+def test_an_error_without_an_interrupt_behind_it_is_not_called_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from celtstone.cli import bodies
+
+    def failing(args: object) -> int:
+        raise RuntimeError("a defect")
+
+    monkeypatch.setattr(bodies, "handle", failing)
+    with pytest.raises(RuntimeError, match="a defect"):
+        main(["bodies"])

@@ -1,0 +1,236 @@
+"""Waits that say what they are, work that stops when asked, and files whole or absent
+(issue 37, "Interruptions" and "Hangs without a word")."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import celtstone as cs
+from celtstone._threads import map_in_threads
+from celtstone.analysis import stability
+from celtstone.cli import animate as animate_cli
+from celtstone.cli import stability as stability_cli
+from celtstone.cli.main import main
+from celtstone.fitting.runs import Runs
+from celtstone.visual import animate, load_run
+from celtstone.visual.animation import _count_frames
+
+CELTSTONE = Path(sys.executable).with_name("celtstone")
+WAIT = 300  # s: only stops a hung test
+
+
+# ---- a fit's runs stop at once ------------------------------------------------------------
+
+
+class _BlockingProblem:
+    """Stands in for ``fitting.Problem``: each run waits until released (a run of minutes)."""
+
+    def __init__(self) -> None:
+        self.started = threading.Semaphore(0)
+        self.release = threading.Event()
+        self.finished = 0
+
+    def run(self, x: np.ndarray) -> SimpleNamespace:
+        self.started.release()
+        self.release.wait(WAIT)
+        self.finished += 1
+        return SimpleNamespace(ok=True)
+
+    def residuals(self, trajectory: object, x: np.ndarray | None = None) -> np.ndarray:
+        return np.zeros(1)
+
+
+def _interrupt_once_running(problem: _BlockingProblem, runs: int) -> None:
+    def send() -> None:
+        for _ in range(runs):
+            problem.started.acquire(timeout=WAIT)
+        signal.raise_signal(signal.SIGINT)  # taken by the main thread
+
+    threading.Thread(target=send, daemon=True).start()
+
+
+def test_ctrl_c_leaves_a_fits_runs_in_flight_behind() -> None:
+    """Ctrl-C while two runs are under way: the fit stops without waiting for them
+    (before, the pool's shutdown joined them: minutes)."""
+    problem = _BlockingProblem()
+    _interrupt_once_running(problem, 2)
+    with pytest.raises(KeyboardInterrupt), Runs(problem, workers=2) as runs:  # type: ignore[arg-type]
+        runs.evaluate_many([np.zeros(1), np.ones(1)])
+    assert problem.finished == 0  # both runs were still going when the fit had stopped
+    problem.release.set()
+
+
+def test_the_threads_take_no_queued_run_after_ctrl_c() -> None:
+    problem = _BlockingProblem()
+    _interrupt_once_running(problem, 2)
+    started = []
+
+    def run(item: int) -> int:
+        started.append(item)
+        problem.run(np.zeros(1))
+        return item
+
+    with pytest.raises(KeyboardInterrupt):
+        list(map_in_threads(run, range(10), workers=2))
+    problem.release.set()
+    time.sleep(0.2)  # the released threads look for the next run, and find the stop
+    assert len(started) == 2
+
+
+# ---- stability: linear in the spin count, with progress, quiet on a closed pipe ----------
+
+
+def test_the_stability_table_computes_each_column_once(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The text table read every column once per row: k² work for k spins. The number
+    of column computations must not grow with k."""
+    calls = []
+    original = stability._max_growth
+
+    def counted(eigenvalues: np.ndarray) -> np.ndarray:
+        calls.append(len(eigenvalues))
+        return original(eigenvalues)
+
+    monkeypatch.setattr(stability, "_max_growth", counted)
+    counts = []
+    for count in (5, 50):
+        calls.clear()
+        assert main(["stability", "--spin", f"-1:1:{count}"]) == 0
+        assert len(capsys.readouterr().out.splitlines()) == 4 + count  # 4 header lines
+        counts.append(len(calls))
+    assert counts[0] == counts[1]
+
+
+def test_spin_stability_reports_its_progress() -> None:
+    seen: list[tuple[int, int]] = []
+    count = 2 * stability.PROGRESS_EVERY + 7
+    body = cs.load_body("kane_levinson_1982")
+    cs.spin_stability(body, np.linspace(-2, 2, count), progress=lambda *a: seen.append(a))
+    every = stability.PROGRESS_EVERY
+    assert seen == [(every, count), (2 * every, count), (count, count)]
+
+
+def test_a_long_stability_grid_says_what_it_does_when_not_at_a_terminal(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setattr(stability_cli, "ANNOUNCED_SPIN_COUNT", 20)
+    assert main(["stability", "--spin", "-1:1:20", "--json"]) == 0
+    error = capsys.readouterr().err
+    assert error == (
+        "celtstone: linearising the rolling model at 20 spin rates and their mirror images\n"
+    )
+    assert main(["stability", "--spin", "-1:1:19", "--json"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+# ---- animate: progress, and whole or absent at any moment -----------------------------
+
+
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("runs") / "run.nc"
+    assert main(["run", "--t-end", "3", "--out", str(path)]) == 0
+    return path
+
+
+def test_animate_reports_every_frame(run_file: Path, tmp_path: Path) -> None:
+    seen: list[tuple[int, int]] = []
+    info = animate(
+        load_run(run_file), tmp_path / "a.gif", fps=5, progress=lambda *a: seen.append(a)
+    )
+    assert seen == [(done, info.frames) for done in range(info.frames + 1)]
+
+
+def test_animate_says_what_it_draws_when_not_at_a_terminal(
+    run_file: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(animate_cli, "ANNOUNCED_FRAME_COUNT", 16)
+    out = tmp_path / "a.gif"
+    assert main(["animate", str(run_file), "--out", str(out), "--fps", "5"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == f"celtstone: drawing 16 frames into {out}\n"
+    assert main(["animate", str(run_file), "--out", str(out), "--overwrite", "--fps", "5",
+                 "--no-progress"]) == 0  # fmt: skip
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(animate_cli, "ANNOUNCED_FRAME_COUNT", 17)
+    assert main(["animate", str(run_file), "--out", str(out), "--overwrite", "--fps", "5"]) == 0
+    assert capsys.readouterr().err == ""  # a short animation: no line
+
+
+def _started(pid: int) -> bool:
+    """celtstone's first line ran: it catches SIGTERM (``/proc/PID/status``)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
+    return bool(int(caught.split()[1], 16) >> (signal.SIGTERM - 1) & 1)
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc")
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGKILL])
+@pytest.mark.parametrize("delay", [0.3, 1.0, 2.0, 3.0, 4.0])
+def test_an_interrupted_animation_leaves_the_whole_video_or_none(
+    signum: int, delay: float, run_file: Path, tmp_path: Path
+) -> None:
+    target = tmp_path / "a.mp4"
+    with subprocess.Popen(
+        [str(CELTSTONE), "animate", str(run_file), "--out", str(target)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    ) as process:
+        while not _started(process.pid) and process.poll() is None:
+            time.sleep(0.001)
+        time.sleep(delay)
+        process.send_signal(signum)
+        _, error = process.communicate(timeout=WAIT)
+    assert "Traceback" not in error, error
+    if target.exists():  # the signal came after the video was in place
+        assert _count_frames(target) == 91  # 3 s at 30 fps, the first and last included
+    if signum == signal.SIGKILL:
+        return  # nothing can clean up; the next write removes a temporary left behind
+    # 0: the signal came after the command ended; 128 + signum: it stopped the command;
+    # -signum: it came while Python itself was exiting, after the command's work and its
+    # handlers (a shell reports that as 128 + signum too)
+    assert process.returncode in (0, 128 + signum, -signum), error
+    leftovers = [p.name for p in tmp_path.iterdir() if p.name != "a.mp4"]
+    assert leftovers == []
+
+
+# ---- sweep: a million points say what happens before the first run ------------------------
+
+
+def test_a_sweep_of_a_million_points_says_what_it_does_before_it_starts(
+    tmp_path: Path,
+) -> None:
+    arguments = [
+        "sweep", "--vary", "friction_coefficient=0.1:0.5:1000",
+        "--vary", "contact_radius=0.0005:0.002:1000", "--t-end", "1", "--no-maps",
+        "--out", str(tmp_path / "s.zarr"),
+    ]  # fmt: skip
+    with subprocess.Popen(
+        [str(CELTSTONE), *arguments], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    ) as process:
+        assert process.stderr is not None
+        said = process.stderr.read(1)  # blocks until the command says something
+        process.send_signal(signal.SIGINT)
+        said += process.stderr.read()
+        process.wait(WAIT)
+    text = said.decode(errors="replace")
+    assert "validating" in text or "sweep of 1000000 points" in text, text
+    assert process.returncode == 130, text
+    assert "Traceback" not in text
