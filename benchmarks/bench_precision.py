@@ -513,4 +513,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from benchmarks._page import recorded
+
+    with recorded("bench_precision", "Work and precision against heyoka"):
+        main()

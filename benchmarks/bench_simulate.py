@@ -277,4 +277,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from benchmarks._page import recorded
+
+    with recorded("bench_simulate", "One run: celtstone against plain SciPy"):
+        main()

@@ -262,4 +262,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from benchmarks._page import recorded
+
+    with recorded("bench_sweep", "A sweep against the SciPy oracle point by point"):
+        main()

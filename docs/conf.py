@@ -26,11 +26,21 @@ extensions = [
     "celtstone_docs",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples", "_inventories"]
+exclude_patterns = ["_build", "examples", "_inventories", "_tutorial"]
 html_theme = "pydata_sphinx_theme"
+html_static_path = ["_static"]
+html_context = {"default_mode": "light"}  # the theme logs an error for an unset mode
+html_css_files = ["celtstone.css"]
+html_theme_options = {
+    # the first six pages in the navigation bar, the API and CLI references among them
+    "header_links_before_dropdown": 6,
+    "navigation_with_keys": False,
+}
 html_title = f"celtstone {release}"
-myst_heading_anchors = 3
-myst_enable_extensions = ["dollarmath"]
+myst_heading_anchors = 4  # the decisions' record sits one level down
+myst_enable_extensions = ["dollarmath", "amsmath"]
+# equations typeset at build time as SVG by matplotlib (celtstone_docs.math_svg): offline
+html_math_renderer = "mathtext"
 autosummary_generate = True
 autodoc_typehints = "none"
 numpydoc_show_class_members = False

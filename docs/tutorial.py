@@ -95,13 +95,17 @@ rolling.plot()
 #
 # A real contact slides and pivots. The sliding model applies dry friction of
 # coefficient f on a small contact disk of radius ε (Zhuravlev's Padé form of the
-# Coulomb–Contensou law), here f = 0.35 and ε = 1 mm with the friction loaded by m g
-# (the paper's first approximation; `celtstone` warns when the true normal force would
-# bound the friction more tightly). Friction does work W ≥ 0, so the energy E falls:
-# E(0) − E(t) = W(t), and the residual of that budget is the integrator's error.
+# Coulomb–Contensou law), here f = 0.35 and ε = 1 mm, loaded with the true normal force N
+# (`friction_load="dynamic"`). The paper loads it, as a first approximation, with the
+# weight m g; while the stone rocks N falls below m g, so that friction can exceed
+# Coulomb's bound f N, and `celtstone` warns when it does. Friction does work W ≥ 0, so
+# the energy E falls: E(0) − E(t) = W(t), and the residual of that budget is the
+# integrator's error.
 
 # %%
-sliding_model = cs.SlidingModel(friction_coefficient=0.35, contact_radius=1e-3)
+sliding_model = cs.SlidingModel(
+    friction_coefficient=0.35, contact_radius=1e-3, friction_load="dynamic"
+)
 sliding = cs.simulate(sliding_model, body, state, t_end=4.0)
 s = sliding.summary()
 print("first reversal [s]:", s["first_reversal_time"])

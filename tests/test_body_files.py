@@ -18,7 +18,13 @@ import pytest
 import celtstone as cs
 import celtstone.integrate as integrate_module
 from celtstone.bodies import BodyFileError
-from celtstone.bodies.file_schema import BODY_ENTRIES, SHAPES, SOURCE_KEYS, TOP_LEVEL
+from celtstone.bodies.file_schema import (
+    BODY_ENTRIES,
+    DESIGN_ENTRIES,
+    SHAPES,
+    SOURCE_KEYS,
+    TOP_LEVEL,
+)
 from celtstone.cli.main import main
 
 _DATA = resources.files("celtstone.bodies") / "data"
@@ -373,4 +379,6 @@ def test_the_declared_keys_are_the_ones_the_loader_accepts(tmp_path: Path) -> No
             shape.build.__dataclass_fields__  # the keys are the shape's own field names
         )
     assert {entry.key for entry in BODY_ENTRIES} <= set(cs.Body.__dataclass_fields__)
-    assert set(TOP_LEVEL) == {"title", "notes", "source", "body", "shape", "derivation"}
+    assert {entry.key for entry in DESIGN_ENTRIES} <= set(cs.Design.__dataclass_fields__)
+    tables = {"body", "shape", "design", "derivation"}
+    assert set(TOP_LEVEL) == {"title", "notes", "source", *tables}

@@ -34,7 +34,7 @@ from tests.test_cli import Result
 # (docs/equations.md, "Hertz contact radius"), m = 1 kg, g = 9.81 m/s²
 KANE_LEVINSON_RADII = (2.0, 0.045)
 KANE_LEVINSON_LOAD = 9.81
-# issue 13: today's circular Hertz radius for this body, and the ellipse it stands for
+# issue 13: the circular Hertz radius for this body, and the ellipse it stands for
 CIRCULAR_RADIUS = 1.089e-3
 ISSUE_SEMI_AXES = (3.14e-3, 0.28e-3)
 

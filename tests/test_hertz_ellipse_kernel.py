@@ -3,7 +3,7 @@ and the ellipse's semi-axes against ``contact.ellipse.hertz_ellipse`` (Johnson 1
 
 Kane & Levinson (1982): semi-axes a, b, c = 0.20, 0.03, 0.02 m, h = 0.01 m, m = 1 kg,
 g = 9.81 m/s² (references.md), radii of curvature at rest a²/c = 2 m and b²/c = 0.045 m.
-Issue 13: with the E* that makes today's circular radius ε = 1.089 mm, the Hertz ellipse
+Issue 13: with the E* that makes the circular radius ε = 1.089 mm, the Hertz ellipse
 at rest is about 3.14 mm × 0.28 mm, B/A ≈ 0.089 (docs/equations.md: 3.139 mm, 0.2790 mm).
 """
 

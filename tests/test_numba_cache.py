@@ -41,7 +41,7 @@ def _save_many(directory: str, writer: int, start: multiprocessing.synchronize.B
 def test_processes_saving_at_once_keep_every_entry_with_its_own_data(tmp_path: Path) -> None:
     """Four processes save 150 new signatures each into one index at the same time. numba's
     own ``IndexDataCacheFile`` kept 264–364 of the 600 entries, 66–119 of them naming
-    another signature's data (three runs, 2-core machine, 2026-11-26); this test failed
+    another signature's data (three runs on a 2-core machine); this test failed
     three times of three with the lock taken out: every entry is kept here, each naming
     its own data."""
     try:

@@ -60,7 +60,10 @@ def test_plot_run_panels_labels_and_reversals(runs: dict[str, cs.Trajectory]) ->
     assert [float(m.get_xdata()[0]) for m in marks] == pytest.approx(list(reversals))
     assert "kane_levinson_1982" in figure.get_suptitle()
     assert "sliding f = 0.35" in figure.get_suptitle()
-    assert all(a.get_legend() is not None for a in axes[:6])
+    # a legend wherever a panel draws more than one thing, none naming a lone curve
+    for panel in axes:
+        named = panel.get_legend_handles_labels()[1]
+        assert (panel.get_legend() is not None) == (len(named) > 1), panel.get_ylabel()
     # sliding: energy lost and friction work drawn on the energy panel's twin
     labels = {line.get_label() for a in axes for line in a.get_lines()}
     assert {"energy lost", "friction work", "contact point"} <= labels
@@ -69,6 +72,23 @@ def test_plot_run_panels_labels_and_reversals(runs: dict[str, cs.Trajectory]) ->
 def test_plot_run_rolling_has_no_budget_axis(runs: dict[str, cs.Trajectory]) -> None:
     figure = plot_run(runs["rolling"].dataset)
     assert len(figure.axes) == 6
+
+
+def test_a_constant_energy_is_drawn_as_its_relative_drift(
+    runs: dict[str, cs.Trajectory],
+) -> None:
+    """Rolling conserves energy: the panel shows (E − E0)/E0, the integrator's drift,
+    instead of E constant to 1e-11 (whose ticks needed an offset); sliding loses a fifth
+    of it and keeps E [J]."""
+    rolling = runs["rolling"].dataset
+    energy = rolling["energy"].values
+    assert np.ptp(energy) < 1e-9 * energy[0]  # the premise: rolling conserves it (rtol)
+    panel = plot_run(rolling).axes[2]
+    assert panel.get_ylabel().startswith("relative energy drift")
+    drawn = panel.get_lines()[0].get_ydata()
+    np.testing.assert_allclose(drawn, energy / energy[0] - 1.0, rtol=0.0, atol=1e-15)
+    sliding = plot_run(runs["sliding"].dataset).axes[2]
+    assert sliding.get_ylabel() == "energy $E$ [J]"
 
 
 def test_spin_comparison_one_line_per_run(runs: dict[str, cs.Trajectory]) -> None:

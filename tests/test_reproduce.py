@@ -245,7 +245,7 @@ def test_verdict_rules() -> None:
     assert judge_energy_order(_fig2(same, falling, same)).reproduced == "partly"
     assert judge_energy_order(_fig2(same, same, same)).reproduced == "no"
     # runs that all end at rest: energies and spins that differ by round-off order nothing
-    # (the toy stone's realistic runs, 2026-11-26: E − m g l = 4.9e-17, 1.5e-17, −1.9e-16 J)
+    # (the toy stone's realistic runs: E − m g l = 4.9e-17, 1.5e-17, −1.9e-16 J)
     at_rest = {0.35: 4.9e-17, 0.25: 1.5e-17, 0.15: -1.9e-16}
     assert judge_energy_order(_fig2(same, at_rest, at_rest)).reproduced == "no"
     assert judge_energy_order(_fig2(same, falling, at_rest)).reproduced == "partly"

@@ -18,6 +18,7 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
+from celtstone.analysis import dataset_reversal_times
 from celtstone.reproduce import Study, reduced, reproduce
 from celtstone.reproduce.findings import (
     judge_energy_decrease,
@@ -26,6 +27,7 @@ from celtstone.reproduce.findings import (
     judge_period_growth,
     judge_threshold,
 )
+from celtstone.reproduce.ingredients import INGREDIENTS
 from celtstone.reproduce.report import _comparison, collect, render_report
 from celtstone.reproduce.study import (
     REALISTIC_STUDIES,
@@ -53,7 +55,7 @@ def test_realistic_studies_carry_their_contact_into_both_models() -> None:
             assert model.friction_load == load
             assert model.rolling_resistance == study.rolling_resistance > 0.0
             assert isinstance(model, cs.HybridModel)  # the stick-slip contact
-        assert study.sliding(0.25).friction_load == study.friction_load
+        assert study.sliding(0.25).friction_load == study.friction_load == "dynamic"
         assert study.rolling().rolling_resistance == study.rolling_resistance
         assert "ellipse" in study.describe() and "exact" in study.describe()
     assert realistic_study_for(TOY) == REALISTIC_STUDIES[1]
@@ -130,7 +132,7 @@ def _judged(results: dict, key: str) -> list[str]:
 
 
 def test_report_sets_the_contacts_side_by_side(both_contacts: Path) -> None:
-    """A column per study in the summary, and section 6 with the judges' verdicts of the
+    """A column per study in the summary, and section 7 with the judges' verdicts of the
     paper's contact beside the realistic one, finding by finding."""
     report = (both_contacts / "report.md").read_text()
     results = collect(both_contacts)
@@ -141,8 +143,9 @@ def test_report_sets_the_contacts_side_by_side(both_contacts: Path) -> None:
     assert cells == [
         list(pair) for pair in zip(_judged(results, TOY), _judged(results, realistic), strict=True)
     ]
-    assert "## 6. The paper's idealisation beside the realistic contact" in report
-    section = report.split("## 6.")[1]
+    assert "## 7. The paper's idealisation beside the realistic contact" in report
+    assert report.count("\n## 6.") == report.count("\n## 7.") == 1  # each number once
+    section = report.split("## 7.")[1]
     paper_verdict = judge_period_growth(results["fig2"][TOY])
     real_verdict = judge_period_growth(results["fig2"][realistic])
     assert f"| period grows as f falls | {TOY} | **{paper_verdict.reproduced}**" in section
@@ -154,7 +157,8 @@ def test_report_sets_the_contacts_side_by_side(both_contacts: Path) -> None:
     long_run = judge_long_run(results["fig3"][TOY])
     assert f"| long run: sliding changes sign faster | {TOY} | **{long_run.reproduced}" in section
     assert "Verdicts that change with the contact:" in section
-    assert "1.86 times" in section
+    assert f"(compared for {TOY})" in section
+    assert "1.86 times" in section and "pivot braking" not in section
 
 
 def test_reports_made_before_variants_still_render(both_contacts: Path, tmp_path: Path) -> None:
@@ -170,7 +174,7 @@ def test_reports_made_before_variants_still_render(both_contacts: Path, tmp_path
         path.write_text(json.dumps(result))
     report = render_report(tmp_path)
     assert f"| finding | {TOY} |" in report
-    assert "## 6." not in report
+    assert "beside the realistic contact" not in report
     new = (both_contacts / "report.md").read_text()
     row = next(line for line in new.splitlines() if line.startswith("| period grows"))
     old_row = next(line for line in report.splitlines() if line.startswith("| period grows"))
@@ -194,3 +198,50 @@ def test_a_study_with_one_load_and_fewer_targets_says_not_run(both_contacts: Pat
     ]
     with pytest.raises(cs.ParameterError, match="fig2_loads"):
         Study(body=TOY, friction_load="dynamic", fig2_loads=("static",))
+
+
+def test_one_at_a_time_table_is_the_runs(both_contacts: Path) -> None:
+    """Section 6 tabulates the paper study's one-at-a-time runs: each row changes exactly
+    its own settings of the realistic contact (read back from the runs' files), and each
+    cell is that run's first reversal as the run's file gives it."""
+    report = (both_contacts / "report.md").read_text()
+    section = report.split("## 6. What each ingredient of the realistic contact does")[1]
+    section = section.split("\n## ")[0]
+    paper = json.loads((both_contacts / "data" / f"fig2_{TOY}.json").read_text())
+    table = paper["ingredients"]
+    assert [row["name"] for row in table["rows"]] == [i.name for i in INGREDIENTS]
+    assert table["frictions"] == [0.35]  # the reduced form
+    with xr.open_dataset(both_contacts / table["rows"][0]["cases"][0]["file"]) as first:
+        base = dict(first.attrs)
+    for row, ingredient in zip(table["rows"], INGREDIENTS, strict=True):
+        (case,) = row["cases"]
+        with xr.open_dataset(both_contacts / case["file"]) as dataset:
+            attrs = dict(dataset.attrs)
+            reversals = dataset_reversal_times(dataset, paper["band"])
+        first = float(reversals[0]) if reversals.size else None
+        assert case["first_reversal_time"] == first
+        cell = "none" if first is None else f"{first:.4g}"
+        assert f"| {ingredient.label} | {cell} |" in section
+        for key in ("contact_shape", "friction_law", "rolling_resistance"):
+            changed = key in ingredient.settings
+            assert (attrs[key] != base[key]) == changed, (ingredient.name, key)
+        assert (attrs["friction_load"] == "dynamic") == ("friction_load" in ingredient.settings)
+        assert (attrs.get("contact", "sliding") == "hybrid") == ("contact" in ingredient.settings)
+
+
+def test_a_variant_without_the_papers_runs_is_not_compared(both_contacts: Path) -> None:
+    """A variant whose bodies never ran the paper's contact (the atlas stone's) says so,
+    instead of "Verdicts that change: none", and carries no realistic explanation."""
+    results = collect(both_contacts)
+    for by_key in results.values():
+        by_key.pop(TOY, None)  # the toy's paper-contact numbers gone
+    section = "\n".join(_comparison(results, 7))
+    assert section.startswith("## 7. ")
+    assert "Not compared" in section and "Verdicts that change" not in section
+    assert "1.86 times" in section  # the variant is the realistic one: its explanation
+    renamed = {
+        target: {k: {**r, "variant": "other"} for k, r in by_key.items()}
+        for target, by_key in results.items()
+    }
+    other = "\n".join(_comparison(renamed, 8))
+    assert other.startswith("## 8. ") and "1.86 times" not in other

@@ -237,7 +237,7 @@ def test_radau_does_not_grow_the_step_right_after_a_rejection() -> None:
     together (Coulomb–Contensou stops both in finite time, and Newton fails past that
     time): the controller grew each step again and had it rejected again. The slip phase
     after the first stick phase of a stick–slip chatter point (f = 0.5, spin −5.71 rad/s)
-    took 24 steps and 44 rejections without the rule, 29 with it (2026-11-26); with
+    took 24 steps and 44 rejections without the rule, 29 with it; with
     Radau's Jacobian threshold at 0.03 (decisions §37) 22 steps and 52 rejections
     without the rule, 33 with it."""
     body = cs.load_body("kane_levinson_1982")

@@ -48,7 +48,7 @@ def test_contact_is_on_the_surface_with_normal_minus_n(
 
 
 @given(direction=directions, rate=st.tuples(*[st.floats(-1.0, 1.0) for _ in range(3)]))
-@example(direction=(1.0, 1.0, 1.0), rate=(1.0, 1.0, 1.0))  # ṅ ∥ n: CI's failure of 2026-11-23
+@example(direction=(1.0, 1.0, 1.0), rate=(1.0, 1.0, 1.0))  # ṅ ∥ n: a case CI once failed
 def test_contact_rate_is_the_derivative(
     direction: tuple[float, float, float], rate: tuple[float, float, float]
 ) -> None:

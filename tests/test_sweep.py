@@ -12,6 +12,7 @@ import celtstone as cs
 from celtstone.analysis import dataset_reversal_times
 from celtstone.cli.main import main
 from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
+from celtstone.sweep.plots import DEFAULT_MAPPED_FIELDS
 from celtstone.sweep.spec import build_body, build_state
 from tests.conftest import LITERATURE_EULER_ANGLES
 
@@ -260,7 +261,7 @@ def test_cli_sweep_writes_store_and_maps(tmp_path, capsys) -> None:  # type: ign
     assert results.attrs["rtol"] == 1e-8
     assert results["initial_spin"].attrs["units"] == "rad/s"
     maps = sorted(p.name for p in (tmp_path / "grid_maps").iterdir())
-    assert "first_reversal_time.png" in maps and "status.png" in maps
+    assert maps == sorted(f"{name}.png" for name in DEFAULT_MAPPED_FIELDS)  # the four
     # an existing store is kept unless resumed or overwritten
     assert main(argv) == 2
     assert "--resume" in capsys.readouterr().err

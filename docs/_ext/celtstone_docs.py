@@ -25,13 +25,13 @@ from celtstone.cli.main import build_parser
 
 #: The public modules documented beside ``celtstone.__all__`` (decisions §33): the
 #: subpackages and modules a user imports. ``celtstone.kernels`` and ``celtstone.solvers``
-#: (the compiled core under the user API) and ``celtstone.cli`` (the CLI page) are not.
+#: (the compiled core under the user API), ``celtstone.cli`` (the CLI page) and
+#: ``celtstone.export`` (the commands' file-writing machinery) are not.
 MODULES = (
     "celtstone.analysis",
     "celtstone.atlas",
     "celtstone.bodies",
     "celtstone.contact",
-    "celtstone.export",
     "celtstone.fitting",
     "celtstone.plotting",
     "celtstone.reproduce",
@@ -80,8 +80,37 @@ def documented_at(module: str, name: str) -> str:
     origin = _origin(module, name)
     if name in celtstone.__all__ and _origin("celtstone", name) == origin:
         return f"celtstone.{name}"
-    owners = [m for m in documented_modules() if f"{origin[0]}.".startswith(f"{m}.")]
+    # a documented module above the defining one that lists the name itself
+    owners = [
+        m
+        for m in documented_modules()
+        if f"{origin[0]}.".startswith(f"{m}.")
+        and name in public_names(importlib.import_module(m))
+        and _origin(m, name) == origin
+    ]
     return f"{max(owners, key=len) if owners else module}.{name}"
+
+
+#: the API page's groups of ``celtstone.__all__``, in order, each a test of the value
+API_GROUPS: tuple[tuple[str, Any], ...] = (
+    ("Functions", inspect.isfunction),
+    ("Classes", lambda value: inspect.isclass(value) and not issubclass(value, BaseException)),
+    ("Data", lambda value: not (inspect.isfunction(value) or inspect.isclass(value))),
+    (
+        "Errors and warnings",
+        lambda value: inspect.isclass(value) and issubclass(value, BaseException),
+    ),
+)
+
+
+def api_groups() -> list[tuple[str, list[str]]]:
+    """``celtstone.__all__`` by kind (:data:`API_GROUPS`), each group sorted by name:
+    what a user calls first, the exceptions last."""
+    groups: list[tuple[str, list[str]]] = []
+    for title, belongs in API_GROUPS:
+        names = [name for name in celtstone.__all__ if belongs(getattr(celtstone, name))]
+        groups.append((title, sorted(names, key=str.lower)))
+    return groups
 
 
 def _api_page() -> str:
@@ -96,15 +125,15 @@ def _api_page() -> str:
         "Not here: ``celtstone.kernels`` and ``celtstone.solvers``, the compiled core (numba)",
         "under this API, which takes floats, arrays and typed records with integer codes,",
         "not bodies and models (see :doc:`architecture`); ``celtstone.cli``, documented by",
-        "the :doc:`cli` generated from its parsers (decisions §33).",
+        "the :doc:`cli` generated from its parsers.",
         "",
         ".. currentmodule:: celtstone",
         "",
-        ".. autosummary::",
-        "   :toctree: generated",
-        "",
     ]
-    lines += [f"   {name}" for name in sorted(celtstone.__all__)]
+    for title, names in api_groups():
+        if names:
+            lines += [title, "-" * len(title), "", ".. autosummary::", "   :toctree: generated"]
+            lines += ["", *[f"   {name}" for name in names], ""]
     lines += ["", "Modules", "-------", "", ".. toctree::", "   :maxdepth: 1", ""]
     lines += [f"   api/{module}" for module in documented_modules()]
     return "\n".join(lines) + "\n"
@@ -171,6 +200,74 @@ def _exclude_from_validation(app: Any, config: Any) -> None:
     config.numpydoc_validation_exclude = set(config.numpydoc_validation_exclude) | patterns
 
 
+#: where the executed tutorial is written (Markdown and its figures), beside the sources
+TUTORIAL_OUTPUT = "_tutorial"
+
+
+def _fence(text: str, language: str = "text") -> list[str]:
+    """A fenced block longer than any run of backticks in ``text``."""
+    longest = max((len(run) for run in re.findall(r"`+", text)), default=0)
+    fence = "`" * max(3, longest + 1)
+    return [f"{fence}{language}", text.rstrip("\n"), fence, ""]
+
+
+def _output_markdown(output: Any, figure: Path, link: str) -> list[str]:
+    """One output of an executed code cell as Markdown; a PNG is written to ``figure``."""
+    import base64
+
+    if output.output_type == "stream":
+        if output.name == "stderr":  # a warning or a note: the first examples print none
+            raise RuntimeError(f"the tutorial wrote to stderr: {output.text.strip()}")
+        return _fence(output.text)
+    if output.output_type == "error":
+        raise RuntimeError(f"the tutorial failed: {output.ename}: {output.evalue}")
+    data = output.get("data", {})
+    if "image/png" in data:
+        figure.write_bytes(base64.b64decode(data["image/png"]))
+        return [f"![a figure of the tutorial]({link})", ""]
+    if "text/html" in data:
+        return ["```{raw} html", data["text/html"].rstrip("\n"), "```", ""]
+    return _fence(data.get("text/plain", "")) if "text/plain" in data else []
+
+
+def executed_tutorial(notebook_path: Path, out: Path) -> str:
+    """Execute the notebook (nbclient, this environment's Python kernel) and give it as
+    Markdown: its Markdown cells, each code cell followed by its outputs, each figure a
+    PNG in ``out``. An error, or anything written to stderr, stops the build."""
+    import os
+
+    import nbformat
+    from nbclient import NotebookClient
+
+    os.environ.setdefault("JUPYTER_PREFER_ENV_PATH", "1")  # the venv's kernel, not a user's
+    notebook = nbformat.read(notebook_path, as_version=4)
+    NotebookClient(
+        notebook, timeout=600, kernel_name="python3", resources={"metadata": {"path": out}}
+    ).execute()
+    lines: list[str] = []
+    figures = 0
+    for cell in notebook.cells:
+        if cell.cell_type == "markdown":
+            lines += [cell.source, ""]
+            continue
+        lines += _fence(cell.source, "python")
+        for output in cell.outputs:
+            figures += 1
+            name = f"figure_{figures:02d}.png"
+            lines += _output_markdown(output, out / name, name)
+    return "\n".join(lines)
+
+
+def _tutorial(app: Any) -> None:
+    """``_tutorial/tutorial.md``, included by ``tutorial.md``: the notebook, executed."""
+    source = Path(app.srcdir)
+    out = source / TUTORIAL_OUTPUT
+    out.mkdir(exist_ok=True)
+    for stale in out.glob("figure_*.png"):
+        stale.unlink()
+    _write_if_changed(out / "tutorial.md", executed_tutorial(source / "tutorial.ipynb", out))
+
+
 def _write_if_changed(path: Path, text: str) -> None:
     if not path.exists() or path.read_text(encoding="utf-8") != text:
         path.write_text(text, encoding="utf-8")
@@ -230,8 +327,55 @@ def _escape_bars(app: Any, what: str, name: str, obj: Any, options: Any, lines: 
     lines[:] = [line.replace("|", "\\|") for line in lines]
 
 
+def math_svg(latex: str, display: bool = False) -> str:
+    """``latex`` typeset by matplotlib's mathtext as an SVG image, as a data URI: the
+    equations need no script and no network in the reader's browser, and the build needs
+    no LaTeX (mathtext reads the subset of TeX the pages use)."""
+    import base64
+    import io
+
+    import matplotlib
+    from matplotlib.mathtext import math_to_image
+
+    buffer = io.BytesIO()
+    size = 13 if display else 11
+    with matplotlib.rc_context({"mathtext.fontset": "cm", "svg.fonttype": "path"}):
+        math_to_image(f"${latex}$", buffer, prop=_font(size), format="svg", color="black")
+    return "data:image/svg+xml;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def _font(size: float) -> Any:
+    from matplotlib.font_manager import FontProperties
+
+    return FontProperties(size=size)
+
+
+def _math_image(translator: Any, node: Any, display: bool) -> None:
+    from docutils import nodes
+
+    latex = node.astext()
+    alt = translator.encode(latex)
+    image = f'<img class="math" src="{math_svg(latex, display)}" alt="{alt}">'
+    if display:
+        translator.body.append(f'<div class="math notranslate">{image}</div>')
+    else:
+        translator.body.append(f'<span class="math notranslate">{image}</span>')
+    raise nodes.SkipNode
+
+
+def _visit_inline_math(translator: Any, node: Any) -> None:
+    _math_image(translator, node, display=False)
+
+
+def _visit_display_math(translator: Any, node: Any) -> None:
+    _math_image(translator, node, display=True)
+
+
 def setup(app: Any) -> dict[str, Any]:
+    # equations as SVG made at build time (math_svg): no MathJax from a CDN
+    app.add_html_math_renderer("mathtext", (_visit_inline_math, None), (_visit_display_math, None))
     app.connect("config-inited", _generate)  # before autosummary reads api.rst
+    app.connect("builder-inited", _tutorial)
     app.connect("config-inited", _exclude_from_validation, priority=400)  # before numpydoc reads it
     app.connect("autodoc-process-docstring", _data_docstring, priority=90)
     app.connect("autodoc-process-docstring", _escape_bars, priority=100)

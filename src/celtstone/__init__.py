@@ -9,6 +9,11 @@ influence of sliding on the Celt rattleback motion" (see README).
 >>> run.dataset["spin"]  # doctest: +SKIP
 """
 
+# first of all: the `celtstone` command's Ctrl-C and SIGTERM while it starts (exit 130/143,
+# one line); nothing changes for a program that imports the package
+from celtstone import _early_signals  # noqa: F401
+
+# isort: split
 from typing import TYPE_CHECKING
 
 from celtstone._about import version as version
@@ -26,7 +31,9 @@ from celtstone.errors import PlausibilityWarning as PlausibilityWarning
 if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.analysis.stability import SpinStability as SpinStability
     from celtstone.analysis.stability import spin_stability as spin_stability
+    from celtstone.bodies import AddedMass as AddedMass
     from celtstone.bodies import Body as Body
+    from celtstone.bodies import Design as Design
     from celtstone.bodies import Ellipsoid as Ellipsoid
     from celtstone.bodies import ImplicitFunction as ImplicitFunction
     from celtstone.bodies import ImplicitPolynomial as ImplicitPolynomial
@@ -34,6 +41,7 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.bodies import Superellipsoid as Superellipsoid
     from celtstone.bodies import list_bodies as list_bodies
     from celtstone.bodies import load_body as load_body
+    from celtstone.explorer import explore as explore
     from celtstone.fitting import FitResult as FitResult
     from celtstone.fitting import Record as Record
     from celtstone.fitting import fit as fit
@@ -55,10 +63,12 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
 
 __all__ = [
     "MODELS",
+    "AddedMass",
     "Body",
     "CeltstoneError",
     "CeltstoneWarning",
     "CompileReport",
+    "Design",
     "Ellipsoid",
     "FitResult",
     "FrictionBoundWarning",
@@ -81,6 +91,7 @@ __all__ = [
     "Sweep",
     "Trajectory",
     "compile_solvers",
+    "explore",
     "fit",
     "list_bodies",
     "load_body",
@@ -100,13 +111,16 @@ _LAZY = {
     "SpinStability": "celtstone.analysis.stability",
     "reversal_times": "celtstone.reversals",
     "spin_stability": "celtstone.analysis.stability",
+    "AddedMass": "celtstone.bodies",
     "Body": "celtstone.bodies",
+    "Design": "celtstone.bodies",
     "Ellipsoid": "celtstone.bodies",
     "ImplicitFunction": "celtstone.bodies",
     "ImplicitPolynomial": "celtstone.bodies",
     "Paraboloid": "celtstone.bodies",
     "Superellipsoid": "celtstone.bodies",
     "list_bodies": "celtstone.bodies",
+    "explore": "celtstone.explorer",
     "load_body": "celtstone.bodies",
     "simulate": "celtstone.integrate",
     "FitResult": "celtstone.fitting",

@@ -2,7 +2,7 @@
 
 The invariants every sliding model keeps (energy lost = friction work, |n| = 1,
 V1 · n = 0, the mirror image), the round limit (a sphere's ellipse is the circle of
-today's Hertz radius), the kernel's ellipse against the SciPy reference at the
+the circular Hertz radius), the kernel's ellipse against the SciPy reference at the
 current contact point, and bad settings refused.
 """
 
@@ -22,7 +22,7 @@ from celtstone.kernels.hertz_ellipse import hertz_ellipse_axes, principal_radii
 from celtstone.models import kernel_parameters
 from tests.conftest import LITERATURE_EULER_ANGLES
 
-# E = 3 GPa, ν = 0.35: today's circle of Kane & Levinson has ε = 1.09 mm (equations.md)
+# E = 3 GPa, ν = 0.35: Kane & Levinson's circular Hertz radius is ε = 1.09 mm (equations.md)
 ELASTIC = {"elastic_modulus": 3e9, "poisson_ratio": 0.35}
 ELLIPSE = cs.SlidingModel(friction_coefficient=0.35, contact_shape="ellipse", **ELASTIC)
 STATE = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=LITERATURE_EULER_ANGLES)

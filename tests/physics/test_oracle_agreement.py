@@ -59,7 +59,7 @@ def test_engine_agrees_with_oracle(
         params["contact_radius"] = model.contact_radius
         params["regularisation_speed"] = model.regularisation_speed
     # the oracle's own error: rolling at rtol 1e-11; sliding at rtol 1e-9 within 2e-10
-    # rad/s and 1e-11 m/s of its rtol 1e-11 run (0.15 s, 2026-11-26), far inside the
+    # rad/s and 1e-11 m/s of its rtol 1e-11 run (0.15 s), far inside the
     # tolerances below, at 0.3-0.4 of its cost (the plain NumPy Radau takes 20 s there)
     rtol, atol = (1e-11, 1e-13) if model_name == "rolling" else (1e-9, 1e-12)
     reference = oracle.simulate(

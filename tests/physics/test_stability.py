@@ -173,7 +173,8 @@ def test_growth_rate_of_nonlinear_runs(any_body: cs.Body, spin: float) -> None:
     peaks = np.flatnonzero((tilt[1:-1] > tilt[:-2]) & (tilt[1:-1] >= tilt[2:])) + 1
     # the growing mode dominates 1000 times the start; the motion is linear below 1e-3 rad
     window = peaks[(tilt[peaks] > 1e3 * tilt[0]) & (tilt[peaks] < LINEAR_TILT)]
-    assert window.size >= 20  # a decade of growth: 29 peaks for the toy at -10 rad/s
+    assert window.size >= 8  # a decade of growth: 29 peaks for the toy at -10 rad/s, 9 for
+    # the printed stone, whose pitch mode grows fast (the fits below still check rate and frequency)
     fitted_growth = np.polyfit(time[window], np.log(tilt[window]), 1)[0]
     span = slice(window[0], window[-1])
     component, times = vertical[span, 0 if mode == "pitch" else 1], time[span]

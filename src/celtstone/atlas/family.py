@@ -6,7 +6,8 @@ x²/a² + y²/b² + z²/c² = 1 of a material of density ρ, and two equal point
 into its flat top at (x0, y0, 0) and (−x0, −y0, 0). The masses make the product of
 inertia that turns the long principal axis by the misalignment angle δ. The centre of
 mass G, the mass and the central inertia tensor follow in closed form
-(:func:`half_ellipsoid_inertia`); ``docs/decisions.md`` §32 states the choices.
+(:func:`celtstone.bodies.design.half_ellipsoid_inertia`, shared with the body files'
+``[design]`` form); ``docs/decisions.md`` §32 states the choices.
 
 How the masses follow from δ: x0 = 0.6 a (the toy's 30 mm of 50 mm), μ = κ m_s (κ the
 design's ``mass_fraction``, m_s the solid's mass), and y0 is solved so that the
@@ -21,7 +22,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from celtstone.bodies import Body, Ellipsoid
+from celtstone.bodies import AddedMass, Body, Design
+from celtstone.bodies.design import half_ellipsoid_inertia
 from celtstone.contact import effective_modulus
 from celtstone.errors import ParameterError
 
@@ -154,57 +156,6 @@ class MaterialPair:
         # the model's own E* of these numbers is the pair's (to round-off)
         assert math.isclose(effective_modulus(modulus, nu), self.effective_modulus)
         return {"elastic_modulus": modulus, "poisson_ratio": nu}
-
-
-def half_ellipsoid_inertia(
-    semi_axes: tuple[float, float, float],
-    density: float,
-    point_mass: float,
-    position: tuple[float, float],
-) -> tuple[float, float, tuple[tuple[float, float, float], ...]]:
-    """Mass, centre of mass and inertia of a half-ellipsoid with two point masses on top.
-
-    The lower half (z <= 0) of an ellipsoid, the masses on its flat top.
-
-    Parameters
-    ----------
-    semi_axes : tuple of 3 float
-        Semi-axes (a, b, c) of the full ellipsoid [m].
-    density : float
-        Density ρ of the solid [kg/m³].
-    point_mass : float
-        Mass μ of each of the two point masses [kg].
-    position : tuple of 2 float
-        Position (x0, y0) [m]: the masses sit at (x0, y0, 0) and (−x0, −y0, 0).
-
-    Returns
-    -------
-    mass : float
-        Mass m = m_s + 2μ [kg].
-    depth : float
-        Depth h of the centre of mass G below the centre O [m].
-    inertia : tuple of 3 tuples of 3 float
-        Central inertia tensor in body axes [kg m²], shape (3, 3).
-
-    Notes
-    -----
-    docs/bodies.md, "toy_rattleback_10cm": m_s = ρ (2/3) π a b c; the half's centroid
-    3c/8 below O, so h = (3c/8) m_s / m; second moments about O m_s a²/5, m_s b²/5,
-    m_s c²/5; the parallel-axis theorem along axis 3 (G on it):
-    A = m_s(b²+c²)/5 + 2μy0² − m h², B = m_s(a²+c²)/5 + 2μx0² − m h²,
-    C = m_s(a²+b²)/5 + 2μ(x0²+y0²), I12 = −2 μ x0 y0.
-    """
-    a, b, c = semi_axes
-    x0, y0 = position
-    shell = density * (2.0 / 3.0) * math.pi * a * b * c
-    mass = shell + 2.0 * point_mass
-    depth = 3.0 * c / 8.0 * shell / mass
-    first = shell * (b**2 + c**2) / 5.0 + 2.0 * point_mass * y0**2 - mass * depth**2
-    second = shell * (a**2 + c**2) / 5.0 + 2.0 * point_mass * x0**2 - mass * depth**2
-    third = shell * (a**2 + b**2) / 5.0 + 2.0 * point_mass * (x0**2 + y0**2)
-    product = -2.0 * point_mass * x0 * y0
-    inertia = ((first, product, 0.0), (product, second, 0.0), (0.0, 0.0, third))
-    return mass, depth, inertia
 
 
 def _rim_y(half_width: float) -> float:
@@ -363,6 +314,31 @@ class StoneDesign:
             f"_d{self.misalignment:.4g}"
         )
 
+    def design(self) -> Design:
+        """The stone as a body file's ``[design]``.
+
+        The half-ellipsoid, its principal axes unturned (δ 0), and the two point masses
+        that turn them by δ.
+
+        Returns
+        -------
+        Design
+            The design (``celtstone.bodies.design``).
+        """
+        a, b, c = self.semi_axes
+        x0, y0 = self.point_mass_position
+        return Design(
+            length=2.0 * a,
+            width=2.0 * b,
+            height=c,
+            density=self.density,
+            added_masses=(
+                AddedMass(self.point_mass, (x0, y0, 0.0)),
+                AddedMass(self.point_mass, (-x0, -y0, 0.0)),
+            ),
+            gravity=GRAVITY,
+        )
+
     def body(self) -> Body:
         """The stone as a body.
 
@@ -370,20 +346,14 @@ class StoneDesign:
         -------
         Body
             An ellipsoid shape with G at depth h below its centre, the mass and central
-            inertia of :func:`half_ellipsoid_inertia`.
+            inertia of :meth:`design` (:func:`half_ellipsoid_inertia` in closed form).
         """
-        mass, depth, inertia = half_ellipsoid_inertia(
-            self.semi_axes, self.density, self.point_mass, self.point_mass_position
-        )
-        return Body(
-            name=self.name,
-            mass=mass,
-            inertia=inertia,  # type: ignore[arg-type]
-            shape=Ellipsoid(semi_axes=self.semi_axes, com_offset=depth),
-            gravity=GRAVITY,
+        x0, y0 = self.point_mass_position
+        return self.design().body(
+            self.name,
             source="celtstone atlas: half-ellipsoid plus two point masses (docs/bodies.md)",
             notes=(
                 f"density {self.density:g} kg/m^3, point masses 2 x {self.point_mass:.4g} kg "
-                f"at (+-{self.point_mass_position[0]:.4g}, +-{self.point_mass_position[1]:.4g}) m"
+                f"at (+-{x0:.4g}, +-{y0:.4g}) m"
             ),
         )

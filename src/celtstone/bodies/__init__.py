@@ -13,8 +13,10 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.bodies.body import Body
+from celtstone.bodies.design import AddedMass, Design
 from celtstone.bodies.file_schema import (
     BODY_ENTRIES,
+    DESIGN_ENTRIES,
     SOURCE_KEYS,
     TABLES,
     TOP_LEVEL,
@@ -49,8 +51,10 @@ from celtstone.errors import ParameterError, require_choice
 __all__ = [
     "SHAPES",
     "STORED_SHAPES",
+    "AddedMass",
     "Body",
     "BodyFileError",
+    "Design",
     "Ellipsoid",
     "ImplicitFunction",
     "ImplicitPolynomial",
@@ -61,6 +65,7 @@ __all__ = [
     "body_from_dict",
     "list_bodies",
     "load_body",
+    "load_design",
     "shape_from_table",
 ]
 
@@ -103,7 +108,7 @@ def _table(file: str, data: Mapping[str, Any], key: str) -> dict[str, Any]:
             key,
             None,
             f"a [{key}] table",
-            problem=f"no [{key}] table (a body file has [body] and [shape] tables)",
+            problem=f"no [{key}] table (a body file has [body] and [shape] tables, or [design])",
         )
     table = data[key]
     if not isinstance(table, dict):
@@ -230,6 +235,33 @@ def shape_from_table(table: Mapping[str, Any], *, file: str = "the shape table")
     return shape
 
 
+def _design_from_table(file: str, data: Mapping[str, Any]) -> Design:
+    """The :class:`Design` of a file's ``[design]`` table, which replaces [body] and [shape]."""
+    for key in ("body", "shape"):
+        if key in data:
+            raise BodyFileError(
+                file,
+                key,
+                data[key],
+                "no [body] or [shape] table beside [design]",
+                problem=f"[{key}] beside [design]: a body file gives either [design] or "
+                "[body] and [shape] (the design computes both)",
+            )
+    table = _table(file, data, "design")
+    values = _read_entries(file, table, DESIGN_ENTRIES, "[design]")
+    for entry in DESIGN_ENTRIES:
+        if entry.key in values:
+            check_types(file, entry, values[entry.key])
+    added = tuple(
+        AddedMass(float(row[0]), (float(row[1]), float(row[2]), float(row[3])))
+        for row in values.pop("added_masses", [])  # type: ignore[attr-defined]
+    )
+    try:
+        return Design(**values, added_masses=added)  # type: ignore[arg-type]
+    except ParameterError as error:
+        raise _in_file(file, error, values) from None
+
+
 def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = None) -> Body:
     """Build a validated :class:`Body` from the parsed TOML structure.
 
@@ -266,20 +298,24 @@ def body_from_dict(name: str, data: Mapping[str, Any], *, file: str | None = Non
     citation = _citation_entries(where, source)
     if "derivation" in data:
         check_derivation(where, data["derivation"])
+    provenance = {
+        "source": _citation(citation) if citation else str(source) if source else "",
+        "notes": str(data.get("notes", "")),
+        "citation": citation,
+    }
+    if "design" in data:
+        design = _design_from_table(where, data)
+        try:
+            return design.body(name, **provenance)
+        except ParameterError as error:
+            raise _in_file(where, error, {}) from None
     body_table, shape_table = _table(where, data, "body"), _table(where, data, "shape")
     body_values = _read_entries(where, body_table, BODY_ENTRIES, "[body]")
     shape_file, shape_values = _shape_values(where, shape_table)
     raw = {**body_values, **shape_values}
     try:
         shape = shape_file.build(**{k: _frozen(v) for k, v in shape_values.items()})
-        body = Body(
-            name=name,
-            shape=shape,
-            source=_citation(citation) if citation else str(source) if source else "",
-            notes=str(data.get("notes", "")),
-            citation=citation,
-            **body_values,  # type: ignore[arg-type]
-        )
+        body = Body(name=name, shape=shape, **provenance, **body_values)  # type: ignore[arg-type]
     except ParameterError as error:
         raise _in_file(where, error, raw) from None
     for entry in (*BODY_ENTRIES, *shape_file.entries):
@@ -310,6 +346,32 @@ def _decode(file: str, raw: bytes) -> dict[str, Any]:
         ) from None
 
 
+def _read(name_or_path: str | Path) -> tuple[str, str, dict[str, Any]]:
+    """The name, the file (for messages) and the parsed TOML of a body."""
+    text = str(name_or_path)
+    path = Path(text)
+    if text.endswith(".toml") or path.is_file():
+        if not path.is_file():
+            raise ParameterError("body", text, "a shipped body name or an existing .toml file")
+        try:
+            raw = path.read_bytes()
+        except OSError as error:
+            raise BodyFileError(
+                text, "body", text, "a readable file", problem=f"cannot read it: {error}"
+            ) from None
+        name, file = path.stem, text
+    else:
+        entry = _DATA / f"{text}.toml"
+        if not entry.is_file():
+            names = [
+                e.name.removesuffix(".toml") for e in _DATA.iterdir() if e.name.endswith(".toml")
+            ]
+            require_choice("body", text, sorted(names))
+        raw = entry.read_bytes()
+        name, file = text, f"{text}.toml (shipped)"
+    return name, file, _decode(file, raw)
+
+
 def load_body(name_or_path: str | Path) -> Body:
     """Load a shipped parameter set by name, or a TOML file by path.
 
@@ -332,25 +394,28 @@ def load_body(name_or_path: str | Path) -> Body:
         For an unknown name (with the closest match) or a malformed file
         (:class:`~celtstone.bodies.file_schema.BodyFileError`, naming the file and key).
     """
-    text = str(name_or_path)
-    path = Path(text)
-    if text.endswith(".toml") or path.is_file():
-        if not path.is_file():
-            raise ParameterError("body", text, "a shipped body name or an existing .toml file")
-        try:
-            raw = path.read_bytes()
-        except OSError as error:
-            raise BodyFileError(
-                text, "body", text, "a readable file", problem=f"cannot read it: {error}"
-            ) from None
-        name, file = path.stem, text
-    else:
-        entry = _DATA / f"{text}.toml"
-        if not entry.is_file():
-            names = [
-                e.name.removesuffix(".toml") for e in _DATA.iterdir() if e.name.endswith(".toml")
-            ]
-            require_choice("body", text, sorted(names))
-        raw = entry.read_bytes()
-        name, file = text, f"{text}.toml (shipped)"
-    return body_from_dict(name, _decode(file, raw), file=file)
+    name, file, data = _read(name_or_path)
+    return body_from_dict(name, data, file=file)
+
+
+def load_design(name_or_path: str | Path) -> Design | None:
+    """Load the ``[design]`` of a body file: what the body was computed from.
+
+    Parameters
+    ----------
+    name_or_path : str or pathlib.Path
+        As for :func:`load_body`.
+
+    Returns
+    -------
+    Design or None
+        The validated design, or None for a file given by ``[body]`` and ``[shape]``.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`load_body`.
+    """
+    name, file, data = _read(name_or_path)
+    body_from_dict(name, data, file=file)  # the whole file checked, as for a run
+    return _design_from_table(file, data) if "design" in data else None

@@ -8,6 +8,9 @@ these tables; nothing else lists the keys. A body file has
   number (``year = 1982``); or one string ``source = "..."``,
 * ``[body]``: :data:`BODY_ENTRIES` (mass, inertia tensor, gravity),
 * ``[shape]``: ``kind`` and the entries of that kind in :data:`SHAPES`,
+* or, in place of ``[body]`` and ``[shape]``, ``[design]``: :data:`DESIGN_ENTRIES`, a
+  stone given by its outer dimensions, mass or density, misalignment and added masses
+  (``bodies.design``), its mass, centre of mass and inertia computed,
 * ``[derivation]`` (optional, free keys): the numbers the body was derived from, for the
   reader and the tests (``docs/bodies.md``); the loader does not use them, so their keys
   are free, but each value must be a number, a string or an array of them.
@@ -26,12 +29,14 @@ from typing import Any
 
 from celtstone import schema
 from celtstone.bodies.declaration import INTEGER, Entry
+from celtstone.bodies.design import DESIGN_QUANTITIES
 from celtstone.bodies.shapes import SHAPES as SHAPE_CLASSES
 from celtstone.bodies.shapes import STORED_SHAPES
 from celtstone.errors import BodyFileError, did_you_mean
 
 __all__ = [
     "BODY_ENTRIES",
+    "DESIGN_ENTRIES",
     "SHAPES",
     "SOURCE_KEYS",
     "TOP_LEVEL",
@@ -59,6 +64,22 @@ BODY_ENTRIES: tuple[Entry, ...] = (
     Entry("inertia", _Q["inertia"], (3, 3)),
     Entry("gravity", _Q["gravity"], required=False),  # default: Body's 9.81 m/s^2
 )
+
+_D = DESIGN_QUANTITIES
+DESIGN_ENTRIES: tuple[Entry, ...] = (
+    Entry("length", _D["length"]),
+    Entry("width", _D["width"]),
+    Entry("height", _D["height"]),
+    Entry("misalignment", _D["misalignment"]),
+    Entry("mass", _Q["mass"], required=False),  # mass or density
+    Entry("density", _D["density"], required=False),
+    Entry("added_masses", _D["added_masses"], (None, 4), layout="[μ, x, y, z]", required=False),
+    Entry("gravity", _Q["gravity"], required=False),
+)
+"""The keys of ``[design]`` (``bodies.design.Design``'s keywords): a half-ellipsoid of
+length × width × height [m], the misalignment δ [deg], the total mass [kg] or the
+density [kg/m³], optional added point masses (rows [μ, x, y, z] in kg and m about the
+middle of the flat top) and gravity."""
 
 # the shapes a body file may declare: every stored shape of the registry
 SHAPES: dict[str, ShapeFile] = {
@@ -99,9 +120,11 @@ TOP_LEVEL: dict[str, str] = {
     "source": "the citation: a [source] table or one string",
     "body": "mass, inertia tensor and gravity",
     "shape": "the surface: kind and its entries",
+    "design": "a stone by its dimensions, mass, misalignment and added masses, in place "
+    "of [body] and [shape]",
     "derivation": "numbers the body was derived from (not read by the loader)",
 }
-TABLES = frozenset({"source", "body", "shape", "derivation"})
+TABLES = frozenset({"source", "body", "shape", "design", "derivation"})
 
 
 def key_text(key: str) -> str:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import re
 import signal
 import sys
@@ -15,6 +16,8 @@ from types import ModuleType
 from typing import Any
 
 from celtstone._about import version
+from celtstone.cli._interrupts import Terminated as Terminated
+from celtstone.cli._interrupts import Termination, stop_at_once, unwinding
 from celtstone.errors import CeltstoneError, CeltstoneWarning
 
 
@@ -58,55 +61,16 @@ SUBCOMMANDS = {
             "compile",
             "compile the solvers into numba's cache now (about 3 minutes, once per install)",
         ),
+        Command("serve", "start the live explorer in the browser (the explore extra)"),
     )
 }
 
 EXIT_OK = 0
 EXIT_STOPPED = 3  # a run that stopped before t_end (lift-off, singular friction, ...)
 EXIT_USAGE = 2
+EXIT_OUTPUT_FAILED = 1  # an output (a file, standard output) could not be written
 EXIT_INTERRUPTED = 128 + signal.SIGINT  # 130
 EXIT_TERMINATED = 128 + signal.SIGTERM  # 143
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised in the main thread so that it unwinds like Ctrl-C.
-
-    ``finally`` blocks remove temporaries, and every ``except KeyboardInterrupt``
-    (the sweep's resume message) handles it as it handles Ctrl-C.
-    """
-
-
-class _Termination:
-    """The SIGTERM handler: raises :class:`Terminated` once; remembers that it came."""
-
-    def __init__(self) -> None:
-        self.received = False
-
-    def __call__(self, signum: int, frame: object) -> None:
-        self.received = True
-        # a second SIGTERM must not cut the clean-up short (SIGKILL still ends it)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise Terminated
-
-
-@contextmanager
-def _sigterm_unwinds() -> Iterator[_Termination]:
-    """SIGTERM raises :class:`Terminated` inside (main thread only; an ignored SIGTERM
-    stays ignored); the previous handler is back afterwards."""
-    termination = _Termination()
-    previous = signal.getsignal(signal.SIGTERM)
-    installed = False
-    if previous is not signal.SIG_IGN:
-        try:
-            signal.signal(signal.SIGTERM, termination)
-            installed = True
-        except ValueError:  # not the main thread: signals stay as they are
-            pass
-    try:
-        yield termination
-    finally:
-        if installed:
-            signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -179,8 +143,9 @@ def _show_warning(
     file: Any = None,
     line: str | None = None,
 ) -> None:
-    """A warning as one line on standard error: ``celtstone: warning: ...``."""
-    text = " ".join(str(message).split())
+    """A warning as one line on standard error: ``celtstone: warning: ...``, its advice
+    spelled as the command line spells it (``CeltstoneWarning.command_line``)."""
+    text = " ".join((getattr(message, "command_line", None) or str(message)).split())
     if not issubclass(category, CeltstoneWarning):
         text = f"{category.__name__}: {text}"
     print(f"celtstone: warning: {text}", file=sys.stderr)
@@ -209,7 +174,48 @@ def _quiet_abandoned_writes() -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
+    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status.
+
+    Ctrl-C and SIGTERM at any moment, the command's imports included, give exit 130 or
+    143 and one line on standard error (``_interrupts``)."""
+    with unwinding() as termination:
+        try:
+            return _main(argv, termination)
+        except KeyboardInterrupt as stop:
+            return _stopped(stop)
+        except Exception as error:
+            # an interrupt that Python wrapped on its way (a signal while a class is
+            # made: "Error calling __set_name__") is still the interrupt
+            behind = _interrupt_behind(error)
+            if behind is None:
+                raise
+            return _stopped(behind)
+
+
+def _interrupt_behind(error: BaseException) -> KeyboardInterrupt | None:
+    """The KeyboardInterrupt (or :class:`Terminated`) that caused ``error``, if any."""
+    seen: set[int] = set()
+    cause: BaseException | None = error
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return None
+
+
+def _stopped(stop: KeyboardInterrupt) -> int:
+    """One line for Ctrl-C or SIGTERM; 130 or 143."""
+    stop_at_once()  # a second signal while this is said: no traceback
+    _quiet_abandoned_writes()
+    if isinstance(stop, Terminated):
+        _say("celtstone: terminated; no partial output was written")
+        return EXIT_TERMINATED
+    _say("celtstone: interrupted; no partial output was written")
+    return EXIT_INTERRUPTED
+
+
+def _main(argv: Sequence[str] | None, termination: Termination) -> int:
     arguments = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(only=_command_named(arguments))
     if not arguments:
@@ -220,7 +226,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as stop:
         return int(stop.code) if isinstance(stop.code, int) else EXIT_USAGE
     try:
-        with _one_line_warnings(), _sigterm_unwinds() as termination:
+        with _one_line_warnings():
             status = int(args.handler(args))
         # a handler that caught the interrupt itself (sweep: its resume message) says 130
         if status == EXIT_INTERRUPTED:
@@ -229,15 +235,36 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return EXIT_TERMINATED
         return status
     except CeltstoneError as error:
-        print(f"celtstone: error: {error}", file=sys.stderr)
+        _say(f"celtstone: error: {error}")
         return EXIT_USAGE
+    except BrokenPipeError:  # the reader of standard output has gone (`| head -1`)
+        _drop_standard_output()
+        return EXIT_OUTPUT_FAILED
     except OSError as error:
-        print(f"celtstone: error: cannot write output: {error}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt as stop:
-        _quiet_abandoned_writes()
-        if isinstance(stop, Terminated):
-            print("celtstone: terminated; no partial output was written", file=sys.stderr)
-            return EXIT_TERMINATED
-        print("celtstone: interrupted; no partial output was written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        _say(f"celtstone: error: cannot write output: {error}")
+        return EXIT_OUTPUT_FAILED
+
+
+def _say(line: str) -> None:
+    """``line`` on standard error; if that cannot be written (a full disk, a closed pipe),
+    the exit status alone tells, and nothing is left buffered to fail again at exit."""
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except OSError:
+        _drop(sys.stderr)
+
+
+def _drop_standard_output() -> None:
+    """Standard output's reader has gone: what is still buffered goes nowhere, quietly."""
+    _drop(sys.stdout)
+
+
+def _drop(stream: Any) -> None:
+    """Point ``stream``'s descriptor at the null device, so that Python's final flush of
+    what is still buffered succeeds instead of printing an error at exit."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, stream.fileno())
+        os.close(null)
+    except (OSError, ValueError, AttributeError):  # no descriptor (in-process capture)
+        pass

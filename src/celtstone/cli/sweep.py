@@ -10,8 +10,11 @@ from pathlib import Path
 from typing import Any
 
 from celtstone import ParameterError
+from celtstone._path_names import check_path_name
+from celtstone.cli._interrupts import Terminated
 from celtstone.cli._methods import add_method_args
 from celtstone.schema import PARAMETERS as SCHEMA
+from celtstone.schema import parse_number
 from celtstone.sweep import (
     DEFAULT_ATOL,
     DEFAULT_RTOL,
@@ -26,7 +29,7 @@ from celtstone.sweep.budget import (
     POINT_LIMIT,
     STORE_LIMIT_BYTES,
 )
-from celtstone.sweep.plots import map_paths, write_maps
+from celtstone.sweep.plots import DEFAULT_MAPPED_FIELDS, map_paths, write_maps
 from celtstone.sweep.points import read_points
 from celtstone.sweep.runner import (
     DEFAULT_CONTACT,
@@ -121,14 +124,17 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--maps", default=None, metavar="DIR", help="directory of the maps (STORE_maps)"
     )
     parser.add_argument("--no-maps", action="store_true", help="write no maps")
+    parser.add_argument(
+        "--map-fields",
+        default=None,
+        metavar="NAME,NAME,...|all",
+        help="the result fields to map (default: " + ", ".join(DEFAULT_MAPPED_FIELDS) + ")",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _number(name: str, text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise ParameterError(name, text, "a number") from None
+    return parse_number(name, text, "a number")  # the range: checked by Sweep
 
 
 def _validation_progress(enabled: bool) -> Callable[[int, int], None]:
@@ -197,11 +203,13 @@ def _sweep(args: argparse.Namespace) -> tuple[Sweep, int]:
 
 def handle(args: argparse.Namespace) -> int:
     """Validate every option and point, run the sweep, write the store and the maps."""
-    out = check_store_target(args.out, overwrite=args.overwrite, resume=args.resume)
+    inputs = [] if args.points is None else [args.points]  # never inside what is replaced
+    out = check_store_target(args.out, overwrite=args.overwrite, resume=args.resume, inputs=inputs)
     maps = None if args.no_maps else Path(args.maps or out.with_name(out.stem + "_maps"))
     replace_maps = args.overwrite or args.resume  # the maps belong to the store replaced
     if maps is not None:
-        map_paths(maps, overwrite=replace_maps)  # before the sweep, not after it
+        check_path_name(maps, "maps")
+        map_paths(maps, overwrite=replace_maps, fields=args.map_fields)  # before the sweep
     sweep, threads = _sweep(args)
     if sweep.estimate.wall_seconds(threads) > LONG_SWEEP_SECONDS:
         print(f"celtstone: sweep of {sweep.estimate.describe(threads or None)}", file=sys.stderr)
@@ -238,7 +246,8 @@ def handle(args: argparse.Namespace) -> int:
             progress=progress,
             on_start=on_start,
         )
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as stop:
+        said = "terminated" if isinstance(stop, Terminated) else "interrupted"
         # Zarr's writes pending in its event loop are abandoned (the store records only
         # finished blocks); asyncio would report each as "Task was destroyed but it is
         # pending!" when the interpreter exits, after our one line
@@ -246,10 +255,10 @@ def handle(args: argparse.Namespace) -> int:
         if progress_bar is not None:
             progress_bar.close()
         if not counts["started"]:  # stopped while the store was built: it never reached out
-            print("celtstone: interrupted; no partial output was written", file=sys.stderr)
+            print(f"celtstone: {said}; no partial output was written", file=sys.stderr)
             return 130
         print(
-            f"celtstone: interrupted: {counts['done']} of {counts['total']} points are in "
+            f"celtstone: {said}: {counts['done']} of {counts['total']} points are in "
             f"{out}; run the same command with --resume to finish",
             file=sys.stderr,
         )
@@ -258,7 +267,7 @@ def handle(args: argparse.Namespace) -> int:
         if progress_bar is not None:
             progress_bar.close()
     if maps is not None:
-        write_maps(results, maps, overwrite=replace_maps)
+        write_maps(results, maps, overwrite=replace_maps, fields=args.map_fields)
     failed = results["status"] != "success"
     statuses = sorted({str(s) for s in results["status"].values[failed.values]})
     print(

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.plotting.labels import wrapped_title
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -82,4 +83,4 @@ def plot_verdict_maps(
         ncols=len(order),
     )
     figure.suptitle(wrapped_title(title, figure.get_figwidth()))
-    return figure
+    return make_legible(figure)

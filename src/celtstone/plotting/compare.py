@@ -9,6 +9,7 @@ import numpy as np
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_label, wrapped_title
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -52,6 +53,7 @@ def plot_spin_comparison(
     figure = Figure(figsize=(5.5 * columns, 3.2 * rows + 0.6), layout="constrained")
     grid = np.atleast_1d(figure.subplots(rows, columns, sharey=True, squeeze=False)).ravel()
     for axes, runs in zip(grid, panels, strict=False):
+        marked = False  # one legend entry for the reversals: dotted, in their run's colour
         for index, dataset in enumerate(runs):
             (line,) = axes.plot(
                 dataset["time"].values,
@@ -60,23 +62,24 @@ def plot_spin_comparison(
                 linewidth=1.0,
                 label=run_label(dataset),
             )
-            for k, time in enumerate(dataset_reversal_times(dataset, threshold)):
+            for time in dataset_reversal_times(dataset, threshold):
                 axes.axvline(
                     float(time),
                     color=line.get_color(),
                     linestyle=":",
                     linewidth=1.0,
-                    label=f"reversal ({run_label(dataset)})" if k == 0 else "_nolegend_",
+                    label="_nolegend_" if marked else "reversal (dotted, in its run's colour)",
                 )
+                marked = True
         axes.axhline(0.0, color="black", linewidth=0.5)
         axes.set_xlabel(axis_label("time"))
         axes.set_ylabel(axis_label("spin"))
         axes.grid(alpha=0.3)
-        axes.legend(loc="lower right", fontsize="x-small")
+        axes.legend(fontsize="small")
     for axes in grid[len(panels) :]:
         axes.set_visible(False)
     figure.suptitle(wrapped_title(title, figure.get_figwidth()))
-    return figure
+    return make_legible(figure)
 
 
 def plot_energy_budget(runs: Sequence[xr.Dataset], title: str) -> Figure:
@@ -120,6 +123,6 @@ def plot_energy_budget(runs: Sequence[xr.Dataset], title: str) -> Figure:
     for axes in (energy_axes, budget_axes, residual_axes):
         axes.set_xlabel(axis_label("time"))
         axes.grid(alpha=0.3)
-        axes.legend(fontsize="x-small")
+        axes.legend(fontsize="small")
     figure.suptitle(wrapped_title(title, figure.get_figwidth()))
-    return figure
+    return make_legible(figure)

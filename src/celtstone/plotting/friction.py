@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.contact import friction_functions
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -40,4 +41,4 @@ def friction_law_figure(pressure: str = "hertz") -> Figure:
         axes.grid(True, which="both", alpha=0.3)
         axes.legend()
     figure.suptitle(f"Coulomb–Contensou friction on a disk, {pressure} pressure")
-    return figure
+    return make_legible(figure)

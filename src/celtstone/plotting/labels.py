@@ -11,7 +11,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
 
-__all__ = ["axis_label", "run_label", "run_title", "wrapped_title"]
+__all__ = ["axis_label", "run_label", "run_title", "title_characters", "wrapped_title"]
 
 
 def axis_label(name: str) -> str:
@@ -39,13 +39,19 @@ def run_title(dataset: xr.Dataset) -> str:
 _GLYPH_EM = 0.62
 
 
-def wrapped_title(text: str, width: float, size: str | float | None = None) -> str:
-    """``text`` broken into lines that fit ``width`` [inch] at font ``size`` (default:
-    the figure title's, ``rcParams["figure.titlesize"]``), at word boundaries; a title
-    longer than its figure is otherwise cut off at both edges."""
+def title_characters(width: float, size: str | float | None = None) -> int:
+    """How many characters of a title fit ``width`` [inch] at font ``size`` (default:
+    the figure title's, ``rcParams["figure.titlesize"]``); at least 20."""
     from matplotlib import rcParams
     from matplotlib.font_manager import FontProperties
 
     points = FontProperties(size=rcParams["figure.titlesize"] if size is None else size)
-    characters = max(20, int(width * 72.0 / (_GLYPH_EM * points.get_size_in_points())))
+    return max(20, int(width * 72.0 / (_GLYPH_EM * points.get_size_in_points())))
+
+
+def wrapped_title(text: str, width: float, size: str | float | None = None) -> str:
+    """``text`` broken into lines that fit ``width`` [inch] at font ``size``
+    (:func:`title_characters`), at word boundaries; a title longer than its figure is
+    otherwise cut off at both edges."""
+    characters = title_characters(width, size)
     return "\n".join(textwrap.fill(line, characters) for line in text.splitlines())

@@ -9,6 +9,7 @@ import numpy as np
 
 from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_title, wrapped_title
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -19,6 +20,9 @@ if TYPE_CHECKING:
 __all__ = ["mark_reversals", "plot_run"]
 
 _TIME_PANELS = ("spin", "tilt", "energy", "slip_speed", "normal_force")
+# below this spread relative to |E(0)| the energy is constant to the eye, and its ticks
+# would need more digits than a reader can compare: the panel shows the relative drift
+_CONSTANT_ENERGY = 1e-4
 
 
 def mark_reversals(axes: Axes, times: Sequence[float] | np.ndarray, color: str = "0.4") -> None:
@@ -33,9 +37,20 @@ def mark_reversals(axes: Axes, times: Sequence[float] | np.ndarray, color: str =
         )
 
 
-def _values(dataset: xr.Dataset, name: str) -> np.ndarray:
+def _values(dataset: xr.Dataset, name: str) -> tuple[np.ndarray, str]:
+    """The values of panel ``name`` as drawn, and their axis label."""
     values = np.asarray(dataset[name].values, dtype=float)
-    return np.degrees(values) if name == "tilt" else values
+    if name == "tilt":
+        return np.degrees(values), axis_label(name)
+    if name == "energy" and _is_constant(values):
+        return (values - values[0]) / abs(values[0]), "relative energy drift $(E-E_0)/E_0$"
+    return values, axis_label(name)
+
+
+def _is_constant(energy: np.ndarray) -> bool:
+    """Whether ``energy`` [J] spreads less than ``_CONSTANT_ENERGY`` of its start."""
+    spread = float(np.ptp(energy))
+    return energy[0] != 0.0 and spread < _CONSTANT_ENERGY * abs(float(energy[0]))
 
 
 def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
@@ -43,7 +58,8 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
 
     Panels: spin, tilt, energy (with the energy lost beside the friction work in
     sliding), slip speed and normal force against time, and the contact point's
-    track on the plane.
+    track on the plane. An energy constant to 1e-4 of its start (rolling) is drawn
+    as its relative drift (E − E0)/E0, the integrator's error.
 
     Parameters
     ----------
@@ -64,12 +80,13 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
     time = dataset["time"].values
     reversals = dataset_reversal_times(dataset, threshold)
     for axes, name in zip(grid.flat, _TIME_PANELS, strict=False):
-        axes.plot(time, _values(dataset, name), linewidth=1.0, label=name.replace("_", " "))
+        values, label = _values(dataset, name)
+        axes.plot(time, values, linewidth=1.0, label=name.replace("_", " "))
         if name == "spin":
             axes.axhline(0.0, color="black", linewidth=0.5)
             mark_reversals(axes, reversals)
         axes.set_xlabel(axis_label("time"))
-        axes.set_ylabel(axis_label(name))
+        axes.set_ylabel(label)
         axes.grid(alpha=0.3)
     energy_axes = grid.flat[2]
     lost = dataset["energy"].values[0] - dataset["energy"].values
@@ -85,7 +102,7 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
             label="friction work",
         )
         twin.set_ylabel("energy lost, friction work [J]")
-        twin.legend(loc="center right", fontsize="small")
+        twin.legend(fontsize="small")
     track = grid.flat[5]
     contact = dataset["contact_position"].values
     track.plot(contact[:, 0], contact[:, 1], linewidth=0.8, label="contact point")
@@ -96,6 +113,7 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
     track.set_ylabel(axis_label("contact_y"))
     track.grid(alpha=0.3)
     for axes in grid.flat:
-        axes.legend(loc="upper right", fontsize="small")
+        if len(axes.get_legend_handles_labels()[0]) > 1:  # one curve: its axis label says it
+            axes.legend(fontsize="small")
     figure.suptitle(wrapped_title(run_title(dataset), figure.get_figwidth()))
-    return figure
+    return make_legible(figure)

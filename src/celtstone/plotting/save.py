@@ -6,6 +6,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from celtstone.export import atomic_path, check_target
+from celtstone.ownership import figure_metadata
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -46,7 +47,8 @@ def save_figure(figure: Figure, path: str | Path, *, overwrite: bool = False) ->
     """
     target = check_figure_target(path, overwrite=overwrite)
     with atomic_path(target, overwrite=overwrite) as temporary:
-        figure.savefig(temporary, format=target.suffix.lower()[1:], dpi=DPI)
+        suffix = target.suffix.lower()[1:]  # marked: --overwrite may replace it later
+        figure.savefig(temporary, format=suffix, dpi=DPI, metadata=figure_metadata(suffix))
     return target
 
 

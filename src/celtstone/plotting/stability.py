@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from celtstone.analysis.stability import SpinStability
 from celtstone.plotting.labels import wrapped_title
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -39,4 +40,4 @@ def growth_rate_figure(result: SpinStability) -> Figure:
     axes.set_title(wrapped_title(title, 0.9 * figure.get_figwidth(), "large"))
     axes.legend()
     axes.grid(True, linewidth=0.4, alpha=0.5)
-    return figure
+    return make_legible(figure)

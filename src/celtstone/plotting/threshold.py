@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.plotting.labels import axis_label, wrapped_title
+from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -72,4 +73,4 @@ def plot_threshold(table: pd.DataFrame, title: str, boundaries: Sequence[float] 
         axes.grid(alpha=0.3)
         axes.legend(fontsize="small")
     figure.suptitle(wrapped_title(title, figure.get_figwidth()))
-    return figure
+    return make_legible(figure)

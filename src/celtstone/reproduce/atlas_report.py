@@ -17,7 +17,7 @@ from celtstone.reproduce.findings import FINDINGS
 __all__ = ["PARAMETER_WORDS", "VERDICTS", "atlas_counts", "atlas_section", "search_lines"]
 
 VERDICTS = ("yes", "partly", "no")
-TITLE = "## 7. For which stones does the paper hold?"
+TITLE = "For which stones does the paper hold?"
 PARAMETER_WORDS = {
     # a design parameter (a StoneDesign field) in the report and the maps
     "length": "L [m]",
@@ -61,9 +61,10 @@ def _varied(slices: Sequence[Mapping[str, Any]]) -> list[str]:
     return [name for name in PARAMETER_WORDS if name in names]
 
 
-def atlas_section(result: Mapping[str, Any] | None) -> list[str]:
-    """The section's Markdown lines (a line saying it was not run, without ``result``)."""
-    lines = [TITLE, ""]
+def atlas_section(result: Mapping[str, Any] | None, number: int = 7) -> list[str]:
+    """The section's Markdown lines, numbered ``number`` (a line saying it was not run,
+    without ``result``)."""
+    lines = [f"## {number}. {TITLE}", ""]
     if result is None:
         return [*lines, "Not run yet (`celtstone reproduce atlas`).", ""]
     designs = result["designs"]

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -12,6 +11,7 @@ from celtstone._about import version
 from celtstone.bodies import load_body
 from celtstone.export import atomic_path
 from celtstone.reproduce.atlas_report import atlas_section
+from celtstone.reproduce.directory import REPORT, ReproductionDirectory
 from celtstone.reproduce.findings import (
     FINDINGS,
     JUDGES,
@@ -24,6 +24,9 @@ from celtstone.reproduce.findings import (
     judge_period_growth,
     judge_threshold,
 )
+from celtstone.reproduce.ingredients import ingredients_section
+from celtstone.reproduce.results import read_result
+from celtstone.reversals import REVERSAL_TIME_RESOLUTION
 
 __all__ = ["collect", "render_report", "write_report"]
 
@@ -36,7 +39,9 @@ def collect(out: Path) -> dict[str, dict[str, dict[str, Any]]]:
     as ``friction_load``."""
     results: dict[str, dict[str, dict[str, Any]]] = {}
     for path in sorted((out / "data").glob("*.json")):
-        result = json.loads(path.read_text(encoding="utf-8"))
+        result = read_result(path)  # a user's own JSON file there: left out, with a warning
+        if result is None:
+            continue
         for case in result.get("cases", []):
             if "normal_force" in case and "friction_load" not in case:
                 case["friction_load"] = case.pop("normal_force")
@@ -88,9 +93,11 @@ def _section(
         lines.append(f"Data: `{result['table']}`{runs}; SVG beside each PNG.")
         if "animation" in result:
             friction = max(result["frictions"])
+            load = result.get("contact", {}).get("friction_load", "static")
+            words = "N = m g" if load == "static" else "the dynamic N"
             lines.append(
                 f"Video: [`{result['animation']}`]({result['animation']}), rolling beside "
-                f"sliding at f = {friction:g} (N = m g), real time."
+                f"sliding at f = {friction:g} ({words}), real time."
             )
         lines.append("")
     return lines
@@ -124,7 +131,11 @@ Reversal times: a *reversal* here is a change of the sense of spin held beyond a
 hysteresis band of 4 % of the initial spin (0.2 rad/s for ω0 = 5 rad/s); the raw spin
 crosses zero several times within hundredths of a second around a reversal, and a
 sliding stone whose spin has died changes sign many times without reversing
-(`celtstone.analysis.reversal_times`).
+(`celtstone.analysis.reversal_times`). The band is applied to the spin's running mean
+over one rocking period, read from the runs' samples (200 per second): a reversal's
+time is known to the samples' resolution, within {resolution:g} s of a converged run's
+for Kane & Levinson's stone (`celtstone.reversals.REVERSAL_TIME_RESOLUTION`); the
+table's four significant digits are within it.
 """
 
 BRAKING_FRICTION = 0.35
@@ -240,33 +251,40 @@ def _cell(verdict: Verdict | None, short: bool = False) -> str:
     return f"**{verdict.reproduced}**{why}: {verdict.ours}"
 
 
-_VARIANT_WHY = """The realistic contact changes four things against the paper's idealisation (each
+_VARIANT_WHY = """The realistic contact changes five things against the paper's idealisation (each
 study's settings are in its rows above and in each table's header): the disk of fixed
 radius ε becomes the Hertz ellipse at the current contact point of a polymer stone on a
 polymer plate (E = 3 GPa, ν = 0.35, chosen so that Kane & Levinson's *circular* Hertz
 radius is 1.09 mm, the paper's ε: the contact changes its shape, not its size), Zhuravlev's
 Padé law becomes the exact Coulomb–Contensou law, a rolling-friction length λ (Coulomb's
-law of rolling friction) resists the rocking, and the contact sticks when the friction
-it needs lies inside the Coulomb–Contensou limit set (the stick–slip contact) instead of
-creeping under a regularised law. What each does:
+law of rolling friction) resists the rocking, the friction law is loaded with the true
+normal force N (the consistent load) instead of the paper's m g in the threshold and
+Figure 3 runs, and the contact sticks when the friction it needs lies inside the
+Coulomb–Contensou limit set (the stick–slip contact) instead of creeping under a
+regularised law. What each does alone is measured in the one-at-a-time table
+("What each ingredient of the realistic contact does"); in words:
 
 * **the ellipse pivots harder.** A rattleback's contact ellipse is long and thin (Kane &
   Levinson at rest: 3.14 mm × 0.28 mm); its pivoting moment at zero slip,
   (3/8) E(e) f N A, is 1.86 times the disk's of the same E, ν (docs/decisions.md §24, §29).
   The spin about the vertical is braked harder, so a stone whose rocking instability
-  grows slowly against that braking (the heavy Kane & Levinson body, table "pivot
-  braking" below) can lose its spin before it reverses; a light stone with a small
-  contact (the toy's is 0.14 mm) is braked far less;
+  grows slowly against that braking (the heavy Kane & Levinson body: see the braking
+  times of the disk under "Why our numbers differ from the paper's") can lose its spin
+  before it reverses; a light stone with a small contact (the toy's is 0.14 mm) is
+  braked far less;
 * **the exact law slides harder than Padé's** near the crossover of slip and pivoting
-  (at u = 1 the disk's |F| is 0.88 f N exact, 0.54 f N Padé; decisions §29);
+  (at u = 1 the disk's |F| is 0.88 f N exact, 0.54 f N Padé; decisions §29): on the
+  paper's own disk it alone can remove a reversal, as the one-at-a-time table shows;
 * **rolling resistance takes energy from the rocking**, at the rate λ N |ω_t|, and none
   from the spin about the vertical (ω_t = 0 there, decisions §25). With λ = 1e-5 m a
   rocking Kane & Levinson stone alone would stop in about 93 s (1e-4 m: 9 s).
   λ = 1e-5 m is an order-of-magnitude estimate for a hard polymer pair (Cross 2016 gives
   1e-6 m to 1e-3 m from hard to soft floors), not a measurement. Where a stone comes to
-  rest within a run at every f (E − m g l of round-off size, as the toy's sliding runs
-  here), its final energies cannot order f, and "energy falls with f" is judged on the
-  reversed spin alone;
+  rest within a run at every f (E − m g l of round-off size), its final energies cannot
+  order f, and "energy falls with f" is judged on the reversed spin alone;
+* **the consistent load** keeps the friction within Coulomb's bound: with N = m g the
+  friction force of a rocking stone exceeds f N of the true normal force (each case's
+  `max_friction_bound_ratio`);
 * **the stone sticks.** Once the spin has died, the stick–slip contact holds the
   contact point still and the stone rocks, rolling, until rolling resistance and the
   friction of each short slip have taken its energy; the regularised contact would
@@ -278,50 +296,73 @@ runs with that contact; a finding that holds for the paper's idealisation and no
 rests on the idealisation.
 """
 
+_VARIANT_EXPLANATIONS = {"realistic": _VARIANT_WHY}
+"""The explanation of a variant's differences, by variant name (none for the others)."""
 
-def _comparison(results: dict[str, dict[str, dict[str, Any]]]) -> list[str]:
-    """Per contact variant: each finding for each body, the paper's contact beside it."""
+
+def _variant_rows(
+    results: dict[str, dict[str, dict[str, Any]]], variant: str
+) -> tuple[list[str], list[str]]:
+    """The variant's table of verdicts beside the paper's, and the bodies compared."""
+    ran = {  # (body, target) -> the variant's result
+        (r["body"], target): r
+        for target, by_key in results.items()
+        for r in by_key.values()
+        if r.get("variant") == variant
+    }
+    bodies = sorted({body for body, _ in ran})
+    rows = []
+    changes = []
+    compared = set()
+    for label, target, judge in (*_SUMMARY, *_DYNAMIC):
+        for body in bodies:
+            paper = results.get(target, {}).get(body)
+            ours = ran.get((body, target))
+            before = judge(paper) if paper is not None else None
+            after = judge(ours) if ours is not None else None
+            rows.append(f"| {label} | {body} | {_cell(before)} | {_cell(after)} |")
+            if before is not None and after is not None:
+                compared.add(body)
+                if before.reproduced != after.reproduced:
+                    changes.append(f"{label}, {body}: {before.reproduced} → {after.reproduced}")
+    verdict = (
+        "Verdicts that change with the contact: "
+        + ("; ".join(changes) if changes else "none")
+        + f" (compared for {', '.join(sorted(compared))})."
+        if compared
+        else "Not compared: no body of this contact was also run with the paper's "
+        "idealisation, so no verdict can change; the table gives this contact's own."
+    )
+    return rows, [verdict]
+
+
+def _comparison(results: dict[str, dict[str, dict[str, Any]]], number: int = 7) -> list[str]:
+    """Per contact variant, one section numbered from ``number``: each finding for each
+    body, the paper's contact beside it where that was run too."""
     variants = sorted(
         {r["variant"] for by_key in results.values() for r in by_key.values() if "variant" in r}
     )
-    if not variants:
-        return []
     lines = []
-    for variant in variants:
-        ran = {  # (body, target) -> the variant's result
-            (r["body"], target): r
-            for target, by_key in results.items()
-            for r in by_key.values()
-            if r.get("variant") == variant
-        }
-        bodies = sorted({body for body, _ in ran})
+    for offset, variant in enumerate(variants):
+        rows, verdict = _variant_rows(results, variant)
         lines += [
-            f"## 6. The paper's idealisation beside the {variant} contact",
+            f"## {number + offset}. The paper's idealisation beside the {variant} contact",
             "",
             "| finding | body | paper's idealisation (disk ε = 1 mm, Padé law, no rolling "
             f"resistance) | {variant} contact |",
             "|---|---|---|---|",
-        ]
-        changes = []
-        for label, target, judge in (*_SUMMARY, *_DYNAMIC):
-            for body in bodies:
-                paper = results.get(target, {}).get(body)
-                ours = ran.get((body, target))
-                before = judge(paper) if paper is not None else None
-                after = judge(ours) if ours is not None else None
-                lines.append(f"| {label} | {body} | {_cell(before)} | {_cell(after)} |")
-                if before is not None and after is not None:
-                    if before.reproduced != after.reproduced:
-                        changes.append(f"{label}, {body}: {before.reproduced} → {after.reproduced}")
-        lines += [
+            *rows,
             "",
-            "Verdicts that change with the contact: "
-            + ("; ".join(changes) if changes else "none")
-            + ".",
+            *verdict,
             "",
-            _VARIANT_WHY,
         ]
+        if variant in _VARIANT_EXPLANATIONS:
+            lines += [_VARIANT_EXPLANATIONS[variant], ""]
     return lines
+
+
+def _variant_count(results: dict[str, dict[str, dict[str, Any]]]) -> int:
+    return len({r["variant"] for t in results.values() for r in t.values() if "variant" in r})
 
 
 def render_report(out: Path) -> str:
@@ -350,7 +391,8 @@ def render_report(out: Path) -> str:
         "with sliding (eq. 6–12) with Zhuravlev's Padé friction law, ε = 1 mm, N = m g unless "
         "said otherwise; integrator tolerances in each file's header. A column `BODY+VARIANT` "
         "is the same body with another contact (its settings in its rows below; section 6 "
-        "sets it beside the paper's).",
+        "sets it beside the paper's). To cite: the paper, *On the influence of sliding on the "
+        "Celt rattleback motion*, for the models, and celtstone as its `CITATION.cff` says.",
         "",
         "| finding | " + " | ".join(keys) + " |",
         "|---|" + "---|" * len(keys),
@@ -411,26 +453,45 @@ def render_report(out: Path) -> str:
         judge_long_run,
         lambda r: [f for f in r["figures"] if "_energy" not in f],
     )
-    lines += _comparison(results)
-    lines += atlas_section(results.get("atlas", {}).get("atlas"))
-    lines.append(_WHY.format(braking=_braking_table(fig2) if fig2 else "(run fig2 for the table)"))
+    lines += ingredients_section(fig2, 6)
+    number = 7
+    lines += _comparison(results, number)
+    number += _variant_count(results)
+    lines += atlas_section(results.get("atlas", {}).get("atlas"), number)
+    braking = _braking_table(fig2) if fig2 else "(run fig2 for the table)"
+    lines.append(_WHY.format(braking=braking, resolution=REVERSAL_TIME_RESOLUTION))
     return "\n".join(lines)
 
 
-def write_report(out: Path) -> Path:
-    """Write ``out/report.md`` whole or not at all (it replaces the previous report).
+def write_report(out: Path, directory: ReproductionDirectory | None = None) -> Path:
+    """Write ``out/report.md`` whole or not at all, and list it in ``out``'s manifest.
+
+    It replaces a previous report only if a reproduction wrote it and it is unchanged
+    since (``reproduce.directory``); a user's ``report.md`` is refused.
 
     Parameters
     ----------
     out : pathlib.Path
         The reproduction's directory, where ``report.md`` is written.
+    directory : ReproductionDirectory, optional
+        ``out`` as a reproduction holds it (locked); by default it is opened here.
 
     Returns
     -------
     pathlib.Path
         The report's path.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``out`` and the report, if it is not celtstone's to replace.
     """
-    target = out / "report.md"
+    if directory is None:
+        with ReproductionDirectory(Path(out), overwrite=False) as opened:
+            return write_report(out, opened)
+    directory.check_replaceable(REPORT, None)
+    target = Path(out) / REPORT
     with atomic_path(target, overwrite=True) as temporary:
-        temporary.write_text(render_report(out), encoding="utf-8")
+        temporary.write_text(render_report(Path(out)), encoding="utf-8")
+    directory.record_report()
     return target

@@ -29,6 +29,7 @@ from celtstone.models import CONTACTS, InitialState, RollingModel, SlidingModel
 
 __all__ = [
     "PAPER_FRICTIONS",
+    "REALISTIC_CONTACT",
     "REALISTIC_STUDIES",
     "STUDIES",
     "TARGETS",
@@ -103,6 +104,9 @@ class Study:
     contact : str
         "sliding" (the paper's regularised sliding contact) or "hybrid" (the stick–slip
         contact, ``celtstone.hybrid``).
+    ingredient_frictions : tuple of float
+        The f [1] of the one-at-a-time runs of a paper-contact study's Figure 2 target
+        (``reproduce.ingredients``): each ingredient of the realistic contact alone.
     """
 
     body: str
@@ -129,6 +133,7 @@ class Study:
     fig2_loads: tuple[str, ...] = ("static", "dynamic")
     targets: tuple[str, ...] = TARGETS
     contact: str = "sliding"
+    ingredient_frictions: tuple[float, ...] = (0.25, 0.35, 0.5)
 
     def __post_init__(self) -> None:
         start, stop, count = self.threshold_grid
@@ -288,6 +293,7 @@ class Study:
             "friction_law": self.friction_law,
             "rolling_resistance_m": self.rolling_resistance,
             "contact": self.contact,
+            "friction_load": self.friction_load,
         }
 
     def describe(self) -> str:
@@ -343,6 +349,19 @@ REALISTIC_POISSON_RATIO = 0.35  # 1, with E: K&L's circular Hertz radius 1.09 mm
 REALISTIC_ROLLING_RESISTANCE = 1e-5  # λ [m]: Cross 2016, an order of magnitude (see _realistic)
 
 
+REALISTIC_CONTACT: dict[str, str | float] = {
+    "contact_shape": "ellipse",
+    "elastic_modulus": REALISTIC_ELASTIC_MODULUS,
+    "poisson_ratio": REALISTIC_POISSON_RATIO,
+    "friction_law": "exact",
+    "rolling_resistance": REALISTIC_ROLLING_RESISTANCE,
+    "friction_load": "dynamic",
+    "contact": "hybrid",
+}
+"""The settings of :class:`Study` that the realistic contact changes (see ``_realistic``);
+``reproduce.ingredients`` changes them one at a time."""
+
+
 def _realistic(body: str) -> Study:
     """The realistic contact for ``body``: what changes against the paper's idealisation.
 
@@ -359,24 +378,19 @@ def _realistic(body: str) -> Study:
       Hertz radius (7 % of the toy's 0.14 mm), is an order-of-magnitude estimate for a
       hard polymer pair, not a measurement of any stone; decisions §25 measures that
       1e-5 m stops a rocking K&L in about 93 s and 1e-4 m in about 9 s;
+    * the consistent friction load (the true normal force N, ``friction_load``
+      "dynamic") in the threshold and Figure 3 runs: the paper's N = m g lets the friction
+      force exceed Coulomb's bound f N of the true N (by up to 21 % for K&L), which a
+      realistic contact must not; Figure 2 runs both loads, as the paper's study;
     * the stick–slip contact (``celtstone.hybrid``): a real contact sticks, without the
       regularised law's creep. It is also what makes these runs affordable: once the
       spin has died, the regularised elliptic contact at rest is stiff (one K&L 20 s run
       at f = 0.15 did not end within 150 s), while in stick the stone rolls (1.7 s for
       the same run; decisions §30).
 
-    Everything else (start, grids, run lengths, friction loads) is the paper study's.
+    Everything else (start, grids, run lengths) is the paper study's.
     """
-    return Study(
-        body=body,
-        variant="realistic",
-        contact="hybrid",
-        contact_shape="ellipse",
-        elastic_modulus=REALISTIC_ELASTIC_MODULUS,
-        poisson_ratio=REALISTIC_POISSON_RATIO,
-        friction_law="exact",
-        rolling_resistance=REALISTIC_ROLLING_RESISTANCE,
-    )
+    return Study(body=body, variant="realistic", **REALISTIC_CONTACT)  # type: ignore[arg-type]
 
 
 REALISTIC_STUDIES = tuple(_realistic(study.body) for study in STUDIES if study.is_paper_contact)
@@ -446,6 +460,7 @@ def reduced(study: Study, scale: float = 0.25, grid_count: int = 6) -> Study:
         fig3_t_end=study.fig3_t_end * scale,
         threshold_t_end=study.threshold_t_end * scale,
         threshold_grid=(start, stop, grid_count),
+        ingredient_frictions=(0.35,),
         bisection_tolerance=max(study.bisection_tolerance, 0.02),
         reduced=True,
     )

@@ -43,11 +43,11 @@ LONG_SWEEP_SECONDS = 10.0  # the CLI prints the estimate before a longer sweep
 
 # CPU time of one point per simulated second [s/s], default tolerances (rtol 1e-8,
 # atol 1e-12), Kane & Levinson's body, measured on the 2-core development machine
-# (2026, Python 3.11.7) on 16-point sweeps of 5 s runs, spin -8..8 rad/s: sliding
-# (radau5, f = 0.1 and 0.35, eps = 1 mm) 0.028 s/s, as the 64 x 64 benchmark's
-# 0.262 s per 10 s point (README); rolling (dop853, damping 0 and 1e-5) 0.0012 s/s.
-# Rounded up; a point's cost varies about twofold over a grid. Kept as the bound since
-# sliding runs take the method auto (2026-11-26), which costs 0.1-1.1 times radau5.
+# (Python 3.11.7) on 16-point sweeps of 5 s runs, spin -8..8 rad/s: sliding (radau5,
+# f = 0.1 and 0.35, eps = 1 mm) 0.028 s/s, as the 64 x 64 benchmark's 0.262 s per 10 s
+# point (docs/benchmarks.md); rolling (dop853, damping 0 and 1e-5) 0.0012 s/s. Rounded
+# up; a point's cost varies about twofold over a grid. Kept as the bound for the method
+# auto that sliding runs take, which costs 0.1-1.1 times radau5 (decisions §34).
 CPU_SECONDS_PER_SIMULATED_SECOND: dict[str, float] = {"sliding": 0.03, "rolling": 0.002}
 
 # Stored bytes per point of the string fields, before compression: a status name
