@@ -7,13 +7,17 @@ only)."""
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import subprocess
 import sys
 from pathlib import Path
 
+import numba
 import pytest
+
+from celtstone.kernels import _jit
 
 _LISTING = """
 import json, sys
@@ -110,3 +114,27 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
     # every method's (empty) workspace is made: the run loop's workspace tuple has one type
     steps = [name for name in names if name.startswith(OTHER_METHODS)]
     assert all(name.endswith(".workspace") for name in steps), steps
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_compile_inside_a_run_says_what_it_compiles(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The run loop's compile names its model and method and about how long, once per
+    subject, on a terminal (``kernels._jit.compiling``)."""
+    stream = _Terminal()
+    monkeypatch.setattr(sys, "stderr", stream)
+    monkeypatch.setattr(_jit.COMPILING, "subjects_shown", set())
+
+    def probe(x: float) -> float:
+        return 3.0 * x
+
+    probe.__module__ = "celtstone.solvers.probe"
+    with _jit.compiling("the rolling model with vern9", 35.0):
+        numba.njit(probe)(1.0)
+        numba.njit(probe)(2.0)  # the same subject: said once
+    line = _jit.compiling_notice("the rolling model with vern9", 35.0)
+    assert stream.getvalue() == line + "\n"
+    assert line.startswith("celtstone: compiling the rolling model with vern9, about 35 s, once")
