@@ -44,14 +44,15 @@ lint: $(STAMP)
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
-# the solvers' first compile (2.5–3 minutes of one core on a fresh clone) runs beside the
-# linters and then the bytecode on the other core; without it both test workers would
+# the solvers' first compile (about a minute of one core on a fresh clone) runs beside
+# the linters and then the bytecode on the other core; without it both test workers would
 # compile the same drivers at once
 test: $(STAMP)
 	$(MAKE) --no-print-directory -j2 compile lint bytecode BYTECODE_JOBS=1
 	$(BIN)/python -m pytest -n 2 -m "not slow" tests
 
-# compile the solvers into numba's cache (`celtstone compile`; 2–3 s once cached)
+# compile every model's and method's run loop into numba's cache (`celtstone compile`;
+# 2–3 s once cached)
 compile: $(STAMP)
 	$(BIN)/celtstone compile
 
@@ -70,6 +71,7 @@ e2e: $(STAMP)
 	$(BIN)/python -m pytest tests/e2e -rs
 
 bench: $(STAMP)
+	$(BIN)/python benchmarks/bench_cold_start.py
 	$(BIN)/python benchmarks/bench_simulate.py
 	$(BIN)/python benchmarks/bench_precision.py --ensemble
 	$(BIN)/python benchmarks/bench_sweep.py

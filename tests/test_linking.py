@@ -53,22 +53,38 @@ def _none(link: tuple[int, int]) -> tuple[int, int]:
 def test_a_stick_slip_run_with_a_wrong_link_raises(
     monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
 ) -> None:
-    real = phases.integrate_link
-    monkeypatch.setattr(solvers, "integrate_link", lambda *args: spoil(real(*args)))
+    real = phases.integrate_links
+
+    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
+        slip, stick = real(*args)
+        return spoil(slip), spoil(stick)
+
+    monkeypatch.setattr(solvers, "integrate_links", spoiled)
     body = cs.load_body("kane_levinson_1982")
     with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
         cs.simulate(cs.HybridModel(), body, KL_START, 0.01)
+
+
+@pytest.mark.parametrize("spoil", [_off_by_one, _none], ids=["another-version", "no-link"])
+def test_a_run_with_a_wrong_link_raises(
+    monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
+) -> None:
+    real = driver.integrate_link
+    monkeypatch.setattr(solvers, "integrate_link", lambda *args: spoil(real(*args)))
+    body = cs.load_body("kane_levinson_1982")
+    with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
+        cs.simulate(cs.RollingModel(), body, KL_START, 0.01)
 
 
 @pytest.mark.parametrize("hybrid", [True, False], ids=["hybrid", "sliding"])
 def test_a_sweep_with_a_wrong_link_raises(monkeypatch: pytest.MonkeyPatch, hybrid: bool) -> None:
     real = batch._links
 
-    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
-        to_integrate, to_phases = real(*args)
+    def spoiled(*args: Any) -> tuple[Any, ...]:
+        to_integrate, to_phases, phase_links = real(*args)
         if hybrid:
-            return to_integrate, _off_by_one(to_phases)
-        return _off_by_one(to_integrate), to_phases
+            return to_integrate, _off_by_one(to_phases), phase_links
+        return _off_by_one(to_integrate), to_phases, phase_links
 
     monkeypatch.setattr(batch, "_links", spoiled)
     fixed = {} if hybrid else {"contact": "sliding"}
@@ -81,7 +97,7 @@ def test_a_sweep_with_a_wrong_link_raises(monkeypatch: pytest.MonkeyPatch, hybri
 
 def test_a_batch_without_hybrid_points_links_no_phase_loop() -> None:
     """``_links`` leaves the phase loop unlinked (and so uncompiled) when no point needs
-    it, and links it when one does."""
+    it, and links it when one does (and the run loop only where a point runs one model)."""
     body = cs.load_body("kane_levinson_1982")
     params = np.array([models.kernel_parameters(cs.SlidingModel(), body)])
     state = models.initial_vector(KL_START)[np.newaxis, :]
@@ -91,9 +107,11 @@ def test_a_batch_without_hybrid_points_links_no_phase_loop() -> None:
     for speed, linked in ((0.0, False), (1e-3, True)):
         speeds = np.full(1, speed)
         points = batch.Points(params, state, np.zeros(1), np.zeros(1), speeds)
-        to_integrate, to_phases = batch._links(points, 0.01, controls, output, log)
-        assert to_integrate != _linking.NO_LINK
+        links = batch._links(layout.MODEL_SLIDING, (0, 0), points, 0.01, controls, output, log)
+        to_integrate, to_phases, phase_links = links
+        assert (to_integrate != _linking.NO_LINK) is not linked  # every point is hybrid
         assert (to_phases != _linking.NO_LINK) is linked
+        assert all((link != _linking.NO_LINK) is linked for link in phase_links)
 
 
 def test_links_are_kept_per_argument_types(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -102,8 +120,12 @@ def test_links_are_kept_per_argument_types(monkeypatch: pytest.MonkeyPatch) -> N
     body = cs.load_body("kane_levinson_1982")
     params = models.kernel_parameters(cs.SlidingModel(), body)
     controls = structures.Controls(1e-8, 1e-12, 0.0, 0.0, 1000, True)
-    first = phases.integrate_link(
-        params, controls, structures.new_output(np.linspace(0.0, 0.01, 3), layout.N_STATE, 10)
+    hybrid = structures.HybridSettings(0, 0, 1.0)
+    first = phases.integrate_links(
+        params,
+        hybrid,
+        controls,
+        structures.new_output(np.linspace(0.0, 0.01, 3), layout.N_STATE, 10),
     )
     made: list[tuple[Any, ...]] = []
     real = _linking._new_link
@@ -115,5 +137,5 @@ def test_links_are_kept_per_argument_types(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setattr(_linking, "_new_link", counted)
     other_body = models.kernel_parameters(cs.SlidingModel(), cs.load_body("toy_rattleback_10cm"))
     output = structures.new_output(np.linspace(0.0, 2.0, 50), layout.N_STATE, 99)
-    assert phases.integrate_link(other_body, controls._replace(rtol=1e-6), output) == first
+    assert phases.integrate_links(other_body, hybrid, controls._replace(rtol=1e-6), output) == first
     assert made == []

@@ -2,16 +2,19 @@
 
 The compiled drivers (one run's integration loop, the stick–slip phase loop, the
 sweep's batch) are compiled the first time they are called and then cached on disk
-(``NUMBA_CACHE_DIR``, else ``__pycache__`` beside the sources): about 3 minutes of one
-core after an install or an upgrade, 2–3 s to load afterwards. Numba compiles
-per process, so parallel jobs started on a cold cache each compile the same drivers at
-once; :func:`compile_solvers` pays the cost once, up front (``celtstone compile``;
-``make test`` runs it on one core while the linters use the other).
+(``NUMBA_CACHE_DIR``, else ``__pycache__`` beside the sources): about a minute of
+one core after an install or an upgrade, 2–3 s to load afterwards. Without it, a first
+rolling run compiles the rolling model's loop alone (``solvers.driver.integrate_link``).
+Numba compiles per process, so parallel jobs started on a cold cache each compile the
+same drivers at once; :func:`compile_solvers` pays the cost once, up front
+(``celtstone compile``; ``make test`` runs it on one core while the linters use the
+other).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from numba.core import event
@@ -51,14 +54,21 @@ class _TopLevelCompiles(event.Listener):
             self.count += 1
 
 
-def compile_solvers() -> CompileReport:
+def compile_solvers(progress: Callable[[int, int, str], None] | None = None) -> CompileReport:
     """Compile every driver a run, a stick–slip run and a sweep call, or load it from the cache.
 
-    One tiny run of each through the public API (the Kane & Levinson body, rolling and
-    the stick–slip contact for 0.01 s, with their summaries, and a one-point sweep), so
-    that exactly what a user's calls need is compiled: other bodies, models, methods
-    and contacts differ by values, not by types. Safe while other processes use the
-    cache: each entry is saved whole, under a lock (``kernels._cache``).
+    One tiny run of each driver through the public API (the Kane & Levinson body, the
+    stick–slip contact and rolling for 0.01 s, with their summaries, and a one-point
+    sweep), so that exactly what a user's calls need is compiled: the run loop for
+    every model and method code (``solvers.driver.integrate_link``), and other bodies,
+    shapes and laws differ by values, not by types. Safe while other processes use
+    the cache: each entry is saved whole, under a lock (``kernels._cache``).
+
+    Parameters
+    ----------
+    progress : callable, optional
+        Called before each warm-up with (warm-ups done, warm-ups in all, what the next
+        compiles), and once at the end with (all, all, "").
 
     Returns
     -------
@@ -70,12 +80,34 @@ def compile_solvers() -> CompileReport:
     from celtstone.models import HybridModel, InitialState, RollingModel
     from celtstone.sweep import Sweep
 
+    body = load_body("kane_levinson_1982")
+    state = InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
+    # the stick–slip run first: it compiles the run loop for every model and method,
+    # which the rolling run and the sweep then use (``solvers.driver.integrate_link``)
+    warm_ups: list[tuple[str, Callable[[], object]]] = [
+        ("the stick–slip run", _run(simulate, HybridModel(), body, state)),
+        ("the rolling run", _run(simulate, RollingModel(), body, state)),
+    ]
+    sweep = Sweep({"initial_spin": [-5.0]}, model="sliding", t_end=WARM_UP_TIME)
+    warm_ups.append(("the sweep", sweep.run))
     counter = _TopLevelCompiles()
     start = time.perf_counter()
     with event.install_listener("numba:compile", counter):
-        body = load_body("kane_levinson_1982")
-        state = InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
-        for model in (RollingModel(), HybridModel()):
-            simulate(model, body, state, WARM_UP_TIME, n_samples=3).summary()
-        Sweep({"initial_spin": [-5.0]}, model="sliding", t_end=WARM_UP_TIME).run()
+        for done, (label, warm_up) in enumerate(warm_ups):
+            if progress is not None:
+                progress(done, len(warm_ups), label)
+            warm_up()
+    if progress is not None:
+        progress(len(warm_ups), len(warm_ups), "")
     return CompileReport(counter.count, time.perf_counter() - start)
+
+
+def _run(
+    simulate: Callable[..., object], model: object, body: object, state: object
+) -> Callable[[], object]:
+    """A warm-up: a run of ``WARM_UP_TIME`` and its summary."""
+
+    def warm_up() -> object:
+        return simulate(model, body, state, WARM_UP_TIME, n_samples=3).summary()  # type: ignore[attr-defined]
+
+    return warm_up

@@ -1,13 +1,15 @@
 """``celtstone compile``: compile the solvers into numba's on-disk cache now.
 
-About 3 minutes of one core once per install (``celtstone.compile_solvers``), before a
-batch of parallel jobs that would otherwise each compile the same drivers at once.
+About a minute of one core once per install (``celtstone.compile_solvers``), before a
+batch of parallel jobs that would otherwise each compile the same drivers at once; a
+progress bar on standard error while it compiles.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
 
 from celtstone import compile_solvers
 
@@ -19,7 +21,17 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Compile (or load from the cache) every driver; say which and how long it took."""
-    report = compile_solvers()
+    from tqdm import tqdm
+
+    with tqdm(total=1, desc="compile", unit=" run", file=sys.stderr, delay=1.0) as bar:
+
+        def progress(done: int, total: int, label: str) -> None:
+            bar.total = total
+            bar.n = done
+            bar.set_postfix_str(label, refresh=False)
+            bar.refresh()
+
+        report = compile_solvers(progress)
     if args.json:
         print(
             json.dumps(

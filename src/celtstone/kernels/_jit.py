@@ -10,17 +10,20 @@ pointer stored in the int64 field ``level_function`` of the parameter record:
 ``call_level_function`` calls it from inside a kernel (docs/decisions.md section 18);
 such shapes need the JIT (not ``NUMBA_DISABLE_JIT``).
 
-The first run after installation compiles the kernels (2–3 minutes on a 2-core machine;
-numba's on-disk cache serves every later process). So that a user at a terminal does not
-take the silence for a hang, the first compilation of a celtstone kernel in a process
-says so in one line on standard error when that is a terminal (never in a notebook,
-a pipe or a test's captured output): ``COMPILING_NOTICE``.
+The first run of a model and method after installation compiles what it calls (tens of
+seconds on a 2-core machine; numba's on-disk cache serves every later process). So that
+a user at a terminal does not take the silence for a hang, the first compilation of a
+celtstone kernel says so in one line on standard error when that is a terminal (never in
+a notebook, a pipe or a test's captured output): what compiles and about how long
+inside :func:`compiling` (the run loop names its model and method), else
+``COMPILING_NOTICE``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
 import numpy as np
@@ -31,6 +34,8 @@ from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 
 from celtstone.kernels._cache import use_celtstone_cache
+from celtstone.kernels._internals import internals_changed
+from celtstone.kernels._pruning import CodePruningCompiler
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -45,19 +50,40 @@ COMPILING_NOTICE = (
 )
 
 
+def compiling_notice(subject: str, seconds: float) -> str:
+    """The line that says what compiles: ``subject`` (e.g. "the sliding model with
+    auto") and about how long [s] it takes on a 2-core machine."""
+    return (
+        f"celtstone: compiling {subject}, about {seconds:.0f} s, once "
+        "(later runs read it from numba's cache)"
+    )
+
+
 class _CompilingNotice(event.Listener):
-    """Prints ``COMPILING_NOTICE`` when a celtstone kernel first compiles (a cache miss:
-    numba's "numba:compile" event fires only then), once per process, to a terminal."""
+    """Prints a line when a celtstone kernel first compiles (a cache miss: numba's
+    "numba:compile" event fires only then), to a terminal: inside :func:`compiling`
+    its ``compiling_notice``, once per subject, else ``COMPILING_NOTICE``, once per
+    process."""
 
     def __init__(self) -> None:
         self.shown = False
+        self.subject: tuple[str, float] | None = None
+        self.subjects_shown: set[str] = set()
 
     def on_start(self, event: event.Event) -> None:
-        if self.shown:
-            return
         function = getattr(event.data.get("dispatcher"), "py_func", None)
         if not getattr(function, "__module__", "").startswith("celtstone."):
             return  # a user's shape function, or numba's own helpers
+        if self.subject is not None:
+            subject, seconds = self.subject
+            if subject in self.subjects_shown:
+                return
+            self.subjects_shown.add(subject)
+            text = compiling_notice(subject, seconds)
+        elif self.shown:
+            return
+        else:
+            text = COMPILING_NOTICE
         self.shown = True
         stream = sys.stderr
         try:
@@ -65,7 +91,7 @@ class _CompilingNotice(event.Listener):
         except (ValueError, OSError):  # closed, or not a real stream
             terminal = False
         if terminal:
-            print(COMPILING_NOTICE, file=stream, flush=True)
+            print(text, file=stream, flush=True)
 
     def on_end(self, event: event.Event) -> None:
         pass
@@ -75,15 +101,36 @@ COMPILING = _CompilingNotice()
 event.register("numba:compile", COMPILING)
 
 
+@contextlib.contextmanager
+def compiling(subject: str, seconds: float) -> Iterator[None]:
+    """Inside, a first compile of a celtstone kernel says it compiles ``subject``, about
+    ``seconds`` [s] (``compiling_notice``), on a terminal."""
+    previous = COMPILING.subject
+    COMPILING.subject = (subject, seconds)
+    try:
+        yield
+    finally:
+        COMPILING.subject = previous
+
+
 def cached_njit(**options: Any) -> Callable[[F], F]:
     """``numba.njit(cache=True, nogil=True, error_model="numpy", **options)``, its on-disk
     cache saved so that processes compiling at once never mix entries, and loaded without
-    loading numba's compiler (``_cache``)."""
+    loading numba's compiler (``_cache``); compiled without the branches on codes that
+    its caller passes as constants (``_pruning``). Both rely on numba's private
+    functions: with a numba other than the one they were checked with
+    (``_internals``), numba's own cache and compiler."""
+
+    if internals_changed():  # another numba: its own compiler and cache (``_internals``)
+        pipeline: dict[str, Any] = {}
+    else:
+        pipeline = {"pipeline_class": CodePruningCompiler}
 
     def compile_cached(function: F) -> F:
-        compiled: F = use_celtstone_cache(
-            njit(cache=True, nogil=True, error_model="numpy", **options)(function)
-        )
+        dispatcher = njit(cache=True, nogil=True, error_model="numpy", **pipeline, **options)
+        compiled: F = dispatcher(function)
+        if not internals_changed():
+            compiled = use_celtstone_cache(compiled)
         return compiled
 
     return compile_cached

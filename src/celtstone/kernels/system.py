@@ -8,6 +8,7 @@ array (layouts documented in ``layout``).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from celtstone.kernels._jit import inlined_kernel, kernel
 from celtstone.kernels.dynamics import (
@@ -264,11 +265,36 @@ def diagnostics(model, y, params, out, work):
 
 
 @kernel
-def diagnostics_series(model, ys, params, out):
+def diagnostics_rows(model, ys, params, out):
     """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS)."""
     work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
     for i in range(ys.shape[0]):
         diagnostics(model, ys[i], params, out[i], work)
+
+
+def _rows_of(model_code: int) -> Any:
+    """``diagnostics_rows`` compiled for one model: the code a constant, so that no other
+    model's branch is compiled (``kernels._pruning``)."""
+
+    @kernel
+    def rows_of_model(ys, params, out):
+        diagnostics_rows(model_code, ys, params, out)
+
+    return rows_of_model
+
+
+_ROWS_BY_MODEL = {int(code): _rows_of(int(code)) for code in ModelCode}
+
+
+def diagnostics_series(model: int, ys: Any, params: Any, out: Any) -> None:
+    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k,
+    N_DIAGNOSTICS), from Python: compiled for ``model`` alone (an unknown code: NaN
+    rows, ``evaluate``'s status)."""
+    rows = _ROWS_BY_MODEL.get(int(model))
+    if rows is None:
+        diagnostics_rows(model, ys, params, out)
+    else:
+        rows(ys, params, out)
 
 
 @kernel

@@ -90,8 +90,9 @@ from celtstone.solvers.codes import Status as Status
 from celtstone.solvers.codes import status_label as status_label
 from celtstone.solvers.codes import stop_message as stop_message
 from celtstone.solvers.driver import integrate as integrate
+from celtstone.solvers.driver import integrate_at, integrate_link
 from celtstone.solvers.phases import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
-from celtstone.solvers.phases import integrate_link, run_phases
+from celtstone.solvers.phases import integrate_links, run_phases
 
 __all__ = [
     "DEFAULT_MAX_PHASES",
@@ -239,7 +240,8 @@ def solve(
     )
     table = event_table(int(model), float(capture_speed))
     arguments = (int(model), method, params, y0, float(t_end), controls, table, output)
-    end = _run(integrate, arguments, output, progress)
+    link = integrate_link(arguments)  # compiled for this model and method
+    end = _run(integrate_at, (link, arguments), output, progress)
     return RawSolution(**_trimmed(end, output))
 
 
@@ -271,8 +273,8 @@ def solve_phases(
     output = new_output(sample_times, y0.shape[0], max_crossings)
     log = new_phase_log(output.sample_times.shape[0], max_phases)
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
-    link = integrate_link(params, controls, output)
-    arguments = (params, y0, float(t_end), hybrid, controls, output, log, link)
+    links = integrate_links(params, hybrid, controls, output)
+    arguments = (params, y0, float(t_end), hybrid, controls, output, log, links)
     end, n_phases, rejected = _run(run_phases, arguments, output, progress)
     fields = _trimmed(end, output)
     fields["sample_times"] = log.sample_times[: end.n_samples].copy()

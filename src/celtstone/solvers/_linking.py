@@ -14,6 +14,13 @@ the caller passes it down as data. The key is checked before the call: a link to
 another overload (a stale cache after a change of the callee's types) raises
 ``RuntimeError`` instead of calling code that reads its arguments differently.
 
+A link may name an overload compiled for some arguments as constants
+(``link_to(..., constants=...)``: the run loop per model and method code, whose other
+codes' branches are then not compiled, ``kernels._pruning``); the call site passes
+those arguments as plain ints, which the callee never reads, and declares the return
+type (``address_call(..., returns=...)``) so that typing it compiles nothing. The key is
+made of the argument types without their literal values, the same on both sides.
+
 With ``NUMBA_DISABLE_JIT=1`` ``call`` calls the Python function and links are (0, 0).
 """
 
@@ -26,19 +33,23 @@ from typing import Any, cast
 from numba import types
 from numba._dispatcher import compute_fingerprint
 from numba.core import cgutils, config
+from numba.core.compiler_lock import global_compiler_lock
 from numba.core.typing.typeof import Purpose, typeof
 from numba.extending import intrinsic
 
 NO_LINK = (0, 0)  # for a callee that a call never reaches
-_LINKS: dict[tuple[Any, bytes], tuple[int, int]] = {}  # link_to's, per type fingerprint
+_LINKS: dict[tuple[Any, ...], tuple[int, int]] = {}  # link_to's, per type fingerprint
+# cached_link_to's misses: the dispatcher's number of versions when it found none
+_MISSES: dict[tuple[Any, ...], int] = {}
 LINK_TYPE = types.UniTuple(types.int64, 2)  # (address, signature key) in compiled code
 _PYTHON = bool(getattr(config, "DISABLE_JIT", 0))  # NUMBA_DISABLE_JIT=1: no compiled code
 
 
 def _signature_key(argument_types: tuple[Any, ...], return_type: Any) -> int:
-    """A 31-bit checksum of the overload's argument and return types, the same in
-    every process (numba's type names are stable)."""
-    text = f"{argument_types!r}->{return_type!r}"
+    """A 31-bit checksum of the overload's argument types, without literal values, and
+    its return type, the same in every process (numba's type names are stable)."""
+    plain = tuple(types.unliteral(argument) for argument in argument_types)
+    text = f"{plain!r}->{return_type!r}"
     return max(zlib.crc32(text.encode()) & 0x7FFFFFFF, 1)  # never NO_LINK's 0
 
 
@@ -49,27 +60,67 @@ def _overload(dispatcher: Any, argument_types: tuple[Any, ...]) -> Any:
     return dispatcher.overloads[argument_types]
 
 
-def link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int]:
+def link_to(
+    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...] = ()
+) -> tuple[int, int]:
     """(address, signature key) of ``dispatcher`` compiled for the types of
-    ``arguments`` (Python values, as a call from Python would pass them).
+    ``arguments`` (Python values, as a call from Python would pass them); the
+    arguments at the positions ``constants`` (ints) as compile-time constants
+    (numba literals), so that only their branches are compiled.
 
     Kept per numba type fingerprint of ``arguments`` (numba's own cheap key, as its
-    dispatcher keeps its types): typing a parameter record takes about 0.5 ms.
+    dispatcher keeps its types) and the constants' values: typing a parameter record
+    takes about 0.5 ms.
     """
     if _PYTHON:
         return NO_LINK
+    values = tuple(int(arguments[position]) for position in constants)
     try:
-        fingerprint = (dispatcher, compute_fingerprint(arguments))
+        fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
     except NotImplementedError:  # a value numba has no fingerprint for: typed each call
-        return _new_link(dispatcher, arguments)
+        return _new_link(dispatcher, arguments, constants)
     link = _LINKS.get(fingerprint)
     if link is None:
-        link = _LINKS[fingerprint] = _new_link(dispatcher, arguments)
+        link = _LINKS[fingerprint] = _new_link(dispatcher, arguments, constants)
     return link
 
 
-def _new_link(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int]:
+def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int] | None:
+    """``link_to(dispatcher, arguments)`` if that version is compiled in this process or
+    in numba's on-disk cache (then loaded), else None: nothing is compiled."""
+    if _PYTHON:
+        return NO_LINK
+    try:
+        fingerprint = (dispatcher, compute_fingerprint(arguments), (), ())
+    except NotImplementedError:
+        fingerprint = None
+    link = _LINKS.get(fingerprint) if fingerprint is not None else None
+    if link is not None:
+        return link
+    if fingerprint is not None and _MISSES.get(fingerprint) == len(dispatcher.overloads):
+        return None  # not in the cache, and nothing compiled since: typed once
     argument_types = tuple(typeof(value, Purpose.argument) for value in arguments)
+    if argument_types not in dispatcher.overloads:
+        with global_compiler_lock:  # as numba's own load, in ``Dispatcher.compile``
+            loaded = dispatcher._cache.load_overload(argument_types, dispatcher.targetctx)
+            if loaded is None:
+                if fingerprint is not None:
+                    _MISSES[fingerprint] = len(dispatcher.overloads)
+                return None
+            dispatcher.targetctx.insert_user_function(
+                loaded.entry_point, loaded.fndesc, [loaded.library]
+            )
+            dispatcher.add_overload(loaded)
+    return link_to(dispatcher, arguments)
+
+
+def _new_link(
+    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...]
+) -> tuple[int, int]:
+    argument_types = tuple(
+        types.literal(int(value)) if position in constants else typeof(value, Purpose.argument)
+        for position, value in enumerate(arguments)
+    )
     overload = _overload(dispatcher, argument_types)
     address = overload.library.get_pointer_to_function(overload.fndesc.llvm_func_name)
     if not address:
@@ -77,8 +128,14 @@ def _new_link(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int]:
     return address, _signature_key(argument_types, overload.signature.return_type)
 
 
-def address_call(dispatcher: Any) -> Callable[..., Any]:
-    """``call(link, arguments)``: ``dispatcher(*arguments)`` at ``link``'s address."""
+def address_call(dispatcher: Any, returns: Any = None) -> Callable[..., Any]:
+    """``call(link, arguments)``: ``dispatcher(*arguments)`` at ``link``'s address.
+
+    ``returns``: the callee's numba return type, for a link to an overload with
+    constant arguments (``link_to``'s ``constants``); typing the call then compiles
+    nothing. Without it the call's typing compiles (or loads) the overload for the
+    arguments' types, for its return type.
+    """
     if _PYTHON:
 
         def call_python(link: tuple[int, int], arguments: tuple[Any, ...]) -> Any:
@@ -93,8 +150,10 @@ def address_call(dispatcher: Any) -> Callable[..., Any]:
         if link != LINK_TYPE or not isinstance(arguments, types.BaseTuple):
             return None  # numba reports the call's types as not supported
         argument_types = tuple(cast(Iterable[Any], arguments))  # its member types
-        overload = _overload(dispatcher, argument_types)
-        return_type = overload.signature.return_type
+        if returns is None:
+            return_type = _overload(dispatcher, argument_types).signature.return_type
+        else:
+            return_type = returns
         key = _signature_key(argument_types, return_type)
 
         def codegen(context: Any, builder: Any, signature: Any, values: Any) -> Any:

@@ -36,7 +36,8 @@ from celtstone.solvers._structures import (
     new_phase_log,
 )
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
-from celtstone.solvers.phases import DEFAULT_MAX_PHASES, call_integrate, integrate_link, run_phases
+from celtstone.solvers.driver import call_integrate, integrate_link
+from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_links, run_phases
 
 call_run_phases = address_call(run_phases)  # neither loop linked in: see ``solvers._linking``
 
@@ -180,9 +181,10 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
     """Run and reduce every point into its row of ``results``. ``methods`` is (the method,
     the method of stick phases); a point with a capture speed runs the hybrid contact
     (``phases.run_phases``), as ``simulate`` with ``HybridModel``. ``links`` are those of
-    ``driver.integrate`` and ``phases.run_phases`` (``_linking``; the second ``NO_LINK``
-    without hybrid points)."""
-    integrate_link, phases_link = links
+    ``driver.integrate`` for the model and method, ``phases.run_phases`` and its two
+    links to ``driver.integrate`` (``_linking``; ``NO_LINK`` where no point runs the
+    loop)."""
+    to_integrate, phases_link, phase_links = links
     spins = np.zeros(output.sample_times.shape[0])
     averaged = np.zeros(output.sample_times.shape[0])
     first_time = np.zeros(1)
@@ -194,12 +196,12 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
         output.stats[:] = 0
         if points.capture_speeds[i] > 0.0:
             contact = HybridSettings(methods[0], methods[1], points.capture_speeds[i])
-            arguments = (p, y0, t_end, contact, controls, output, log, integrate_link)
+            arguments = (p, y0, t_end, contact, controls, output, log, phase_links)
             end, _, _ = call_run_phases(phases_link, arguments)
             times = log.sample_times
         else:
             arguments = (model, methods[0], p, y0, t_end, controls, table, output)
-            end = call_integrate(integrate_link, arguments)
+            end = call_integrate(to_integrate, arguments)
             times = output.sample_times
         reversal = (points.reversal_bands[i], points.reversal_windows[i], averaged, first_time)
         _reduce(
@@ -281,22 +283,36 @@ def run_batch(
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])
     results = np.empty((n_points, N_FIELDS))
-    links = _links(points, float(t_end), controls, output, log)
+    links = _links(int(model), methods, points, float(t_end), controls, output, log)
     _batch(int(model), methods, points, float(t_end), controls, output, log, links, results)
     return results
 
 
 def _links(
-    points: Points, t_end: float, controls: Controls, output: Output, log: PhaseLog
-) -> tuple[tuple[int, int], tuple[int, int]]:
-    """``_batch``'s links: ``driver.integrate``, and ``phases.run_phases`` if a point runs
-    the hybrid contact (else ``NO_LINK``, so that a batch without one does not compile it)."""
+    model: int,
+    methods: tuple[int, int],
+    points: Points,
+    t_end: float,
+    controls: Controls,
+    output: Output,
+    log: PhaseLog,
+) -> tuple[tuple[int, int], tuple[int, int], tuple[tuple[int, int], tuple[int, int]]]:
+    """``_batch``'s links: ``driver.integrate`` for ``model`` and the method if a point
+    runs one model, ``phases.run_phases`` and its two links if a point runs the hybrid
+    contact (else ``NO_LINK``, so that a batch without one does not compile it)."""
+    hybrid_points = points.capture_speeds > 0.0
+    to_integrate = to_phases = NO_LINK
+    phase_links = (NO_LINK, NO_LINK)
     if points.params.shape[0] == 0:
-        return NO_LINK, NO_LINK
+        return to_integrate, to_phases, phase_links
     params, y0 = points.params[0], points.initial_states[0]
-    to_integrate = integrate_link(params, controls, output)
-    if not np.any(points.capture_speeds > 0.0):
-        return to_integrate, NO_LINK
-    hybrid = HybridSettings(0, 0, 1.0)
-    arguments = (params, y0, t_end, hybrid, controls, output, log, to_integrate)
-    return to_integrate, link_to(run_phases, arguments)
+    if not np.all(hybrid_points):
+        table = event_table(model, 0.0)
+        arguments = (model, methods[0], params, y0, t_end, controls, table, output)
+        to_integrate = integrate_link(arguments)
+    if np.any(hybrid_points):
+        hybrid = HybridSettings(methods[0], methods[1], 1.0)
+        phase_links = integrate_links(params, hybrid, controls, output)
+        phase_arguments = (params, y0, t_end, hybrid, controls, output, log, phase_links)
+        to_phases = link_to(run_phases, phase_arguments)
+    return to_integrate, to_phases, phase_links

@@ -12,26 +12,34 @@ event, at a singular or off-shape right-hand side, or on integrator failure.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
+from numba.core.typing.typeof import typeof
 
-from celtstone.kernels._jit import kernel
+from celtstone.kernels._internals import internals_changed
+from celtstone.kernels._jit import compiling, kernel
 from celtstone.kernels.layout import (
     RHS_CONTACT_RANGE,
     RHS_NON_CONVEX,
     RHS_OFF_SHAPE,
     RHS_OK,
     RHS_SINGULAR,
+    ModelCode,
 )
 from celtstone.kernels.system import rhs, spin_and_normal_force
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
+from celtstone.solvers._linking import address_call, cached_link_to, link_to
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._structures import RunEnd
 from celtstone.solvers.codes import (
     METHOD_AUTO,
+    METHOD_DOP853,
     METHOD_RADAU5,
+    METHOD_VERN9,
+    METHODS,
     STAT_ACCEPTED,
     STAT_NFEV,
     STAT_RADAU_STEPS,
@@ -296,3 +304,53 @@ def stop_at(
     if normal_force < min_normal:
         return normal_force, t_limit
     return min_normal, t_min_normal
+
+
+RUN_END_TYPE = typeof(RunEnd(0, 0, 0, 0.0, 0.0, 0.0))  # integrate's return type in numba
+# integrate's arguments compiled as constants; none where numba's own compiler runs,
+# which would compile every branch for each (``kernels._internals``)
+MODEL_AND_METHOD = () if internals_changed() else (0, 1)
+call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers._linking``
+
+
+# The methods whose run loops are compiled on their own for a model when the loop for
+# every code is not compiled yet: a first rolling run with vern9 compiles in 34 s of CPU
+# instead of 56 s (2-core machine, empty cache). A loop of auto or radau5 holds most
+# of the code of every method and compiles nearly as long on its own, so those runs
+# compile the loop for every code, which serves every later run.
+OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
+# CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
+OWN_LOOP_SECONDS = 35.0
+EVERY_CODE_SECONDS = 60.0
+
+
+def integrate_link(arguments: tuple[Any, ...], own_loop: bool = True) -> tuple[int, int]:
+    """The link to ``integrate`` for ``arguments`` (Python side; loads or compiles it,
+    saying so on a terminal when it compiles).
+
+    The loop for every model and method code if it is compiled (in this process or
+    numba's cache: ``celtstone compile``, or an earlier run); else, with ``own_loop``
+    and a method of ``OWN_LOOP_METHODS``, the loop compiled for ``arguments``' model
+    and method as constants (``MODEL_AND_METHOD``), which compiles only their
+    branches; else the loop for every code, compiled now (the stick–slip loop's two
+    phases call one loop).
+    """
+    every_code = cached_link_to(integrate, arguments)
+    if every_code is not None:
+        return every_code
+    model, method = int(arguments[0]), int(arguments[1])
+    names = {code: name for name, code in METHODS.items()}
+    if own_loop and MODEL_AND_METHOD and method in OWN_LOOP_METHODS:
+        model_names = {int(code): code.name.lower() for code in ModelCode}
+        subject = f"the {model_names.get(model, model)} model with {names[method]}"
+        with compiling(subject, OWN_LOOP_SECONDS):
+            return link_to(integrate, arguments, MODEL_AND_METHOD)
+    with compiling("the run loop of every model and method", EVERY_CODE_SECONDS):
+        return link_to(integrate, arguments)
+
+
+@kernel
+def integrate_at(link, arguments):
+    """``integrate(*arguments)`` at ``link`` (:func:`integrate_link` of the same
+    arguments): the entry from Python."""
+    return call_integrate(link, arguments)

@@ -29,8 +29,7 @@ from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, Y_WORK
 from celtstone.kernels.stick import capture_state, slip_spin_speed
 from celtstone.kernels.system import energy, phase_value
 from celtstone.solvers._events import event_table
-from celtstone.solvers._linking import address_call, link_to
-from celtstone.solvers._structures import Controls, Output, RunEnd
+from celtstone.solvers._structures import Controls, HybridSettings, Output, RunEnd
 from celtstone.solvers.codes import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
 from celtstone.solvers.codes import (
     STAT_ACCEPTED,
@@ -40,21 +39,30 @@ from celtstone.solvers.codes import (
     STATUS_PHASE_CHANGE,
     STATUS_SUCCESS,
 )
-from celtstone.solvers.driver import integrate
+from celtstone.solvers.driver import call_integrate, integrate_link
 
 SLIP = 0
 STICK = 1
 
-call_integrate = address_call(integrate)  # not linked in: see ``solvers._linking``
 
-
-def integrate_link(params: np.ndarray, controls: Controls, output: Output) -> tuple[int, int]:
-    """The link to ``driver.integrate`` for the arguments ``run_phase`` passes it, from
-    a run's parameter record, controls and output (Python side; compiles or loads it)."""
+def integrate_links(
+    params: np.ndarray, hybrid: HybridSettings, controls: Controls, output: Output
+) -> tuple[tuple[int, int], tuple[int, int]]:
+    """The links to ``driver.integrate`` for slip (the sliding model, the slip method)
+    and stick (the stick model, the stick method), for the arguments ``run_phase``
+    passes it, from a run's parameter record, settings, controls and output (Python
+    side; compiles or loads them). Both phases run the loop for every code, compiled
+    once (``driver.integrate_link``)."""
     state = np.zeros(output.final_state.shape[0])
-    table = event_table(MODEL_SLIDING, 1.0)
-    arguments = (MODEL_SLIDING, 0, params, state, 0.0, controls, table, output)
-    return link_to(integrate, arguments)
+    links = []
+    for model, method in (
+        (MODEL_SLIDING, hybrid.slip_method),
+        (MODEL_STICK, hybrid.stick_method),
+    ):
+        table = event_table(model, 1.0)
+        arguments = (model, int(method), params, state, 0.0, controls, table, output)
+        links.append(integrate_link(arguments, own_loop=False))
+    return links[0], links[1]
 
 
 @kernel
@@ -96,10 +104,11 @@ def run_phase(
     output,
     first_sample,
     first_crossing,
-    integrate_link,
+    integrate_links,
 ):
     """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
-    at most ``steps_left`` steps, with ``driver.integrate`` at ``integrate_link``; its
+    at most ``steps_left`` steps, with ``driver.integrate`` at its link of
+    ``integrate_links`` (slip, stick); its
     samples go to ``output`` from ``first_sample``, its crossings from ``first_crossing``
     (to a spare buffer once ``output.crossings`` is full). Returns (``RunEnd``, its
     shifted sample times, its crossing buffer)."""
@@ -122,12 +131,13 @@ def run_phase(
     )
     table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
     arguments = (model, method, params, y, t_end - t0, phase_controls, table, phase_output)
-    end = call_integrate(integrate_link, arguments)
+    link = integrate_links[1] if kind == STICK else integrate_links[0]
+    end = call_integrate(link, arguments)
     return end, times, crossings
 
 
 @kernel
-def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_link):
+def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links):
     """Integrate the hybrid contact over [0, t_end] [s]; see the module docstring.
 
     Parameters
@@ -139,8 +149,9 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_link)
     controls : ``_structures.Controls``; ``max_steps`` bounds the steps of all phases
     output : ``_structures.Output`` over the whole run, filled
     log : ``_structures.PhaseLog``, filled
-    integrate_link : the link to ``driver.integrate`` that :func:`integrate_link` makes
-        from the run's parameter record, controls and output (``solvers._linking``)
+    integrate_links : the links to ``driver.integrate`` for slip and stick that
+        :func:`integrate_links` makes from the run's parameter record, settings,
+        controls and output (``solvers._linking``)
 
     Returns
     -------
@@ -181,7 +192,7 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_link)
             output,
             n_samples,
             n_stored,
-            integrate_link,
+            integrate_links,
         )
         for i in range(end.n_samples):
             log.sample_times[n_samples + i] = times[i] + t0

@@ -1,0 +1,148 @@
+"""numba's compiler with the branches on a constant code removed before typing.
+
+A model, method or other code reaches the kernels as a plain int, and every dispatch on
+it is an ``if code == CODE:`` chain. Where a caller passes the code as a constant
+(``integrate``'s entries per model and method, ``solvers.driver``), numba types the
+callee's argument as a literal (``Literal[int](0)``), but its own branch pruning folds
+only comparisons with ``None``: it still types, lowers and optimises every other
+model's and method's branch, and compiles every kernel they call: a first rolling run
+compiled the sliding and stick models and all four methods (56 s of CPU on the 2-core
+machine, against 34 s with this pass; ``benchmarks/bench_cold_start.py``).
+
+:class:`CodePruningCompiler` is numba's nopython pipeline with one more pass,
+:class:`FoldCodeComparisons`, before and after numba inlines the ``inline="always"``
+helpers: a comparison of two values known at compile time (a literal argument, a
+constant, a module-level int, an ``IntEnum`` member) becomes the constant it evaluates
+to, and numba's own dead-branch pass then removes the branch it decides. A comparison
+with anything else is left as it is, so a call with a runtime code compiles every branch,
+as before. Nothing else changes: the same IR minus branches a run can never take.
+
+The pass uses numba's documented extension points for compiler passes
+(``numba.core.compiler_machinery``, ``CompilerBase.define_pipelines``); the pinned
+numba's pass names are checked at import.
+"""
+
+from __future__ import annotations
+
+import operator
+from types import ModuleType
+from typing import Any
+
+from numba.core import ir, types
+from numba.core.analysis import compute_cfg_from_blocks, dead_branch_prune
+from numba.core.compiler import CompilerBase, DefaultPassBuilder
+from numba.core.compiler_machinery import FunctionPass, register_pass
+from numba.core.ir_utils import build_definitions, get_definition, guard
+from numba.core.untyped_passes import InlineClosureLikes, InlineInlinables
+
+_COMPARISONS = {
+    operator.eq,
+    operator.ne,
+    operator.lt,
+    operator.le,
+    operator.gt,
+    operator.ge,
+}
+
+
+class _Unknown:
+    """A value not known at compile time."""
+
+
+UNKNOWN = _Unknown()
+
+
+def _known(value: Any) -> Any:
+    """``value`` if it is a compile-time int or bool (an ``IntEnum`` member too)."""
+    return value if isinstance(value, int) else UNKNOWN  # bool and IntEnum are ints
+
+
+def constant_value(func_ir: Any, variable: Any, argument_types: Any) -> Any:
+    """The int or bool ``variable`` holds whatever the call, or ``UNKNOWN``.
+
+    Known: a literal argument (``Literal[int]``, ``Literal[bool]``), a constant, a
+    global or closure value, an attribute of a global module or class (``codes.X``,
+    ``ModelCode.ROLLING``). A variable with several definitions is unknown.
+    """
+    definition = guard(get_definition, func_ir, variable)
+    if isinstance(definition, ir.Arg):
+        if argument_types is None or definition.index >= len(argument_types):
+            return UNKNOWN
+        argument = argument_types[definition.index]
+        if isinstance(argument, (types.IntegerLiteral, types.BooleanLiteral)):
+            return _known(argument.literal_value)
+        return UNKNOWN
+    if isinstance(definition, (ir.Const, ir.Global, ir.FreeVar)):
+        return _known(definition.value)
+    if isinstance(definition, ir.Expr) and definition.op == "getattr":
+        owner = guard(get_definition, func_ir, definition.value)
+        if isinstance(owner, (ir.Global, ir.FreeVar)) and isinstance(
+            owner.value, (ModuleType, type)
+        ):
+            return _known(getattr(owner.value, definition.attr, UNKNOWN))
+    return UNKNOWN
+
+
+def fold_code_comparisons(func_ir: Any, argument_types: Any) -> bool:
+    """Replace each comparison of two compile-time values by its result; whether any was."""
+    folded = False
+    for block in func_ir.blocks.values():
+        for statement in block.body:
+            if not isinstance(statement, ir.Assign):
+                continue
+            expression = statement.value
+            if not (
+                isinstance(expression, ir.Expr)
+                and expression.op == "binop"
+                and expression.fn in _COMPARISONS
+            ):
+                continue
+            left = constant_value(func_ir, expression.lhs, argument_types)
+            right = constant_value(func_ir, expression.rhs, argument_types)
+            if left is UNKNOWN or right is UNKNOWN:
+                continue
+            result = ir.Const(bool(expression.fn(int(left), int(right))), loc=expression.loc)
+            statement.value = result
+            definitions = func_ir._definitions[statement.target.name]
+            definitions[definitions.index(expression)] = result
+            folded = True
+    return folded
+
+
+@register_pass(mutates_CFG=True, analysis_only=False)
+class FoldCodeComparisons(FunctionPass):
+    """Fold comparisons of compile-time codes, then let numba prune the branches they
+    decide; repeated while something folds (a pruned branch can leave a variable with
+    one definition, and so known)."""
+
+    _name = "celtstone_fold_code_comparisons"
+
+    def __init__(self) -> None:
+        FunctionPass.__init__(self)
+
+    def run_pass(self, state: Any) -> bool:
+        changed = False
+        func_ir = state.func_ir
+        while fold_code_comparisons(func_ir, state.args):
+            dead_branch_prune(func_ir, state.args)
+            # the blocks no branch reaches any more, and their definitions: a variable
+            # assigned in one live block only is then known (an inlined helper's return)
+            for label in compute_cfg_from_blocks(func_ir.blocks).dead_nodes():
+                del func_ir.blocks[label]
+            func_ir._definitions = build_definitions(func_ir.blocks)
+            changed = True
+        return changed
+
+
+class CodePruningCompiler(CompilerBase):
+    """numba's nopython pipeline with :class:`FoldCodeComparisons` after its inlining of
+    closures (before the helpers are inlined: none is inlined into a dead branch) and
+    after its inlining of ``inline="always"`` functions (their branches on the caller's
+    codes)."""
+
+    def define_pipelines(self) -> list[Any]:
+        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pipeline.add_pass_after(FoldCodeComparisons, InlineClosureLikes)
+        pipeline.add_pass_after(FoldCodeComparisons, InlineInlinables)
+        pipeline.finalize()
+        return [pipeline]

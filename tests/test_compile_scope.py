@@ -1,0 +1,140 @@
+"""A first run compiles what it needs: the run loop per model and method, with the other
+codes' branches removed before typing (``kernels._pruning``, ``solvers.driver``).
+
+Each check runs in a new process with an empty numba cache, as a user's first run does,
+and lists what numba compiled there (its "numba:compile" event fires on a cache miss
+only)."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numba
+import pytest
+
+from celtstone.kernels import _jit
+
+_LISTING = """
+import json, sys
+from numba.core import event
+
+compiled = []
+
+
+class Listing(event.Listener):
+    def on_start(self, ev):
+        function = ev.data["dispatcher"].py_func
+        types = [str(t) for t in ev.data["args"]]
+        compiled.append([function.__module__ + "." + function.__qualname__, types])
+
+    def on_end(self, ev):
+        pass
+
+
+event.register("numba:compile", Listing())
+"""
+
+# kernels only the sliding model, the stick phase, or another method than vern9 calls
+SLIDING_OR_STICK = (
+    "celtstone.kernels.dynamics.sliding_acceleration",
+    "celtstone.kernels.stick.stick_acceleration",
+    "celtstone.kernels.friction_exact.exact_friction",
+    "celtstone.kernels.friction.pade_friction",
+    "celtstone.solvers.phases.run_phases",
+)
+OTHER_METHODS = ("celtstone.solvers._radau.", "celtstone.solvers._dop853.")
+
+
+def _compiled_in_new_process(code: str, cache: Path) -> list[list[object]]:
+    """What numba compiles while ``code`` runs in a new process on the empty cache ``cache``."""
+    script = _LISTING + code + "\nprint(json.dumps(compiled))\n"
+    environment = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    completed = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        env=environment,
+        check=False,
+        timeout=1800,
+    )
+    assert completed.returncode == 0, completed.stderr[-3000:]
+    listing: list[list[object]] = json.loads(completed.stdout.splitlines()[-1])
+    return listing
+
+
+def test_the_diagnostics_of_a_rolling_run_compile_no_other_model(tmp_path: Path) -> None:
+    """The derived columns of a rolling run (``system.diagnostics_series``) compile the
+    rolling equations and not the sliding or stick ones, which the same kernels hold in
+    branches on the model code."""
+    code = """
+import numpy as np
+import celtstone as cs
+from celtstone.kernels import layout, system
+from celtstone.models import RollingModel, kernel_parameters
+
+body = cs.load_body("kane_levinson_1982")
+params = kernel_parameters(RollingModel(), body)
+state = np.zeros(layout.N_STATE)
+state[layout.Y_N + 2] = 1.0
+state[layout.Y_QUAT] = 1.0
+out = np.empty((1, system.N_DIAGNOSTICS))
+system.diagnostics_series(layout.MODEL_ROLLING, state[None, :], params, out)
+"""
+    names = [name for name, _ in _compiled_in_new_process(code, tmp_path)]
+    assert "celtstone.kernels.dynamics.rolling_acceleration" in names
+    assert not set(SLIDING_OR_STICK) & set(names), names
+
+
+@pytest.mark.slow
+def test_a_first_rolling_run_compiles_only_the_rolling_model_and_its_method(
+    tmp_path: Path,
+) -> None:
+    """A first rolling run (vern9, its summary) compiles one run loop, for the rolling
+    model and vern9 as constants, and none of the sliding model's, the stick phase's or
+    the other methods' steps."""
+    code = """
+import celtstone as cs
+
+body = cs.load_body("kane_levinson_1982")
+state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
+cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
+"""
+    compiled = _compiled_in_new_process(code, tmp_path)
+    names = [name for name, _ in compiled]
+    loops = [types for name, types in compiled if name == "celtstone.solvers.driver.integrate"]
+    assert loops == [["Literal[int](0)", "Literal[int](3)", *loops[0][2:]]], (
+        "the run loop compiled once, for the rolling model (0) and vern9 (3)"
+    )
+    assert not set(SLIDING_OR_STICK) & set(names), names
+    # every method's (empty) workspace is made: the run loop's workspace tuple has one type
+    steps = [name for name in names if name.startswith(OTHER_METHODS)]
+    assert all(name.endswith(".workspace") for name in steps), steps
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_compile_inside_a_run_says_what_it_compiles(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The run loop's compile names its model and method and about how long, once per
+    subject, on a terminal (``kernels._jit.compiling``)."""
+    stream = _Terminal()
+    monkeypatch.setattr(sys, "stderr", stream)
+    monkeypatch.setattr(_jit.COMPILING, "subjects_shown", set())
+
+    def probe(x: float) -> float:
+        return 3.0 * x
+
+    probe.__module__ = "celtstone.solvers.probe"
+    with _jit.compiling("the rolling model with vern9", 35.0):
+        numba.njit(probe)(1.0)
+        numba.njit(probe)(2.0)  # the same subject: said once
+    line = _jit.compiling_notice("the rolling model with vern9", 35.0)
+    assert stream.getvalue() == line + "\n"
+    assert line.startswith("celtstone: compiling the rolling model with vern9, about 35 s, once")
