@@ -28,6 +28,8 @@ TRUTH = {"friction_coefficient": 0.3, "contact_radius": 1e-3}
 NOISE = 0.05  # rad/s, of the spin
 SEEDS = range(5)
 DURATION = 2.5  # s, at 100 samples per second
+# records shorter than the first reversal: the fit says so (tested in test_fit_trust.py)
+NO_REVERSAL = pytest.mark.filterwarnings("ignore:the fitted spin does not reverse")
 
 
 def _truth_run(body: cs.Body, state: cs.InitialState, duration: float) -> cs.Trajectory:
@@ -68,7 +70,9 @@ def test_synthetic_recovery_within_the_standard_errors(
     for seed in SEEDS:
         noisy = spin + np.random.default_rng(seed).normal(0.0, NOISE, spin.size)
         record = cs.make_record(times, {"spin": noisy})
-        result = cs.fit(record, kane_levinson, "sliding", [*truth], start=start)
+        result = cs.fit(
+            record, kane_levinson, "sliding", [*truth], start=start, sensor_bias=False, starts=1
+        )
         errors = result.standard_errors
         deviations = np.abs(result.values - np.array(list(truth.values()))) / errors
         assert np.all(np.isfinite(errors)) and np.all(deviations < 3.0), (seed, deviations)
@@ -91,6 +95,8 @@ def test_friction_and_contact_size_from_spin_alone_are_correlated() -> None:
             "sliding",
             ["friction_coefficient", "contact_radius"],
             fixed={"omega3": 5.0},
+            sensor_bias=False,
+            starts=1,
         )
     assert abs(result.correlation[0, 1]) > 0.99
     pair = result.summary()["strongly_correlated"][0]
@@ -98,6 +104,7 @@ def test_friction_and_contact_size_from_spin_alone_are_correlated() -> None:
     assert abs(pair["correlation"]) > 0.99
 
 
+@NO_REVERSAL
 def test_pure_pivoting_leaves_only_the_product(kane_levinson: cs.Body) -> None:
     """Spin about the upright axis 3 without tilt: the only torque is the pivoting moment
     ∝ f ε, so the Jacobian has rank 1 and neither is determined alone."""
@@ -110,6 +117,8 @@ def test_pure_pivoting_leaves_only_the_product(kane_levinson: cs.Body) -> None:
             "sliding",
             ["friction_coefficient", "contact_radius"],
             fixed={"euler_alpha": 0.0, "euler_beta": 0.0, "omega3": -5.0},
+            sensor_bias=False,
+            starts=1,
         )
     summary = result.summary()
     assert summary["jacobian_rank"] == 1
@@ -133,6 +142,7 @@ def _problem(kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]) -> 
         "sliding",
         ["friction_coefficient", "contact_radius"],
         fixed={"omega3": -5.0},
+        sensor_bias=False,
         rtol=1e-8,
         atol=1e-10,
     )
@@ -218,6 +228,7 @@ def test_not_speculating_runs_only_the_residual(
         assert _jacobian_runs(runs, problem.start)[1] == 2
 
 
+@NO_REVERSAL
 def test_a_speculative_fit_takes_the_serial_fits_path(
     kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]
 ) -> None:
@@ -229,7 +240,7 @@ def test_a_speculative_fit_takes_the_serial_fits_path(
     free = ["friction_coefficient", "contact_radius"]
     wasted = 0
     # starts far from the truth (f 0.3, eps 1 mm), so that the optimiser rejects trial
-    # points and the speculation under test wastes runs: 5 and 2 on 2026-11-26 (a start
+    # points and the speculation under test wastes runs (5 and 2 when measured; a start
     # near the truth rejects none, and which one does moves with the last bits of a run)
     for start in (
         {"friction_coefficient": 2.0, "contact_radius": 5e-4},
@@ -244,6 +255,8 @@ def test_a_speculative_fit_takes_the_serial_fits_path(
                 start=start,
                 fixed={"omega3": -5.0},
                 workers=workers,
+                sensor_bias=False,
+                starts=1,
             )
             for workers in (1, 2)
         )
@@ -254,6 +267,7 @@ def test_a_speculative_fit_takes_the_serial_fits_path(
     assert wasted > 0  # a trial point was rejected
 
 
+@NO_REVERSAL
 def test_profile_interval_of_a_near_linear_parameter(
     kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]
 ) -> None:
@@ -271,9 +285,12 @@ def test_profile_interval_of_a_near_linear_parameter(
         fixed={"omega3": -5.0},
         profile="friction_coefficient",
         progress=lambda runs, cost: reports.append((runs, cost)),
+        sensor_bias=False,
+        starts=1,
     )
     runs = [count for count, _ in reports]
-    assert runs == sorted(runs) and runs[-1] == result.runs - 1  # all but the final run
+    # all but the final run and its check at tighter tolerances
+    assert runs == sorted(runs) and runs[-1] == result.runs - 2
     assert min(cost for _, cost in reports) == pytest.approx(result.cost)
     assert result.profile is not None
     low, high = result.profile.interval
@@ -283,6 +300,7 @@ def test_profile_interval_of_a_near_linear_parameter(
     assert (high - low) / 2.0 == pytest.approx(half_width, rel=0.2)
 
 
+@NO_REVERSAL
 def test_yaw_and_tilt_from_video(kane_levinson: cs.Body, tmp_path: Path) -> None:
     """A video record: yaw [rad] with an arbitrary zero and tilt [deg] in a CSV file."""
     run = _truth_run(kane_levinson, KL_STATE, 1.5)
@@ -329,6 +347,7 @@ def _phyphox_record(path: Path, body: cs.Body) -> Path:
     return path
 
 
+@NO_REVERSAL
 def test_cli_writes_the_fit_directory_whole(
     kane_levinson: cs.Body, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -342,7 +361,8 @@ def test_cli_writes_the_fit_directory_whole(
     captured = capsys.readouterr()
     summary = json.loads(captured.out)
     assert "the initial state omega1 = " in captured.err  # held at the noisy first sample
-    assert sorted(p.name for p in out.iterdir()) == ["fit.png", "fit.svg", "run.nc", "summary.json"]
+    names = ["fit.png", "fit.svg", "run.nc", "summary.json"]  # and the manifest that owns them
+    assert sorted(p.name for p in out.iterdir()) == [".celtstone-output.json", *names]
     assert json.loads((out / "summary.json").read_text()) == summary
     assert summary["parameters"]["friction_coefficient"]["value"] == pytest.approx(0.3, rel=0.01)
     assert summary["runs"] > 0 and summary["failed_runs"] == 0 and summary["wall_time"] > 0
@@ -362,6 +382,6 @@ def test_cli_writes_the_fit_directory_whole(
     (thesis / "chapter.tex").write_text("keep me")
     arguments[arguments.index(str(out))] = str(thesis)
     assert main([*arguments, "--overwrite"]) == 2
-    assert "only a fit's directory" in capsys.readouterr().err
+    assert "replaces only what celtstone wrote itself" in capsys.readouterr().err
     assert sorted(p.name for p in thesis.iterdir()) == ["chapter.tex"]
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".part")]

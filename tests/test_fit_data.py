@@ -118,7 +118,7 @@ BAD_DATA = {
     "too few points": (
         "t,w\n0,-5\n0.01,-4.9\n",
         ["--column", "spin=w", "--free", "friction_coefficient,contact_radius,damping"],
-        "more values than the 3 free",
+        "more values than the 4 free",  # 3 and the spin's bias
     ),
     "no variation": (
         "t,w\n" + "".join(f"{0.01 * i},-5\n" for i in range(20)),
@@ -152,6 +152,14 @@ BAD_DATA = {
         "start of friction_coefficient",
     ),
     "starts": (GOOD, ["--column", "spin=w", "--starts", "0"], "starts"),
+    # issue 37: each of these gave a traceback
+    "empty file": ("", [], "data ="),
+    "only newlines": ("\n\n\n", [], "data ="),
+    "one column named time": ("time\n0\n1\n2\n", [], "NAME=HEADER for a series"),
+    "tiny sigma": (GOOD, ["--column", "spin=w", "--sigma", "spin=1e-300"], "sigma of spin"),
+    "huge starts": (GOOD, ["--column", "spin=w", "--starts", "1e12"], "<= 1000"),
+    "workers 0": (GOOD, ["--column", "spin=w", "--workers", "0"], "workers"),
+    "unknown bias": (GOOD, ["--column", "spin=w", "--set", "bias_omega1=0.1"], "bias_spin"),
 }
 
 
@@ -170,3 +178,48 @@ def test_bad_data_is_one_line_and_exit_2(
     assert len(lines) == 1 and lines[0].startswith("celtstone: error: "), captured.err
     assert named in lines[0]
     assert "Traceback" not in captured.err and captured.out == ""
+
+
+def test_fit_workers_and_starts_checked_from_python() -> None:
+    """The API refuses what the CLI refuses, with the same one-line error (issue 37)."""
+    record = cs.make_record([0.0, 0.01, 0.02, 0.03], {"spin": [-5.0, -4.9, -4.8, -4.75]})
+    for keyword, value in (("workers", 0), ("workers", 2.5), ("starts", 0), ("starts", 10**12)):
+        with pytest.raises(cs.ParameterError, match=keyword):
+            cs.fit(record, "kane_levinson_1982", free=["friction_coefficient"], **{keyword: value})
+
+
+def test_columns_named_like_series_need_no_mapping(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path / "r.csv",
+        "time (s),spin (rad/s),omega1 (deg/s)\n0,-5,1\n0.01,-4.9,2\n0.02,-4.8,4\n",
+    )
+    record = cs.read_record(path)
+    assert set(record.series) == {"spin", "omega1"}
+    np.testing.assert_allclose(record.series["omega1"], np.radians([1.0, 2.0, 4.0]))
+    assert record.columns["time"] == "time (s)"
+
+
+def test_phyphox_semicolon_decimal_comma(tmp_path: Path) -> None:
+    """phyphox's own "semicolon, decimal comma" export reads as its comma export does."""
+    times = 0.01 * np.arange(20)
+    sensor = np.column_stack([np.sin(times), np.cos(times), -5.0 + times])
+    comma = _phyphox_file(tmp_path / "comma.csv", times, sensor)
+    text = comma.read_text(encoding="utf-8").replace(",", ";")
+    text = "\n".join(
+        line if i == 0 else line.replace(".", ",") for i, line in enumerate(text.splitlines())
+    )
+    semicolon = _write(tmp_path / "semicolon.csv", text + "\n")
+    a, b = cs.read_record(comma), cs.read_record(semicolon)
+    np.testing.assert_array_equal(a.times, b.times)
+    for name in ("omega1", "omega2", "omega3"):
+        np.testing.assert_array_equal(a.series[name], b.series[name])
+
+
+def test_sensor_rotation_with_a_leading_minus_is_a_value() -> None:
+    """``--sensor-rotation -y,x,z`` is read as written, not as an unknown option."""
+    from celtstone.cli.main import build_parser
+
+    args = build_parser().parse_args(
+        ["fit", "r.csv", "--body", "b", "--free", "f", "--sensor-rotation", "-y,x,z"]
+    )
+    assert args.sensor_rotation == "-y,x,z"

@@ -5,11 +5,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
+import re
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from celtstone.errors import ParameterError
+from celtstone.fitting.nuisance import NUISANCES
 from celtstone.fitting.problem import DEFAULT_BOUNDS, DEFAULT_RATE_SPAN, parse_bounds
 from celtstone.fitting.series import SERIES
 from celtstone.sweep.spec import PARAMETERS, parse_setting
@@ -32,15 +35,35 @@ EPILOG = (
         + (f" {PARAMETERS[name].unit}" if PARAMETERS[name].unit else "")
         for name, (lo, hi) in DEFAULT_BOUNDS.items()
     )
-    + f"\n  omega1..3, initial_spin start ± {DEFAULT_RATE_SPAN:g} rad/s\n\n"
+    + f"\n  omega1..3, initial_spin start ± {DEFAULT_RATE_SPAN:g} rad/s\n"
+    "the record's own numbers (free or --set like the others):\n"
+    + "\n".join(
+        f"  {n.name:22s} {n.lower:g}:{n.upper:g} {n.unit}: {n.description}"
+        for n in NUISANCES.values()
+    )
+    + "\n  (a bias of every rate series is free unless --set or --no-sensor-bias)\n\n"
+    "exit status: 0 the fit converged; 3 it did not (converged: false in the summary: the\n"
+    "optimiser stopped at its limit, a parameter is at a bound, or the fitted run stopped),\n"
+    "or with --strict any warning; 2 bad input; 1 the output could not be written.\n\n"
     "example: celtstone fit gyro.csv --body toy_rattleback_10cm --model sliding "
     "--free friction_coefficient,contact_radius --sensor-rotation x,-z,y --out fit/"
 )
+# "-y,x,z" is a value, not an option: signed axes (and negative numbers) start with "-"
+_NEGATIVE_VALUE = re.compile(r"^-\d+$|^-\d*\.\d+$|^-[xyz123]\s*,")
+# a record file larger than this [bytes] is announced while it is read
+ANNOUNCED_FILE_SIZE = 5_000_000
+MODEL_VARIANTS = {
+    "rolling": ("rolling", {}),
+    "sliding, N = m g": ("sliding", {"friction_load": "static"}),
+    "sliding, consistent N": ("sliding", {"friction_load": "dynamic"}),
+    "stick-slip": ("sliding", {"contact": "hybrid"}),
+}
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone fit``."""
     parser.epilog = EPILOG
+    parser._negative_number_matcher = _NEGATIVE_VALUE  # --sensor-rotation -y,x,z
     parser.add_argument("data", metavar="DATA.csv", help="measured record: a CSV with a header")
     parser.add_argument("--body", required=True, help="shipped body name or .toml path")
     parser.add_argument("--model", default="sliding", help="rolling or sliding")
@@ -89,7 +112,26 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         metavar="SERIES=VALUE",
         help="noise scale weighting a series [its SI unit] (default: estimated from the data)",
     )
-    parser.add_argument("--starts", default="1", help="number of starts, >= 1")
+    parser.add_argument(
+        "--starts",
+        default="auto",
+        help="local fits from this many starts (1 to 1000), or auto: a global search that "
+        "screens the bounds first (default)",
+    )
+    parser.add_argument(
+        "--no-sensor-bias",
+        action="store_true",
+        help="hold every gyroscope bias at 0 (default: free on each rate series)",
+    )
+    parser.add_argument(
+        "--compare-models",
+        action="store_true",
+        help="fit rolling, sliding with N = m g, sliding with the consistent N and "
+        "stick-slip, and rank them by AIC and BIC",
+    )
+    parser.add_argument(
+        "--strict", action="store_true", help="exit 3 on any warning, not only when not converged"
+    )
     parser.add_argument("--seed", default="0", help="seed of the drawn starts")
     parser.add_argument(
         "--profile",
@@ -133,10 +175,14 @@ def _number(name: str, text: str) -> float:
     return value
 
 
-def _whole(name: str, text: str, lowest: int) -> int:
-    value = _number(name, text)
-    if value != int(value) or value < lowest:
-        raise ParameterError(name, text, f"a whole number >= {lowest}")
+def _whole(name: str, text: str, lowest: int, highest: int | None = None) -> int:
+    allowed = f"a whole number >= {lowest}" + (f" and <= {highest}" if highest else "")
+    try:
+        value = _number(name, text)
+    except ParameterError:
+        raise ParameterError(name, text, allowed) from None
+    if value != int(value) or value < lowest or (highest is not None and value > highest):
+        raise ParameterError(name, text, allowed)
     return int(value)
 
 
@@ -157,78 +203,194 @@ def _progress_bar(enabled: bool) -> Iterator[Callable[[int, float], None] | None
         yield progress
 
 
+def _setting(text: str) -> tuple[str, float | str]:
+    """``--set NAME=VALUE``: a sweep setting, or a number of the record (``bias_spin``)."""
+    name, sep, value = text.partition("=")
+    if sep and name.strip() in NUISANCES:
+        return name.strip(), _number(name.strip(), value.strip())
+    return parse_setting(text)
+
+
+def _announce_reading(path: str) -> None:
+    """Say on stderr that a large record is being read (it takes seconds)."""
+    try:
+        size = os.path.getsize(path)
+    except OSError:
+        return
+    if size > ANNOUNCED_FILE_SIZE:
+        print(f"celtstone: reading {path} ({size / 1e6:.0f} MB) ...", file=sys.stderr, flush=True)
+
+
+def _model_free(model_name: str, free: list[str]) -> list[str]:
+    """The free names a model has: a model setting only where the model takes it."""
+    from celtstone.models import MODELS
+
+    fields = MODELS[model_name].__dataclass_fields__
+    return [
+        name
+        for name in free
+        if name not in PARAMETERS or PARAMETERS[name].group != "model" or name in fields
+    ]
+
+
 def handle(args: argparse.Namespace) -> int:
-    """Read, fit, print the summary, write ``--out``; exit 3 if the fitted run stopped early."""
+    """Read, fit, print the summary, write ``--out``; exit 3 if the fit did not converge
+    (or the fitted run stopped early; with ``--strict``, on any warning)."""
     from celtstone.fitting import fit, read_record
     from celtstone.fitting.outputs import check_fit_target, write_fit
+    from celtstone.fitting.solve import FIT_ATOL, FIT_RTOL, MAX_STARTS, MAX_WORKERS
 
     free = [name.strip() for name in args.free.split(",") if name.strip()]
     bounds = dict(parse_bounds(text) for text in args.bounds)
     start = _pairs("start", args.start, _number)
     sigma = _pairs("sigma", args.sigma, _number)
-    fixed = dict(parse_setting(text) for text in args.set)
-    from celtstone.fitting.solve import FIT_ATOL, FIT_RTOL
-
+    fixed = dict(_setting(text) for text in args.set)
     rtol = FIT_RTOL if args.rtol is None else _number("rtol", args.rtol)
     atol = FIT_ATOL if args.atol is None else _number("atol", args.atol)
-    workers = None if args.workers is None else _whole("workers", args.workers, 1)
-    starts, seed = _whole("starts", args.starts, 1), _whole("seed", args.seed, 0)
+    workers = None if args.workers is None else _whole("workers", args.workers, 1, MAX_WORKERS)
+    auto = args.starts.strip().lower() == "auto"
+    starts = None if auto else _whole("starts (or auto)", args.starts, 1, MAX_STARTS)
+    seed = _whole("seed", args.seed, 0)
     if args.out is not None:
         check_fit_target(args.out, overwrite=args.overwrite)  # before the fit, not after it
+    _announce_reading(args.data)
     record = read_record(args.data, args.column, sensor_rotation=args.sensor_rotation)
-    with _progress_bar(not args.no_progress) as progress:
-        result = fit(
-            record,
-            args.body,
-            args.model,
-            free,
-            bounds=bounds,
-            start=start,
-            fixed=fixed,
-            sigma=sigma,
-            starts=starts,
-            seed=seed,
-            profile=args.profile,
-            workers=workers,
-            progress=progress,
-            rtol=rtol,
-            atol=atol,
-        )
+    if args.compare_models:
+        variants = {label: variant for label, variant in MODEL_VARIANTS.items()}
+    else:
+        variants = {args.model: (args.model, {})}
+    results = {}
+    for label, (model_name, options) in variants.items():
+        names = _model_free(model_name, free) if args.compare_models else free
+        if args.compare_models and not sys.stderr.isatty():
+            print(f"celtstone: fitting the {label} model ...", file=sys.stderr, flush=True)
+        with _progress_bar(not args.no_progress) as progress:
+            results[label] = fit(
+                record,
+                args.body,
+                model_name,
+                names,
+                bounds={k: v for k, v in bounds.items() if k in names},
+                start={k: v for k, v in start.items() if k in names},
+                fixed={**fixed, **options},
+                sigma=sigma,
+                sensor_bias=not args.no_sensor_bias,
+                starts=starts,
+                seed=seed,
+                profile=args.profile,
+                workers=workers,
+                progress=progress,
+                rtol=rtol,
+                atol=atol,
+            )
+    ranking = sorted(results, key=lambda label: results[label].summary()["aic"])
+    result = results[ranking[0]]
+    summary = result.summary()
+    if args.compare_models:
+        summary["model_comparison"] = _comparison(results, ranking)
     if args.out is not None:
         write_fit(result, args.out, overwrite=args.overwrite)
-    summary = result.summary()
     print(json.dumps(summary) if args.json else _text(summary))
     if not result.trajectory.ok:
         print(f"celtstone: the fitted run stopped: {result.trajectory.message}", file=sys.stderr)
         return 3
+    if not result.converged:
+        print("celtstone: the fit did not converge (converged: false): see the warnings",
+              file=sys.stderr)  # fmt: skip
+        return 3
+    if args.strict and result.warnings:
+        print(f"celtstone: {len(result.warnings)} warning(s) and --strict", file=sys.stderr)
+        return 3
     return 0
+
+
+def _comparison(results: dict, ranking: list[str]) -> list[dict]:
+    """Each model's fit, best AIC first: AIC, BIC, their differences to the best, χ²."""
+    summaries = {label: results[label].summary() for label in ranking}
+    best_aic = summaries[ranking[0]]["aic"]
+    best_bic = min(s["bic"] for s in summaries.values())
+    return [
+        {
+            "model": label,
+            "aic": s["aic"],
+            "delta_aic": s["aic"] - best_aic,
+            "bic": s["bic"],
+            "delta_bic": s["bic"] - best_bic,
+            "reduced_chi_square": s["reduced_chi_square"],
+            "converged": s["converged"],
+            "parameters": {n: p["value"] for n, p in s["parameters"].items()},
+            "warnings": s["warnings"],
+        }
+        for label, s in summaries.items()
+    ]
 
 
 def _text(summary: dict) -> str:
     lines = [
         f"fit of {summary['body']}, {summary['model']} model, to {summary['record']['source']}"
+        f": converged {'yes' if summary.get('converged', True) else 'NO'}"
     ]
     for name, p in summary["parameters"].items():
         error = p["standard_error"]
         spread = f" ± {error:.3g}" if error is not None else " (not determined)"
         unit = f" {p['unit']}" if p["unit"] else ""
-        lines.append(f"  {name:22s} {p['value']:.6g}{spread}{unit}")
-    for name, s in summary["series"].items():
+        low, high = p.get("interval_95", (None, None))
+        interval = f"  95 %: {low:.6g} .. {high:.6g}" if low is not None else ""
+        flag = "  AT BOUND" if p.get("at_bound") else ""
+        lines.append(f"  {name:22s} {p['value']:.6g}{spread}{unit}{interval}{flag}")
+    held = summary.get("held", {})
+    if held:
         lines.append(
-            f"  {name}: residual RMS {s['residual_rms']:.4g} {s['unit']}, noise estimate "
-            f"{s['noise_estimate']:.4g} {s['unit']} (weight sigma {s['sigma']:.3g}, "
-            f"{s['sigma_source']})"
+            "  held: "
+            + ", ".join(
+                f"{n} = {h['value']:.6g} ({h['source']})"
+                for n, h in held.items()
+                if h["value"] is not None and h["source"] != "default"
+            )
+            + (
+                f"; {sum(h['source'] == 'default' for h in held.values())} more at their "
+                "defaults (summary.json: held)"
+            )
+        )
+    for name, s in summary["series"].items():
+        g = summary.get("goodness_of_fit", {}).get(name)
+        checks = (
+            f"; residual/noise {g['residual_rms_over_noise']:.3g}, "
+            f"{'white' if g['is_white'] else 'NOT white'} (lag-1 autocorrelation "
+            f"{g['lag1_autocorrelation']:+.2f})"
+            if g
+            else ""
+        )
+        lines.append(
+            f"  {name}: residual RMS {s['residual_rms']:.4g} {s['unit']}, noise "
+            f"{(g or s)['noise' if g else 'noise_estimate']:.4g} {s['unit']}{checks}"
+        )
+    if "reduced_chi_square" in summary:
+        lines.append(
+            f"  chi-square {summary['chi_square']:.6g}, reduced {summary['reduced_chi_square']:.4g}"
+            f" ({summary['degrees_of_freedom']} degrees of freedom); AIC {summary['aic']:.6g}, "
+            f"BIC {summary['bic']:.6g}"
         )
     lines.append(
-        f"  cost {summary['cost']:.6g}; {summary['runs']} runs ({summary['failed_runs']} failed, "
-        f"{summary['speculative_runs_wasted']} speculative wasted) "
-        f"in {summary['wall_time']:.3g} s; {summary['starts_reaching_best']} of "
+        f"  {summary['runs']} runs ({summary['failed_runs']} failed) in "
+        f"{summary['wall_time']:.3g} s; {summary['starts_reaching_best']} of "
         f"{len(summary['starts'])} starts reached the best"
+        + (
+            f", {summary['distinct_minima']} distinct minima"
+            if "distinct_minima" in summary
+            else ""
+        )
     )
     if summary["profile"] is not None:
         low, high = summary["profile"]["interval_95"]
         text = [f"{v:.6g}" if v is not None else "open" for v in (low, high)]
         lines.append(
             f"  95 % profile interval of {summary['profile']['parameter']}: {text[0]} .. {text[1]}"
+        )
+    for entry in summary.get("model_comparison", []):
+        lines.append(
+            f"  model {entry['model']:24s} AIC {entry['aic']:12.6g} (Δ {entry['delta_aic']:.4g}), "
+            f"BIC {entry['bic']:12.6g} (Δ {entry['delta_bic']:.4g}), reduced chi-square "
+            f"{entry['reduced_chi_square']:.4g}"
         )
     return "\n".join(lines)

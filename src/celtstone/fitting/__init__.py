@@ -15,7 +15,16 @@ from celtstone.fitting.record import Record as Record
 from celtstone.fitting.record import make_record as make_record
 from celtstone.fitting.record import read_record as read_record
 from celtstone.fitting.result import FitResult as FitResult
+from celtstone.fitting.sample import sample_record_path as sample_record_path
 from celtstone.fitting.series import SERIES as SERIES
 from celtstone.fitting.solve import fit as fit
 
-__all__ = ["SERIES", "FitResult", "Record", "fit", "make_record", "read_record"]
+__all__ = [
+    "SERIES",
+    "FitResult",
+    "Record",
+    "fit",
+    "make_record",
+    "read_record",
+    "sample_record_path",
+]

@@ -2,16 +2,18 @@
 whole or not at all.
 
 The files are written into a staging directory beside the target
-(``.NAME.<pid>.<random>.part``, ``export.temporary_directory``) and the directory is
-renamed into place. An existing directory is replaced only with ``overwrite`` and only if
-its own ``summary.json`` says it is a fit's (``format`` ``celtstone-fit-1``): a thesis
-directory given as ``--out`` is never touched.
+(``.NAME.<pid>.<random>.part``, ``export.temporary_directory``) with the manifest of
+``celtstone.ownership`` (the files with their hashes), and the directory is renamed into
+place. An existing directory is replaced only with ``overwrite`` and only if its manifest
+proves it a fit's and it holds nothing else, unchanged (``ownership.check_replaceable``):
+a user's file put into a former fit, a ``summary.json`` copied elsewhere, or the fit's
+own input data keep the directory from being replaced.
 """
 
 from __future__ import annotations
 
-import json
 import os
+from collections.abc import Iterable
 from pathlib import Path
 
 from celtstone.errors import ParameterError
@@ -22,25 +24,30 @@ from celtstone.export import (
     write,
     write_json,
 )
-from celtstone.fitting.result import FORMAT, FitResult
+from celtstone.fitting.result import FitResult
 from celtstone.fitting.series import SERIES
+from celtstone.ownership import (
+    MANIFEST,
+    check_replaceable,
+    new_manifest,
+    record_files,
+    write_manifest,
+)
 
 __all__ = ["FILES", "check_fit_target", "write_fit"]
 
-FILES = ("summary.json", "fit.png", "fit.svg", "run.nc")
+FILES = ("summary.json", "fit.png", "fit.svg", "run.nc", MANIFEST)
 
 
-def _is_fit_directory(path: Path) -> bool:
-    try:
-        summary = json.loads((path / "summary.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return False
-    return isinstance(summary, dict) and summary.get("format") == FORMAT
+_COMMAND = "fit"
 
 
-def check_fit_target(out: str | Path, *, overwrite: bool = False) -> Path:
+def check_fit_target(
+    out: str | Path, *, overwrite: bool = False, inputs: Iterable[str | Path] = ()
+) -> Path:
     """``out`` as a Path if a fit may be written there: a new directory in an existing one,
-    or with ``overwrite`` a fit's directory. Call it before fitting.
+    or with ``overwrite`` a fit's directory holding only the fit's files, unchanged, and
+    none of ``inputs`` (``ownership.check_replaceable``). Call it before fitting.
 
     Raises
     ------
@@ -58,49 +65,75 @@ def check_fit_target(out: str | Path, *, overwrite: bool = False) -> Path:
             raise ParameterError(
                 "out", str(out), "a directory that does not exist yet", OVERWRITE_HINT
             )
-        if not (target.is_dir() and _is_fit_directory(target)):
-            raise ParameterError(
-                "out",
-                str(out),
-                "a directory written by `celtstone fit` (its summary.json says so)",
-                "--overwrite replaces only a fit's directory",
-            )
+        check_replaceable(target, _COMMAND, inputs=inputs)
     return target
 
 
 def _figure(result: FitResult, staging: Path) -> None:
-    from celtstone.plotting import FitPanel, plot_fit, save_figure_formats
+    from celtstone.plotting import FitPanel, FittedValue, plot_fit, save_figure_formats
 
     trajectory = result.trajectory.samples
+    values_used = result.problem.values(result.values)
     panels = []
     for name, measured in result.problem.record.series.items():
         series = SERIES[name]
-        fitted = series.model(trajectory)
+        # with the fitted (or held) gyroscope bias, as the residuals compare it
+        fitted = series.model(trajectory) + values_used.get(f"bias_{name}", 0.0)
         if series.is_angle_offset_free:  # drawn with the offset the residuals remove
             fitted = fitted - float((fitted - measured).mean())
         unit = series.plot_unit or series.unit
         scale = series.plot_scale
         panels.append(FitPanel(f"{name} [{unit}]", measured * scale, fitted * scale))
-    names = ", ".join(f"{n} = {v:.4g}" for n, v in zip(result.names, result.values, strict=True))
-    title = f"{result.problem.body.name}, {result.problem.model_name}: {names}"
-    save_figure_formats(plot_fit(result.problem.record.times, panels, title), staging, "fit")
+    values = [
+        FittedValue(free.name, float(value), float(error), free.unit)
+        for free, value, error in zip(
+            result.problem.free, result.values, result.standard_errors, strict=True
+        )
+    ]
+    title = f"{result.problem.body.name}, {result.problem.model_name} model"
+    figure = plot_fit(result.problem.record.times, panels, title, values)
+    save_figure_formats(figure, staging, "fit")
 
 
-def write_fit(result: FitResult, out: str | Path, *, overwrite: bool = False) -> Path:
-    """Write the fit's files (``FILES``) into the directory ``out``, whole or not at all."""
-    target = check_fit_target(out, overwrite=overwrite)
+def write_fit(
+    result: FitResult,
+    out: str | Path,
+    *,
+    overwrite: bool = False,
+    inputs: Iterable[str | Path] = (),
+) -> Path:
+    """Write the fit's files (``FILES``) and their manifest into the directory ``out``,
+    whole or not at all.
+
+    Parameters
+    ----------
+    result : FitResult
+        The fit.
+    out : str or pathlib.Path
+        The directory written.
+    overwrite : bool, optional
+        Whether a fit's directory there may be replaced (:func:`check_fit_target`).
+    inputs : iterable of path, optional
+        Files the fit read, besides its record's own file: never inside ``out``.
+
+    Returns
+    -------
+    pathlib.Path
+        The directory written.
+    """
+    read = [*inputs]
+    if Path(result.problem.record.source).is_file():
+        read.append(result.problem.record.source)
+    target = check_fit_target(out, overwrite=overwrite, inputs=read)
     with temporary_directory(target) as staging:
         write_json(result.summary(), staging / "summary.json")
         _figure(result, staging)
         if result.trajectory.samples.values("time").size >= 2:
             write(result.trajectory.dataset, staging / "run.nc")
-        _replace(staging, target, overwrite)
+        manifest = new_manifest(_COMMAND)
+        record_files(manifest, staging, sorted(p for p in staging.iterdir() if p.is_file()))
+        write_manifest(staging, manifest)
+        if os.path.lexists(target):  # checked again: it may have changed during the fit
+            check_fit_target(target, overwrite=overwrite, inputs=read)
+        replace_directory(staging, target)
     return target
-
-
-def _replace(staging: Path, target: Path, overwrite: bool) -> None:
-    """Rename ``staging`` to ``target`` (``export.replace_directory``); an existing
-    directory is checked again to be a fit's before it is replaced."""
-    if os.path.lexists(target):
-        check_fit_target(target, overwrite=overwrite)
-    replace_directory(staging, target)

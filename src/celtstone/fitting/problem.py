@@ -18,6 +18,13 @@ import numpy as np
 from celtstone import schema
 from celtstone.bodies import Body
 from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
+from celtstone.fitting.nuisance import (
+    NUISANCES,
+    RELEASE_OFFSET,
+    bias_name,
+    biased_series,
+    is_nuisance,
+)
 from celtstone.fitting.record import Record
 from celtstone.fitting.series import SERIES
 from celtstone.integrate import simulate
@@ -38,6 +45,7 @@ __all__ = [
     "FAILED_RESIDUAL",
     "FreeParameter",
     "Problem",
+    "current_values",
     "make_problem",
     "noise_scale",
     "parse_bounds",
@@ -63,6 +71,10 @@ _SCHEMA_NAMES = {**dict.fromkeys(_RATES, "omega"), "euler_alpha": "euler_angles"
 _SCHEMA_NAMES["euler_beta"] = "euler_angles"
 # the MAD of a normal sample is 0.6745 σ
 _MAD_TO_SIGMA = 1.0 / 0.6744897501960817
+NOISE_ORDER = 6  # order of the divided differences that estimate the noise
+NOISE_WINDOWS = 200_000  # windows used at most (a long record: evenly spread)
+# a given σ_s, relative to its series' range: smaller would overflow the squares
+SIGMA_RANGE = (1e-9, 1e3)
 
 
 @dataclass(frozen=True)
@@ -107,13 +119,13 @@ def parse_bounds(text: str) -> tuple[str, tuple[float, float]]:
     return name, (lower, upper)
 
 
-def _check_free_name(name: str) -> None:
-    if name not in PARAMETERS:
+def _check_free_name(name: str, option: str = "free") -> None:
+    if name not in PARAMETERS and not is_nuisance(name):
         raise ParameterError(
-            "free",
+            option,
             name,
-            "a model setting, initial-state or body number (see `celtstone fit --help`)",
-            did_you_mean(name, PARAMETERS, cutoff=0.5),
+            "a model setting, initial-state, body or sensor number (see `celtstone fit --help`)",
+            did_you_mean(name, [*PARAMETERS, *NUISANCES], cutoff=0.5),
         )
 
 
@@ -121,6 +133,8 @@ def _bounds(name: str, start: float, given: tuple[float, float] | None) -> tuple
     """The bounds of free ``name``: ``given``, else its default; each bound an allowed value."""
     if given is not None:
         lower, upper = given
+    elif is_nuisance(name):
+        lower, upper = NUISANCES[name].lower, NUISANCES[name].upper
     elif name in DEFAULT_BOUNDS:
         lower, upper = DEFAULT_BOUNDS[name]
     elif name in _RATES:
@@ -142,23 +156,38 @@ def _bounds(name: str, start: float, given: tuple[float, float] | None) -> tuple
 
 
 def noise_scale(times: np.ndarray, values: np.ndarray) -> float:
-    """σ [unit of ``values``] of white noise on a smooth series, from the spread of each
-    sample about the line through its neighbours.
+    """σ [unit of ``values``] of white noise on a smooth series, from the record's
+    high-frequency part alone (no model): the spread of its 6th divided differences.
 
     Notes
     -----
-    d_i = y_i − (w y_{i−1} + (1 − w) y_{i+1}), w = (t_{i+1} − t_i) / (t_{i+1} − t_{i−1}),
-    has variance σ² (1 + w² + (1 − w)²) for noise alone; σ is the median |d_i| scaled
-    by that factor and by 1/0.6745 (a normal sample's median absolute value), so that a
-    few outliers do not set it. A smooth signal adds its curvature (|ÿ| Δt² / 2 per
-    sample): the estimate is an upper bound at coarse sampling. Zero (noise-free
-    data) falls back to 1e-6 of the series' range.
+    Over each window of ``NOISE_ORDER`` + 1 samples, d = Σ_j w_j y_j with
+    w_j = 1 / Π_{l≠j} (t_j − t_l) (the divided difference at the true, jittered times)
+    vanishes for any polynomial of degree < ``NOISE_ORDER`` and has variance σ² Σ w_j²
+    for noise alone; σ is the median of |d| / sqrt(Σ w_j²) scaled by 1/0.6745 (a normal
+    sample's median absolute value), so that a few outliers and the fast parts of the
+    motion (a reversal) do not set it. A sinusoid of frequency ν adds about
+    (2 sin(π ν Δt))^6 of its amplitude: 2e-3 of a 5 Hz rocking at 100 Hz, far below a
+    phone's noise. Zero (noise-free data) falls back to 1e-6 of the series' range.
+    At most ``NOISE_WINDOWS`` windows, evenly spread, are used.
     """
-    weight = (times[2:] - times[1:-1]) / (times[2:] - times[:-2])
-    deviation = values[1:-1] - (weight * values[:-2] + (1.0 - weight) * values[2:])
-    normalised = np.abs(deviation) / np.sqrt(1.0 + weight**2 + (1.0 - weight) ** 2)
-    sigma = float(np.median(normalised)) * _MAD_TO_SIGMA if normalised.size else 0.0
-    return sigma if sigma > 0.0 else 1e-6 * float(np.ptp(values))
+    order = NOISE_ORDER if times.size > NOISE_ORDER + 2 else max(1, times.size - 2)
+    count = times.size - order
+    if count < 1:
+        return 1e-6 * float(np.ptp(values)) or 1e-6
+    first = np.unique(np.linspace(0, count - 1, min(count, NOISE_WINDOWS)).astype(int))
+    rows = first[:, None] + np.arange(order + 1)
+    window = times[rows]
+    gaps = window[:, :, None] - window[:, None, :]
+    gaps[:, np.arange(order + 1), np.arange(order + 1)] = 1.0
+    # scaled by the window's length so that the products stay near 1
+    span = (window[:, -1] - window[:, 0])[:, None, None]
+    weights = 1.0 / np.prod(gaps / span, axis=2)
+    normalised = np.abs(np.sum(weights * values[rows], axis=1)) / np.sqrt(
+        np.sum(weights**2, axis=1)
+    )
+    sigma = float(np.median(normalised)) * _MAD_TO_SIGMA
+    return sigma if sigma > 0.0 else 1e-6 * float(np.ptp(values)) or 1e-6
 
 
 def _initial_values(record: Record, given: Mapping[str, float]) -> dict[str, float]:
@@ -202,6 +231,7 @@ class Problem:
     atol: float
     method: str | None = None
     sigma_source: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+    fixed_source: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -233,8 +263,36 @@ class Problem:
         offsets = sum(SERIES[name].is_angle_offset_free for name in self.record.series)
         return self.n_residuals - len(self.free) - offsets
 
+    @property
+    def is_released(self) -> bool:
+        """Whether the run starts at a release ``release_offset`` before the first sample."""
+        return RELEASE_OFFSET in self.names or RELEASE_OFFSET in self.fixed
+
+    @property
+    def bias_columns(self) -> dict[int, slice]:
+        """Column of each free bias -> the rows of the series it shifts: the residuals are
+        linear in a bias, so its Jacobian column is 1/σ_s there and needs no run."""
+        rows, start = {}, 0
+        for name, measured in self.record.series.items():
+            rows[name] = slice(start, start + measured.size)
+            start += measured.size
+        return {
+            j: rows[series]
+            for j, name in enumerate(self.names)
+            if (series := biased_series(name)) is not None and series in rows
+        }
+
+    def bias_jacobian(self, column: int) -> np.ndarray:
+        """∂r/∂bias of free ``column`` (a bias) [s/rad], shape (m,)."""
+        rows = self.bias_columns[column]
+        series = biased_series(self.names[column])
+        assert series is not None
+        derivative = np.zeros(self.n_residuals)
+        derivative[rows] = 1.0 / self.sigma[series]
+        return derivative
+
     def values(self, x: np.ndarray) -> dict[str, float]:
-        """Every number of a run (sweep names): the fixed ones and ``x``'s."""
+        """Every number of a run (sweep names) and of the sensor: the fixed ones and ``x``'s."""
         return {**self.fixed, **dict(zip(self.names, (float(v) for v in x), strict=True))}
 
     def configuration(self, x: np.ndarray) -> tuple[Model, Body, InitialState]:
@@ -242,14 +300,18 @@ class Problem:
         values = self.values(x)
         groups: dict[str, dict[str, float]] = {BODY: {}, MODEL: {}, STATE: {}}
         for name, value in values.items():
-            groups[PARAMETERS[name].group][name] = value
+            if not is_nuisance(name):
+                groups[PARAMETERS[name].group][name] = value
         model = build_model(self.model_name, self.choices, groups[MODEL])
         return model, build_body(self.body, groups[BODY]), build_state(groups[STATE])
 
-    def run(self, x: np.ndarray) -> Trajectory:
-        """The run of ``x`` sampled at the record's times (may stop early; may raise)."""
+    def run(self, x: np.ndarray, sample_times: np.ndarray | None = None) -> Trajectory:
+        """The run of ``x`` sampled at the record's times (may stop early; may raise); from
+        the release ``release_offset`` before the first sample when there is one.
+        ``sample_times`` [s from the run's start]: other times instead."""
         model, body, state = self.configuration(x)
-        times = self.record.times
+        offset = self.values(x).get(RELEASE_OFFSET, 0.0)
+        times = self.record.times + offset if sample_times is None else sample_times
         return simulate(
             model,
             body,
@@ -259,19 +321,22 @@ class Problem:
             method=self.method,
             rtol=self.rtol,
             atol=self.atol,
+            progress=_keep_signals_live,
         )
 
-    def residuals(self, trajectory: Trajectory | None) -> np.ndarray:
-        """Weighted residuals (model − data) / σ_s of every series, concatenated, shape (m,).
+    def residuals(self, trajectory: Trajectory | None, x: np.ndarray | None = None) -> np.ndarray:
+        """Weighted residuals (model + bias − data) / σ_s of every series, concatenated,
+        shape (m,); the biases of ``x`` (or the fixed ones; none without either).
 
         Samples a run did not reach (and all, for ``None``: a run that raised) get
         ``FAILED_RESIDUAL``; an offset-free series (yaw) has its mean removed.
         """
+        values = self.values(x) if x is not None else dict(self.fixed)
         parts = []
         for name, measured in self.record.series.items():
             residual = np.full(measured.size, FAILED_RESIDUAL)
             if trajectory is not None:
-                modelled = SERIES[name].model(trajectory.samples)
+                modelled = SERIES[name].model(trajectory.samples) + values.get(bias_name(name), 0.0)
                 reached = min(modelled.size, measured.size)
                 residual[:reached] = (modelled[:reached] - measured[:reached]) / self.sigma[name]
                 if SERIES[name].is_angle_offset_free and reached == measured.size:
@@ -290,6 +355,7 @@ def make_problem(
     start: Mapping[str, float] | None = None,
     fixed: Mapping[str, float | str] | None = None,
     sigma: Mapping[str, float] | None = None,
+    sensor_bias: bool = True,
     rtol: float,
     atol: float,
     method: str | None = None,
@@ -302,56 +368,67 @@ def make_problem(
         dict(sigma or {}),
     )
     names = list(dict.fromkeys(free))
-    if not names:
-        raise ParameterError("free", "", "at least one parameter name")
     for name in names:
         _check_free_name(name)
+    choices = {k: str(v) for k, v in fixed.items() if isinstance(v, str)}
+    numbers = {k: float(v) for k, v in fixed.items() if not isinstance(v, str)}
+    for name in numbers:
+        _check_free_name(name, "set")
+        if name in names:
+            raise ParameterError("set", name, "a parameter that is not free", "it is in --free")
+    for name in [*names, *numbers]:
+        series = biased_series(name)
+        if series is not None and series not in record.series:
+            raise ParameterError(
+                "free" if name in names else "set",
+                name,
+                "a bias of a rate series of the record: "
+                + (
+                    ", ".join(bias_name(s) for s in record.series if SERIES[s].is_gyroscope_rate)
+                    or "none (no rate series)"
+                ),
+            )
+    if sensor_bias:  # every rate series' bias is free unless held or already free
+        names += [
+            bias_name(s)
+            for s in record.series
+            if SERIES[s].is_gyroscope_rate and bias_name(s) not in {*names, *numbers}
+        ]
+    if not names:
+        raise ParameterError("free", "", "at least one parameter name")
     for option, given in (("bounds", bounds), ("start", start)):
         for name in given:
             if name not in names:
                 raise ParameterError(option, name, "a free parameter: " + ", ".join(names))
-    choices = {k: str(v) for k, v in fixed.items() if isinstance(v, str)}
-    numbers = {k: float(v) for k, v in fixed.items() if not isinstance(v, str)}
-    for name in numbers:
-        _check_free_name(name)
-        if name in names:
-            raise ParameterError("set", name, "a parameter that is not free", "it is in --free")
-    # the record's first samples set the initial state unless given; they start a free one
-    configured = {**_initial_values(record, numbers), **numbers}
+    released = RELEASE_OFFSET in names or RELEASE_OFFSET in numbers
+    # the record's first samples set the initial state unless given or released earlier;
+    # they start a free one
+    read = {} if released else _initial_values(record, numbers)
+    configured = {**read, **numbers}
     base = Problem(record, body, model_name, choices, configured, (), {}, rtol, atol, method)
     model, configured_body, state = base.configuration(np.array([]))  # the fixed part, checked
-    current = _current_values(model, configured_body, state)
+    current = current_values(model, configured_body, state)
     dropped = {*names, *(("initial_spin",) if "omega3" in names else ())}  # omega3 would lose
-    numbers = {k: v for k, v in configured.items() if k not in dropped}
-    held = {k: v for k, v in numbers.items() if k not in fixed}  # the record's, held fixed
+    numbers_held = {k: v for k, v in configured.items() if k not in dropped}
+    held = {k: v for k, v in numbers_held.items() if k not in fixed}  # the record's, held fixed
     parameters = []
     for name in names:
-        value = float(start.get(name, current.get(name, configured.get(name, 0.0))))
+        default = NUISANCES[name].start if is_nuisance(name) else 0.0
+        value = float(start.get(name, current.get(name, configured.get(name, default))))
         lower, upper = _bounds(name, value, bounds.get(name))
+        if name not in start and not lower <= value <= upper:  # a default start: moved in
+            value = math.sqrt(lower * upper) if lower > 0.0 else 0.5 * (lower + upper)
         if not lower <= value <= upper:
             raise ParameterError(f"start of {name}", value, f"a number in [{lower:g}, {upper:g}]")
-        parameters.append(FreeParameter(name, PARAMETERS[name].unit, lower, upper, value))
+        unit = NUISANCES[name].unit if is_nuisance(name) else PARAMETERS[name].unit
+        parameters.append(FreeParameter(name, unit, lower, upper, value))
     offsets = sum(SERIES[name].is_angle_offset_free for name in record.series)
     if record.n_points - offsets <= len(parameters):
         needed = f"{len(parameters)} free parameters" + (
             f" and {offsets} yaw offset" if offsets else ""
         )
         raise ParameterError("data", f"{record.n_points} values", f"more values than the {needed}")
-    scales, sources = {}, {}
-    for name in record.series:
-        if name in sigma:
-            scales[name] = float(sigma[name])
-            if not (math.isfinite(scales[name]) and scales[name] > 0.0):
-                raise ParameterError(f"sigma of {name}", sigma[name], "a number > 0")
-            sources[name] = "given"
-        else:
-            scales[name] = noise_scale(record.times, record.series[name])
-            sources[name] = "estimated"
-    for name in sigma:
-        if name not in record.series:
-            raise ParameterError(
-                "sigma", name, "a series of the record: " + ", ".join(record.series)
-            )
+    scales, sources = _noise_scales(record, sigma)
     if held:
         warnings.warn(
             "the initial state "
@@ -361,22 +438,53 @@ def make_problem(
             CeltstoneWarning,
             stacklevel=3,
         )
+    fixed_source = {k: ("set" if k in fixed else "record's first sample") for k in numbers_held}
     return Problem(
         record,
         body,
         model_name,
         MappingProxyType(choices),
-        MappingProxyType(numbers),
+        MappingProxyType(numbers_held),
         tuple(parameters),
         MappingProxyType(scales),
         rtol,
         atol,
         method,
         MappingProxyType(sources),
+        MappingProxyType(fixed_source),
     )
 
 
-def _current_values(model: Model, body: Body, state: InitialState) -> dict[str, float]:
+def _noise_scales(
+    record: Record, sigma: Mapping[str, float]
+) -> tuple[dict[str, float], dict[str, str]]:
+    """σ_s of each series, given or estimated (``noise_scale``), and where each came from."""
+    for name in sigma:
+        if name not in record.series:
+            raise ParameterError(
+                "sigma", name, "a series of the record: " + ", ".join(record.series)
+            )
+    scales, sources = {}, {}
+    for name, values in record.series.items():
+        if name in sigma:
+            size = float(np.ptp(values))
+            lower, upper = (factor * size for factor in SIGMA_RANGE)
+            value = float(sigma[name])
+            if not (math.isfinite(value) and lower <= value <= upper):
+                raise ParameterError(
+                    f"sigma of {name}",
+                    sigma[name],
+                    f"a number in [{lower:.3g}, {upper:.3g}] {SERIES[name].unit} "
+                    f"({SIGMA_RANGE[0]:g} to {SIGMA_RANGE[1]:g} times the series' range)",
+                )
+            scales[name], sources[name] = value, "given"
+        else:
+            scales[name] = noise_scale(record.times, values)
+            sources[name] = "estimated from the record's high-frequency part"
+    return scales, sources
+
+
+def current_values(model: Model, body: Body, state: InitialState) -> dict[str, float]:
     """The value each sweep name has in the configured objects (the default starts)."""
     values: dict[str, float] = {}
     for name in PARAMETERS:
@@ -387,3 +495,9 @@ def _current_values(model: Model, body: Body, state: InitialState) -> dict[str, 
     values["initial_spin"] = float(np.dot(state.omega, state.vertical))
     values.update(mass=body.mass, gravity=body.gravity)
     return values
+
+
+def _keep_signals_live(time: float) -> None:
+    """Progress callback of :meth:`Problem.run`: reports nothing; its presence runs the
+    compiled loop in a daemon thread, so that Ctrl-C and SIGTERM stop a fit at once even
+    while a run goes on in the main thread (``simulate``'s ``progress``)."""

@@ -27,6 +27,12 @@ PHYPHOX_GYROSCOPE = ("Gyroscope x (rad/s)", "Gyroscope y (rad/s)", "Gyroscope z 
 _HEADER_UNIT = re.compile(r"[(\[]\s*([^)\]]+?)\s*[)\]]\s*$")  # "Tilt (deg)" -> "deg"
 _COLUMN = re.compile(r"^\s*(\w+)\s*(?:\[\s*([^\]]+?)\s*\])?\s*=(.*)$")  # NAME[UNIT]=HEADER
 _TIME_UNITS = {"s": 1.0}
+_SEPARATORS = (",", ";", "\t")
+_SNIFF_LINES = 50
+# a number with a decimal comma: digits, a comma, digits, not followed by more digit groups
+_DECIMAL_COMMA = re.compile(r"(^|;)\s*\"?[-+]?\d+,\d+([eE][-+]?\d+)?\"?\s*(;|$)")
+# headers that name the time column
+_TIME_NAMES = {"t": "time", "time": "time"}
 # units a header may state: another than the one read is a mistake, not a label
 _KNOWN_UNITS = {*RATE_UNITS, *ANGLE_UNITS, *_TIME_UNITS, "ms", "min", "h", "rpm", "Hz", "1/s"}
 
@@ -222,6 +228,59 @@ def _column(table: Any, header: str, name: str) -> np.ndarray:
     return numbers
 
 
+def _read_table(source: Path, shown: str) -> Any:
+    """The file as a table: its separator (comma, semicolon or tab; none: one column) and
+    decimal mark (a comma beside semicolons: phyphox's "semicolon, decimal comma") read
+    from its first lines, not guessed among all characters."""
+    import pandas as pd
+
+    try:
+        with source.open(encoding="utf-8-sig") as file:
+            lines = [line for _, line in zip(range(_SNIFF_LINES), file, strict=False)]
+    except (OSError, UnicodeDecodeError) as error:
+        raise ParameterError("data", shown, "a readable UTF-8 CSV file", str(error)) from None
+    content = [line for line in lines if line.strip() and not line.lstrip().startswith("#")]
+    if len(content) < 2:
+        raise ParameterError("data", shown, "a CSV file with a header row and data rows")
+    header, first = content[0], content[1]
+    separator = max(_SEPARATORS, key=lambda sep: (header.count(sep), -_SEPARATORS.index(sep)))
+    if header.count(separator) == 0:
+        separator = ","  # one column
+    decimal = "," if separator == ";" and _DECIMAL_COMMA.search(first) else "."
+    try:
+        table = pd.read_csv(
+            source,
+            sep=separator,
+            decimal=decimal,
+            comment="#",
+            skipinitialspace=True,
+            encoding="utf-8-sig",
+        )
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as error:
+        message = " ".join(str(error).split())
+        hint = (
+            f"{message}; a file separated by semicolons with decimal commas (phyphox's "
+            "'semicolon, decimal comma' export) is read as such"
+        )
+        raise ParameterError("data", shown, "a CSV file with a header row", hint) from None
+    table.columns = [str(h).strip() for h in table.columns]
+    if len(table.columns) == 0 or len(table) == 0:
+        raise ParameterError("data", shown, "a CSV file with a header row and data rows")
+    return table
+
+
+def _named_like_series(headers: Sequence[str]) -> dict[str, tuple[str | None, str]]:
+    """Series (and time) whose names the headers are, a unit in brackets allowed:
+    ``time (s)``, ``spin``, ``omega1 (rad/s)``; name -> (None, header)."""
+    found: dict[str, tuple[str | None, str]] = {}
+    for header in headers:
+        bare = _HEADER_UNIT.sub("", header).strip().lower()
+        name = _TIME_NAMES.get(bare, bare)
+        if (name == "time" or name in SERIES) and name not in found:
+            found[name] = (None, header)
+    return found if set(found) - {"time"} else {}
+
+
 def read_record(
     path: str | Path,
     columns: Sequence[str] | Mapping[str, str] = (),
@@ -233,10 +292,12 @@ def read_record(
     Parameters
     ----------
     path : str or pathlib.Path
-        A CSV file with a header row (comma, semicolon or tab separated).
+        A CSV file with a header row (comma, semicolon or tab separated; with semicolons,
+        decimal commas are read too).
     columns : sequence of str or mapping of str to str
         ``NAME[UNIT]=HEADER`` strings, or a mapping NAME -> HEADER: which column holds
-        ``time`` [s] (default: the first column) and each series of ``SERIES``; the unit
+        ``time`` [s] (default: the first column) and each series of ``SERIES``; none
+        given, headers named like a series (``spin (rad/s)``, ``omega1``) are read as it; the unit
         is ``[UNIT]``, else the header's own ``(unit)``, else the series' default
         (rad/s for rates, rad for yaw, deg for tilt).
     sensor_rotation : str or sequence of float, optional
@@ -252,18 +313,13 @@ def read_record(
     source = Path(path)
     if not source.is_file():
         raise ParameterError("data", str(path), "an existing CSV file")
-    import pandas as pd
-
-    try:
-        table = pd.read_csv(source, sep=None, engine="python", comment="#", skipinitialspace=True)
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as error:
-        message = " ".join(str(error).split())
-        raise ParameterError("data", str(path), "a CSV file with a header row", message) from None
-    table.columns = [str(h).strip() for h in table.columns]
+    table = _read_table(source, str(path))
     texts = [f"{k}={v}" for k, v in columns.items()] if isinstance(columns, Mapping) else columns
     mapping = {name: (unit, header) for name, unit, header in map(parse_column, texts)}
     if len(table.columns) == 0 or len(table) == 0:
         raise ParameterError("data", str(path), "a CSV file with a header row and data rows")
+    if not mapping and not set(PHYPHOX_GYROSCOPE) <= set(table.columns):
+        mapping = _named_like_series(table.columns)  # headers that name a series
     time_unit, time_header = mapping.pop("time", (None, table.columns[0]))
     series: dict[str, np.ndarray] = {}
     headers: dict[str, str] = {"time": time_header}

@@ -4,19 +4,25 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone.fitting.problem import Problem
+from celtstone.fitting.nuisance import NUISANCES, bias_name, is_nuisance
+from celtstone.fitting.problem import Problem, current_values
 from celtstone.fitting.profile import Profile
 from celtstone.fitting.series import SERIES
 from celtstone.fitting.uncertainty import Uncertainty
+from celtstone.sweep.spec import PARAMETERS
 from celtstone.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from celtstone.fitting.assess import Assessment
 
 __all__ = ["FORMAT", "FitResult", "StartOutcome"]
 
 FORMAT = "celtstone-fit-1"  # the summary's "format": what `fit --overwrite` may replace
+Z_95 = 1.959963984540054  # the normal distribution's 97.5 % quantile
 
 
 @dataclass(frozen=True)
@@ -83,7 +89,10 @@ class FitResult:
     profile : Profile or None
         The profile likelihood of one parameter, if asked for.
     warnings : tuple of str
-        The identifiability warnings issued.
+        The warnings issued (identifiability and fit quality).
+    assessment : Assessment or None
+        Whether to believe it (``fitting.assess``): ``converged``, goodness of fit,
+        whiteness, information criteria.
     """
 
     problem: Problem
@@ -99,6 +108,12 @@ class FitResult:
     trajectory: Trajectory
     profile: Profile | None = None
     warnings: tuple[str, ...] = ()
+    assessment: Assessment | None = None
+
+    @property
+    def converged(self) -> bool:
+        """Whether the values are a minimum of the cost inside the bounds."""
+        return self.assessment.converged if self.assessment is not None else True
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -145,6 +160,42 @@ class FitResult:
             for name, r in self.series_residuals().items()
         }
 
+    def held(self) -> dict[str, dict[str, Any]]:
+        """Every number the fit held fixed, with where it came from.
+
+        Returns
+        -------
+        dict of str to dict
+            Name -> value [SI], unit and source: "set" (given), "record's first sample",
+            "default" (the model's, body's or initial state's), a Hertz contact's
+            computed radius, or a bias not fitted.
+        """
+        problem = self.problem
+        model, body, state = problem.configuration(self.values)
+        held: dict[str, dict[str, Any]] = {}
+        for name, value in current_values(model, body, state).items():
+            if name in problem.names or (name == "initial_spin" and "omega3" in problem.names):
+                continue
+            source = problem.fixed_source.get(name, "default")
+            unit = PARAMETERS[name].unit
+            if name == "contact_radius" and getattr(model, "is_hertz_radius", False):
+                held[name] = {
+                    "value": None,
+                    "unit": unit,
+                    "source": "Hertz contact: computed along the run from elastic_modulus, "
+                    "poisson_ratio and the normal force (the default is not used)",
+                }
+                continue
+            held[name] = {"value": value, "unit": unit, "source": source}
+        for name, value in problem.fixed.items():
+            if is_nuisance(name):
+                held[name] = {"value": value, "unit": NUISANCES[name].unit, "source": "set"}
+        for series in problem.record.series:
+            name = bias_name(series)
+            if SERIES[series].is_gyroscope_rate and name not in {*problem.names, *held}:
+                held[name] = {"value": 0.0, "unit": SERIES[series].unit, "source": "not fitted"}
+        return held
+
     def summary(self) -> dict[str, Any]:
         """Summarise the fit for ``summary.json``.
 
@@ -153,7 +204,7 @@ class FitResult:
         dict
             The JSON summary (SI units; inf and NaN as null).
         """
-        problem, u = self.problem, self.uncertainty
+        problem, u, checks = self.problem, self.uncertainty, self.assessment
         names = problem.names
         units = {p.name: p.unit for p in problem.free}
         parameters = {
@@ -161,9 +212,12 @@ class FitResult:
                 "value": float(value),
                 "standard_error": _number(error),
                 "unit": units[name],
+                "interval_95": [_number(value - Z_95 * error), _number(value + Z_95 * error)],
                 "lower_bound": p.lower,
                 "upper_bound": p.upper,
+                "at_bound": bool(checks is not None and name in checks.at_bound),
                 "start": p.start,
+                "kind": "sensor or record" if is_nuisance(name) else "physical",
             }
             for name, value, error, p in zip(
                 names, self.values, u.standard_errors, problem.free, strict=True
@@ -171,10 +225,13 @@ class FitResult:
         }
         return {
             "format": FORMAT,
+            "converged": self.converged,
+            "warnings": list(self.warnings),
             "body": problem.body.name,
             "model": problem.model_name,
             "options": dict(problem.choices),
             "fixed": dict(problem.fixed),
+            "held": self.held(),
             "free": list(names),
             "parameters": parameters,
             "correlation": [[_number(c) for c in row] for row in u.correlation],
@@ -183,6 +240,9 @@ class FitResult:
             ],
             "jacobian_rank": u.rank,
             "condition_number": _number(u.condition_number),
+            "standard_errors_widened_by": dict(zip(names, u.widened_by_profile, strict=True))
+            if u.widened_by_profile
+            else {},
             "cost": self.cost,
             "residual_variance": u.residual_variance,
             "degrees_of_freedom": problem.degrees_of_freedom,
@@ -208,5 +268,5 @@ class FitResult:
             "rtol": problem.rtol,
             "atol": problem.atol,
             "profile": None if self.profile is None else self.profile.summary(),
-            "warnings": list(self.warnings),
+            **({} if checks is None else checks.summary()),
         }

@@ -7,11 +7,11 @@ from __future__ import annotations
 import os
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from celtstone._threads import map_in_threads
 from celtstone.errors import CeltstoneError
 from celtstone.fitting.problem import Problem
 
@@ -66,7 +66,6 @@ class Runs:
         self.failed = 0
         self._wasted = 0
         self._lock = threading.Lock()
-        self._pool = ThreadPoolExecutor(self.workers) if self.workers > 1 else None
         self._last: _Evaluated | None = None
 
     @property
@@ -87,9 +86,8 @@ class Runs:
         self._keep(None)
 
     def close(self) -> None:
-        """Stop the threads (runs under way finish; queued ones are dropped)."""
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
+        """Nothing to stop: each map's daemon threads end with it, and on Ctrl-C or
+        SIGTERM its runs under way are abandoned at once (``celtstone._threads``)."""
 
     def __enter__(self) -> Runs:
         return self
@@ -103,16 +101,34 @@ class Runs:
             ok = trajectory.ok
         except CeltstoneError:  # a configuration refused (implausible) or a solver error
             trajectory, ok = None, False
-        residuals = self.problem.residuals(trajectory)
+        residuals = self.problem.residuals(trajectory, x)
         with self._lock:
             self.count += 1
             self.failed += not ok
         return residuals
 
     def _map(self, vectors: Sequence[np.ndarray]) -> list[np.ndarray]:
-        if self._pool is None:
-            return [self._evaluate(x) for x in vectors]
-        return list(self._pool.map(self._evaluate, vectors))
+        return list(map_in_threads(self._evaluate, vectors, workers=self.workers))
+
+    def run_many(
+        self, function: Callable[[np.ndarray], np.ndarray], vectors: Sequence[np.ndarray]
+    ) -> list[np.ndarray]:
+        """``function`` of each of ``vectors``, each one run, in parallel (counted)."""
+
+        def counted(x: np.ndarray) -> np.ndarray:
+            result = function(x)
+            with self._lock:
+                self.count += 1
+            return result
+
+        return list(map_in_threads(counted, vectors, workers=self.workers))
+
+    def evaluate_many(self, vectors: Sequence[np.ndarray]) -> list[np.ndarray]:
+        """Weighted residuals at each of ``vectors``, the runs in parallel (counted)."""
+        residuals = self._map([np.asarray(x, dtype=float) for x in vectors])
+        if self.progress is not None and residuals:
+            self.progress(self.count, min(0.5 * float(r @ r) for r in residuals))
+        return residuals
 
     def _shifted(
         self, x: np.ndarray, columns: Sequence[int]
@@ -133,7 +149,10 @@ class Runs:
         """Weighted residuals at ``x`` (kept for the Jacobian there), run beside the
         Jacobian's first ``columns`` at ``x`` when speculating (one per idle thread)."""
         x = np.asarray(x, dtype=float)
-        ahead = list(columns)[: self.workers - 1] if self.speculate else []
+        linear = self.problem.bias_columns
+        ahead = (
+            [j for j in columns if j not in linear][: self.workers - 1] if self.speculate else []
+        )
         steps, vectors = self._shifted(x, ahead)
         residuals, *shifted = self._map([x, *vectors])
         evaluated = _Evaluated(x.tobytes(), residuals)
@@ -146,13 +165,15 @@ class Runs:
 
     def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
         """∂r/∂x by forward differences (backward at an upper bound), shape (m, len(columns)),
-        the columns' runs in parallel.
+        the columns' runs in parallel; a bias's column exactly (``Problem.bias_jacobian``).
 
         r(x) and any columns run ahead are those of the last :meth:`residuals` call at
         ``x`` (least_squares evaluates it first); the rest are run now.
         """
         x = np.asarray(x, dtype=float)
-        chosen = list(range(x.size)) if columns is None else list(columns)
+        every = list(range(x.size)) if columns is None else list(columns)
+        linear = self.problem.bias_columns
+        chosen = [j for j in every if j not in linear]  # a bias's column needs no run
         steps, vectors = self._shifted(x, chosen)
         last = self._last if self._last is not None and self._last.x == x.tobytes() else None
         ahead = {} if last is None else last.columns
@@ -168,4 +189,10 @@ class Runs:
         for i, j in enumerate(chosen):
             if i not in shifted:
                 shifted[i] = ahead.pop(j)[1]
-        return np.column_stack([(shifted[i] - base) / step for i, step in enumerate(steps)])
+        differenced = {
+            j: (shifted[i] - base) / step
+            for i, (j, step) in enumerate(zip(chosen, steps, strict=True))
+        }
+        return np.column_stack(
+            [differenced[j] if j in differenced else self.problem.bias_jacobian(j) for j in every]
+        ).reshape(base.size, len(every))

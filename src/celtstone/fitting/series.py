@@ -56,6 +56,8 @@ class Series:
     model : the same quantity from a run's samples, shape (n,), in ``unit``
     is_angle_offset_free : whether its zero is arbitrary (a camera's yaw): the offset
         between model and data is removed from the residuals and costs a degree of freedom
+    is_gyroscope_rate : whether a gyroscope measures it, with a constant bias of its own
+        (``fitting.nuisance``: ``bias_<name>`` is free by default)
     """
 
     name: str
@@ -67,6 +69,7 @@ class Series:
     plot_scale: float = 1.0
     plot_unit: str = ""
     is_angle_offset_free: bool = False
+    is_gyroscope_rate: bool = False
 
 
 def _omega(axis: int) -> Callable[[RunSamples], np.ndarray]:
@@ -83,6 +86,7 @@ SERIES: dict[str, Series] = {
             RATE_UNITS,
             "rad/s",
             lambda samples: samples.values("spin"),
+            is_gyroscope_rate=True,
         ),
         *(
             Series(
@@ -92,6 +96,7 @@ SERIES: dict[str, Series] = {
                 RATE_UNITS,
                 "rad/s",
                 _omega(k),
+                is_gyroscope_rate=True,
             )
             for k in range(3)
         ),

@@ -2,13 +2,17 @@
 
 SciPy's ``least_squares`` (trust-region reflective, bounded) minimises ½ Σ r² over the
 free numbers; the forward-difference Jacobian's runs go in parallel on threads, as many
-as there are idle threads started beside each residual (``fitting.runs``); starts besides
-the user's are drawn by Latin hypercube within the bounds (log-uniform where the bounds
-span a decade or more), seeded.
+as there are idle threads started beside each residual (``fitting.runs``); a bias's
+column is exact and takes no run. By default the starts come from a global search
+(``fitting.search``); with ``starts=N`` they are the user's and N − 1 drawn by Latin
+hypercube within the bounds, seeded. The finished fit is checked (``fitting.assess``):
+residual whiteness (the errors widened where it fails), goodness against the noise
+measured without the model, bounds, convergence, the runs' integration error.
 """
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -20,50 +24,52 @@ import numpy as np
 
 from celtstone.bodies import Body, load_body
 from celtstone.errors import (
+    CeltstoneError,
+    FitQualityWarning,
     FrictionBoundWarning,
     IdentifiabilityWarning,
     ParameterError,
     PlausibilityWarning,
 )
+from celtstone.fitting.assess import assess
+from celtstone.fitting.diagnostics import Whiteness, correlation_length, whiteness
 from celtstone.fitting.problem import Problem, make_problem
 from celtstone.fitting.profile import profile_likelihood
 from celtstone.fitting.record import Record
 from celtstone.fitting.result import FitResult, StartOutcome
 from celtstone.fitting.runs import Runs
-from celtstone.fitting.uncertainty import uncertainty
+from celtstone.fitting.search import draw_starts, screened_starts
+from celtstone.fitting.uncertainty import (
+    Uncertainty,
+    autocorrelation_consistent,
+    uncertainty,
+)
+from celtstone.trajectory import Trajectory
 
-__all__ = ["FIT_ATOL", "FIT_RTOL", "MAX_ITERATIONS", "draw_starts", "fit", "reweighted"]
+__all__ = [
+    "FIT_ATOL",
+    "FIT_RTOL",
+    "MAX_ITERATIONS",
+    "fit",
+    "reweighted",
+]
 
 # the runs' tolerances: rtol 1e-8 changes the spin of a 3 s K&L sliding run by 2.5e-9
-# rad/s from rtol 1e-10, at half the time (docs/decisions.md §31)
+# rad/s from rtol 1e-10, at half the time (docs/decisions.md); every fit checks it
+# again at its optimum against a run at 1/100 of them (``assess.INTEGRATION_ERROR_LIMIT``)
 FIT_RTOL = 1e-8
 FIT_ATOL = 1e-10
 MAX_ITERATIONS = 50  # residual evaluations of one start (least_squares' max_nfev)
+MAX_STARTS = 1000  # starts one may ask for
+MAX_WORKERS = 1024  # threads one may ask for
+# local fits started this many standard errors either side of the optimum, along each
+# physical number's linearised profile, looking for other minima the data cannot reject
+NEIGHBOUR_STEPS = 2.0
+Z_95 = 1.959963984540054
+
 # relative changes of cost and of x below which a start has converged
 COST_TOLERANCE = 1e-8
 STEP_TOLERANCE = 1e-6
-
-
-def draw_starts(problem: Problem, count: int, seed: int | None) -> list[np.ndarray]:
-    """The problem's start and ``count − 1`` more from a seeded Latin hypercube in the
-    bounds, log-uniform for a parameter whose positive bounds span a decade or more."""
-    starts = [problem.start]
-    if count <= 1:
-        return starts
-    from scipy.stats import qmc
-
-    unit = qmc.LatinHypercube(d=len(problem.free), rng=np.random.default_rng(seed)).random(
-        count - 1
-    )
-    for row in unit:
-        start = np.empty(len(problem.free))
-        for j, p in enumerate(problem.free):
-            if p.is_log_spaced:
-                start[j] = p.lower * (p.upper / p.lower) ** row[j]
-            else:
-                start[j] = p.lower + (p.upper - p.lower) * row[j]
-        starts.append(start)
-    return starts
 
 
 def _minimise(
@@ -99,7 +105,7 @@ def _minimise(
 
 
 def _from_starts(
-    runs: Runs, count: int, seed: int | None
+    runs: Runs, starting: list[np.ndarray]
 ) -> tuple[list[StartOutcome], tuple[np.ndarray, float, np.ndarray, np.ndarray]]:
     """Each start's outcome, and the best one's (values, cost, Jacobian, residuals). A start
     reached the best when its cost is within half the residual variance of the best's (the
@@ -107,7 +113,7 @@ def _from_starts(
     problem = runs.problem
     columns = list(range(len(problem.free)))
     ends = []
-    for x0 in draw_starts(problem, count, seed):
+    for x0 in starting:
         before = runs.count
         ends.append((x0, *_minimise(runs, x0, columns), runs.count - before))
     best = min(ends, key=lambda end: end[2])
@@ -123,16 +129,16 @@ def reweighted(problem: Problem, residuals: np.ndarray) -> Problem:
     """``problem`` with each estimated σ_s replaced by the noise level of its series'
     ``residuals`` (weighted by the old σ_s): RMS · sqrt(m / (m − p)) [unit of the series].
 
-    The data's own estimate (``noise_scale``) is biased up where a series curves within a
-    few samples (a rocking rate at 100 Hz); the residuals of a first fit are not, so a
-    record of several series is fitted again from the optimum with these weights.
+    The data's own estimate (``noise_scale``) is an upper bound where a series oscillates
+    within a few samples (a rocking rate at 100 Hz); the residuals of a first fit are not,
+    so a record of several series is fitted again from the optimum with these weights.
     """
     ratio = problem.n_residuals / problem.degrees_of_freedom
     sigma, sources, start = dict(problem.sigma), dict(problem.sigma_source), 0
     for name, measured in problem.record.series.items():
         part = residuals[start : start + measured.size] * sigma[name]
         start += measured.size
-        if sources[name] == "estimated":
+        if sources[name] != "given":
             sigma[name] = float(np.sqrt(np.mean(part**2) * ratio)) or sigma[name]
             sources[name] = "residuals of a first fit"
     return replace(problem, sigma=MappingProxyType(sigma), sigma_source=MappingProxyType(sources))
@@ -140,6 +146,16 @@ def reweighted(problem: Problem, residuals: np.ndarray) -> Problem:
 
 def _body(body: Body | str | Path) -> Body:
     return body if isinstance(body, Body) else load_body(body)
+
+
+def _check_count(name: str, value: object, lowest: int, highest: int | None = None) -> int:
+    """``value`` as a whole number in [lowest, highest], or ParameterError naming ``name``."""
+    allowed = f"a whole number >= {lowest}" + (f" and <= {highest}" if highest else "")
+    if not isinstance(value, (int, np.integer)) or isinstance(value, bool):
+        raise ParameterError(name, value, allowed)
+    if value < lowest or (highest is not None and value > highest):
+        raise ParameterError(name, value, allowed)
+    return int(value)
 
 
 def fit(
@@ -152,7 +168,8 @@ def fit(
     start: Mapping[str, float] | None = None,
     fixed: Mapping[str, float | str] | None = None,
     sigma: Mapping[str, float] | None = None,
-    starts: int = 1,
+    sensor_bias: bool = True,
+    starts: int | None = None,
     seed: int | None = 0,
     profile: str | None = None,
     rtol: float = FIT_RTOL,
@@ -175,20 +192,29 @@ def fit(
         Names to fit: model settings (``friction_coefficient`` f [1], ``contact_radius``
         ε [m], ``rolling_resistance`` λ [m], ``damping`` σ [N m s], ...), the initial
         state (``omega1..3`` [rad/s], ``initial_spin`` [rad/s], ``euler_alpha``,
-        ``euler_beta`` [deg]) or body numbers (``celtstone sweep`` names).
+        ``euler_beta`` [deg]), body numbers (``celtstone sweep`` names) or the
+        record's own numbers (``fitting.nuisance``: ``release_offset`` [s], the time from
+        the release state to the first sample; ``bias_<series>`` [rad/s]).
     bounds : mapping of str to (float, float), optional
-        Name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS``.
+        Name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS`` and
+        ``fitting.nuisance.NUISANCES``.
     start : mapping of str to float, optional
         Name -> first start [its unit]; default the fixed or the model's default value,
         for the initial rates the record's first sample.
     fixed : mapping of str to float or str, optional
-        Name -> value of the numbers and options held (``celtstone sweep --set`` names);
-        the initial state defaults to the record's first sample of omega1..3 or spin.
+        Name -> value of the numbers and options held (``celtstone sweep --set`` names,
+        and ``bias_<series>``); the initial state defaults to the record's first sample
+        of omega1..3 or spin, or with ``release_offset`` to the model's default state.
     sigma : mapping of str to float, optional
         Series name -> noise scale σ_s weighting it [its SI unit]; default estimated
-        from the data (``fitting.problem.noise_scale``).
-    starts : int
-        Number of starts, the first being ``start`` (>= 1).
+        from the record's high-frequency part (``fitting.problem.noise_scale``).
+    sensor_bias : bool
+        Free a constant bias on every gyroscope rate series (spin, omega1..3) not held
+        by ``fixed``.
+    starts : int or None
+        Local fits from this many starts, the first being ``start``, the others drawn
+        (1 to 1000); None: the global search, a screening of the bounds whose best
+        points start local fits beside ``start`` (``screened_starts``).
     seed : int or None
         Seed of the drawn starts.
     profile : str or None
@@ -200,21 +226,25 @@ def fit(
     method : str or None
         Integrator, default the model's.
     workers : int or None
-        Threads for the runs (default: one per core): the Jacobian's columns, and
-        beside each residual as many of them as there are threads besides it.
+        Threads for the runs (default: one per core), >= 1.
     progress : callable or None
         Called after each residual evaluation with (runs so far, cost).
 
     Returns
     -------
     FitResult
-        The best of the starts, with standard errors and correlations (and an
-        :class:`IdentifiabilityWarning` for each pair with |correlation| > 0.99 or a
-        rank-deficient Jacobian).
+        The best of the starts, with standard errors and correlations, the checks of
+        ``fitting.diagnostics`` and ``converged``; each warning is also issued (an
+        :class:`IdentifiabilityWarning` for correlations and rank, a
+        :class:`FitQualityWarning` for the rest).
     """
     began = time.perf_counter()
-    if not isinstance(starts, int) or isinstance(starts, bool) or starts < 1:
-        raise ParameterError("starts", starts, "a whole number >= 1")
+    if starts is not None:
+        _check_count("starts", starts, 1, MAX_STARTS)
+    if workers is not None:
+        _check_count("workers", workers, 1, MAX_WORKERS)
+    if seed is not None:
+        _check_count("seed", seed, 0)
     problem = make_problem(
         record,
         _body(body),
@@ -224,25 +254,38 @@ def fit(
         start=start,
         fixed=fixed,
         sigma=sigma,
+        sensor_bias=sensor_bias,
         rtol=rtol,
         atol=atol,
         method=method,
     )
     if profile is not None and profile not in problem.names:
         raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
+    noise = dict(problem.sigma)  # the model-free noise estimates (or the given σ_s)
     columns = list(range(len(problem.free)))
     with warnings.catch_warnings(), Runs(problem, workers, progress) as runs:
         # trial runs warn about nothing; the fitted run below warns once
         warnings.simplefilter("ignore", FrictionBoundWarning)
         warnings.simplefilter("ignore", PlausibilityWarning)
-        outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starts, seed)
-        if len(problem.record.series) > 1 and "estimated" in problem.sigma_source.values():
+        starting = (
+            screened_starts(runs, seed) if starts is None else draw_starts(problem, starts, seed)
+        )
+        outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starting)
+        best_converged = min(outcomes, key=lambda s: s.cost).converged
+        if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
             problem = reweighted(problem, residuals)
             runs.use(problem)
-            values, cost, _, _, jacobian, residuals = _minimise(runs, values, columns)
-        spread = uncertainty(
-            jacobian, cost, problem.degrees_of_freedom, problem.scale, problem.names
-        )
+            values, cost, best_converged, _, jacobian, residuals = _minimise(runs, values, columns)
+        spread, whiteness = _spread(problem, jacobian, residuals, cost)
+        minima = _neighbour_minima(runs, values, spread, columns)
+        lowest = min(minima, key=lambda m: m[1], default=None)
+        if lowest is not None and lowest[1] < cost - 0.1 * spread.residual_variance:
+            # a lower minimum beside the optimum: it is the optimum
+            minima.append((values, cost, best_converged, jacobian, residuals))
+            values, cost, best_converged, jacobian, residuals = lowest
+            spread, whiteness = _spread(problem, jacobian, residuals, cost)
+        ends = [(s.end, s.cost) for s in outcomes if s.converged]
+        spread = _widened_by_minima(spread, values, cost, [m[:2] for m in minima] + ends)
         profiled = None
         if profile is not None:
             index = problem.names.index(profile)
@@ -261,10 +304,25 @@ def fit(
             )
         count, failed, wasted = runs.count, runs.failed, runs.wasted
     trajectory = problem.run(values)
-    residuals = problem.residuals(trajectory)
-    texts = tuple(spread.warnings(problem.names))
-    for text in texts:
+    residuals = problem.residuals(trajectory, values)
+    integration_error = _integration_error(problem, values, trajectory)
+    assessment = assess(
+        problem,
+        values,
+        trajectory,
+        residuals,
+        spread,
+        whiteness,
+        noise,
+        outcomes,
+        best_converged,
+        profiled,
+        integration_error,
+    )
+    for text in spread.warnings(problem.names):
         warnings.warn(text, IdentifiabilityWarning, stacklevel=2)
+    for text in assessment.warnings:
+        warnings.warn(text, FitQualityWarning, stacklevel=2)
     return FitResult(
         problem=problem,
         values=values,
@@ -272,11 +330,112 @@ def fit(
         residuals=residuals,
         uncertainty=spread,
         starts=tuple(outcomes),
-        runs=count + 1,
+        runs=count + 2,
         failed_runs=failed + (not trajectory.ok),
         speculative_runs_wasted=wasted,
         wall_time=time.perf_counter() - began,
         trajectory=trajectory,
         profile=profiled,
-        warnings=texts,
+        warnings=(*spread.warnings(problem.names), *assessment.warnings),
+        assessment=assessment,
     )
+
+
+def _spread(
+    problem: Problem, jacobian: np.ndarray, residuals: np.ndarray, cost: float
+) -> tuple[Uncertainty, dict[str, Whiteness]]:
+    """The uncertainty, widened by the Newey-West covariance where a series' residuals
+    are not white, and each series' whiteness."""
+    blocks, start = {}, 0
+    for name, measured in problem.record.series.items():
+        blocks[name] = slice(start, start + measured.size)
+        start += measured.size
+    white = {name: whiteness(residuals[rows]) for name, rows in blocks.items()}
+    widened = None
+    if not all(w.is_white for w in white.values()):
+        widened = autocorrelation_consistent(
+            jacobian,
+            residuals,
+            list(blocks.values()),
+            [correlation_length(residuals[rows]) for rows in blocks.values()],
+            problem.scale,
+            problem.degrees_of_freedom,
+        )
+    spread = uncertainty(
+        jacobian, cost, problem.degrees_of_freedom, problem.scale, problem.names, widened
+    )
+    return spread, white
+
+
+def _neighbour_minima(
+    runs: Runs, values: np.ndarray, spread: Uncertainty, columns: list[int]
+) -> list[tuple[np.ndarray, float, bool, np.ndarray, np.ndarray]]:
+    """Local minima found from ``NEIGHBOUR_STEPS`` standard errors either side of the
+    optimum along each physical number's linearised profile (the number moved, the others
+    to their conditional optimum): (values, cost, converged, Jacobian, residuals) each.
+
+    A record whose cost has several minima a few standard errors apart (a spin-only
+    record: the rocking's phase) hides them from the Jacobian at one of them."""
+    problem = runs.problem
+    found = []
+    for j in range(len(problem.free)):
+        if j in problem.bias_columns or not np.isfinite(spread.standard_errors[j]):
+            continue
+        direction = spread.covariance[:, j] / np.sqrt(spread.covariance[j, j])
+        for step in (-NEIGHBOUR_STEPS, NEIGHBOUR_STEPS):
+            start = np.clip(values + step * direction, problem.lower, problem.upper)
+            x, cost, converged, _, jacobian, residuals = _minimise(runs, start, columns)
+            found.append((x, cost, converged, jacobian, residuals))
+    return found
+
+
+def _widened_by_minima(
+    spread: Uncertainty,
+    values: np.ndarray,
+    cost: float,
+    minima: Sequence[tuple[np.ndarray, float]],
+) -> Uncertainty:
+    """``spread`` with each standard error widened so that the 95 % interval holds every
+    other minimum the data cannot reject (2 Δcost / s² below ``CHI2_95``) with the part of
+    its own interval below the threshold.
+
+    Notes
+    -----
+    The region of 2 Δcost / s² < 3.84 is the union of the optimum's ± 1.96 errors and,
+    about a minimum at statistic q and distance Δ_j, ± sqrt(3.84 − q) errors: its half-width
+    about the optimum is max(1.96 σ_j, |Δ_j| + sqrt(3.84 − q) σ_j), reported as 1.96 σ'_j.
+    """
+    from celtstone.fitting.profile import CHI2_95
+
+    errors = spread.standard_errors
+    factors = np.ones(errors.size)
+    for x, other in minima:
+        statistic = 2.0 * (other - cost) / spread.residual_variance
+        if not statistic < CHI2_95:
+            continue
+        reach = np.abs(x - values) + np.sqrt(CHI2_95 - max(statistic, 0.0)) * errors
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = np.where(np.isfinite(errors) & (errors > 0), reach / (Z_95 * errors), 1.0)
+        factors = np.maximum(factors, ratio)
+    if np.all(factors <= 1.0 + 1e-9):
+        return spread
+    return replace(
+        spread,
+        covariance=spread.covariance * np.outer(factors, factors),
+        standard_errors=errors * factors,
+        widened_by_profile=tuple(float(f) for f in factors),
+    )
+
+
+def _integration_error(problem: Problem, values: np.ndarray, trajectory: Trajectory) -> float:
+    """Largest |Δ model| / σ_s between the fitted run and one at 1/100 of its tolerances
+    [1]: far below 1 when the runs' error is far below the noise; inf if it fails."""
+    tighter = replace(problem, rtol=problem.rtol / 100.0, atol=problem.atol / 100.0)
+    try:
+        reference = tighter.run(values)
+    except CeltstoneError:
+        return math.inf
+    if not (reference.ok and trajectory.ok):
+        return math.inf
+    difference = tighter.residuals(reference, values) - problem.residuals(trajectory, values)
+    return float(np.max(np.abs(difference)))

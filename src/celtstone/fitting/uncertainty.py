@@ -5,6 +5,10 @@ the residual variance (in units of the weights σ_s), computed by SVD of J with 
 columns scaled to the parameters' sizes. A singular value below ``RANK_TOLERANCE`` of
 the largest marks a direction the data do not determine: the parameters along it get
 an infinite standard error, and the rank is reported.
+
+Where the residuals are not white (``fitting.diagnostics``), s² (JᵀJ)⁻¹ is too tight:
+:func:`autocorrelation_consistent` gives the Newey-West covariance (Bartlett weights over
+the residuals' correlation length), and the fit reports the larger of the two errors.
 """
 
 from __future__ import annotations
@@ -14,7 +18,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CORRELATION_LIMIT", "RANK_TOLERANCE", "Uncertainty", "uncertainty"]
+__all__ = [
+    "CORRELATION_LIMIT",
+    "RANK_TOLERANCE",
+    "Uncertainty",
+    "autocorrelation_consistent",
+    "uncertainty",
+]
 
 CORRELATION_LIMIT = 0.99  # |correlation| above this: not separately identifiable
 RANK_TOLERANCE = 1e-8  # singular value of the scaled J, relative to the largest
@@ -34,6 +44,8 @@ class Uncertainty:
     rank : rank of J (p when every direction is determined)
     condition_number : largest over smallest singular value of the scaled J
     strongly_correlated : (name, name, correlation) of the pairs above the limit
+    widened_by_profile : each standard error's factor that makes the 95 % interval hold
+        the other minima the data cannot reject (``fitting.solve``), empty when none
     """
 
     covariance: np.ndarray
@@ -43,6 +55,7 @@ class Uncertainty:
     rank: int
     condition_number: float
     strongly_correlated: tuple[tuple[str, str, float], ...]
+    widened_by_profile: tuple[float, ...] = ()
 
     def warnings(self, names: Sequence[str]) -> list[str]:
         """One sentence per identifiability problem (for ``IdentifiabilityWarning``)."""
@@ -60,12 +73,61 @@ class Uncertainty:
         return texts
 
 
+def _inverse_normal(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(JᵀJ)⁻¹ of the scaled J on its determined directions, the singular values and rows."""
+    _, singular, rows = np.linalg.svd(scaled, full_matrices=False)
+    largest = singular[0] if singular.size and singular[0] > 0.0 else 1.0
+    kept = singular > RANK_TOLERANCE * largest
+    vectors = rows[kept].T
+    return (vectors / singular[kept] ** 2) @ vectors.T, singular, rows
+
+
+def autocorrelation_consistent(
+    jacobian: np.ndarray,
+    residuals: np.ndarray,
+    blocks: Sequence[slice],
+    lags: Sequence[int],
+    scale: np.ndarray,
+    degrees_of_freedom: int,
+) -> np.ndarray:
+    """Newey-West covariance of the fitted numbers [unit_i unit_j], shape (p, p).
+
+    Parameters
+    ----------
+    jacobian : ∂r/∂x of the weighted residuals [1/unit_j], shape (m, p)
+    residuals : the weighted residuals [1], shape (m,)
+    blocks : the rows of each series (correlated within a series only)
+    lags : each series' correlation length L [samples] (Bartlett weights 1 − l/(L + 1))
+    scale : the parameters' sizes [unit_j], shape (p,)
+    degrees_of_freedom : m − p, for the small-sample factor m / (m − p)
+
+    Notes
+    -----
+    Cov = A S A with A = (JᵀJ)⁻¹ and S = Σ_l w_l Σ_t (g_t g_{t−l}ᵀ + g_{t−l} g_tᵀ),
+    g_t = J_t r_t (Newey & West 1987, doi:10.2307/1913610); for white residuals it is
+    s² (JᵀJ)⁻¹ up to sampling noise.
+    """
+    scaled = jacobian * scale
+    inverse, _, _ = _inverse_normal(scaled)
+    meat = np.zeros((scaled.shape[1], scaled.shape[1]))
+    for rows, lag in zip(blocks, lags, strict=True):
+        g = scaled[rows] * residuals[rows, None]
+        meat += g.T @ g
+        for step in range(1, min(lag, g.shape[0] - 1) + 1):
+            weight = 1.0 - step / (lag + 1.0)
+            cross = g[step:].T @ g[:-step]
+            meat += weight * (cross + cross.T)
+    correction = residuals.size / max(degrees_of_freedom, 1)
+    return correction * scale[:, None] * (inverse @ meat @ inverse) * scale
+
+
 def uncertainty(
     jacobian: np.ndarray,
     cost: float,
     degrees_of_freedom: int,
     scale: np.ndarray,
     names: Sequence[str],
+    widened: np.ndarray | None = None,
 ) -> Uncertainty:
     """Covariance, standard errors and correlation of the fit.
 
@@ -76,15 +138,21 @@ def uncertainty(
     degrees_of_freedom : m − p (less any offsets removed from the residuals), > 0
     scale : the parameters' sizes [unit_j], shape (p,), to condition J
     names : the parameters' names, shape (p,)
+    widened : a covariance for residuals that are not white
+        (:func:`autocorrelation_consistent`): each standard error is the larger of the two
     """
     variance = 2.0 * cost / degrees_of_freedom
     scaled = jacobian * scale
-    _, singular, rows = np.linalg.svd(scaled, full_matrices=False)
+    inverse, singular, rows = _inverse_normal(scaled)
     largest = singular[0] if singular.size and singular[0] > 0.0 else 1.0
     kept = singular > RANK_TOLERANCE * largest
     rank = int(np.count_nonzero(kept))
-    vectors = rows[kept].T
-    covariance = variance * scale[:, None] * ((vectors / singular[kept] ** 2) @ vectors.T) * scale
+    covariance = variance * scale[:, None] * inverse * scale
+    if widened is not None:  # the larger of the two variances, correlations kept
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = np.sqrt(np.maximum(np.diag(widened) / np.diag(covariance), 1.0))
+        ratio = np.where(np.isfinite(ratio), ratio, 1.0)
+        covariance = covariance * np.outer(ratio, ratio)
     null = rows[~kept]
     undetermined = (
         np.any(np.abs(null) > _NULL_COMPONENT, axis=0) if null.size else np.zeros(len(names), bool)
