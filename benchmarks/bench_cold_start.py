@@ -26,6 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks._page
+
 SOURCE = Path(__file__).resolve().parents[1] / "src"
 REALISTIC = (
     "--contact hybrid --contact-shape ellipse --friction-law exact "
@@ -71,4 +73,7 @@ def main(names: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    from benchmarks._page import recorded
+
+    with recorded("bench_cold_start", "Cold starts: a first run with an empty numba cache"):
+        main(sys.argv[1:])

@@ -125,7 +125,8 @@ def test_an_old_run_file_plots_and_labels(
 def test_old_reproduction_data_reads_under_the_new_key(tmp_path: Path) -> None:
     (tmp_path / "data").mkdir()
     case = {"model": "sliding", "normal_force": "static"}
-    result = {"target": "fig2", "body": "b", "cases": [case]}
+    # a result as a target wrote it (every one names its study and t_end), keyed the old way
+    result = {"target": "fig2", "body": "b", "study": "b", "t_end": 20.0, "cases": [case]}
     (tmp_path / "data" / "fig2_b.json").write_text(json.dumps(result), encoding="utf-8")
     assert collect(tmp_path)["fig2"]["b"]["cases"] == [
         {"model": "sliding", "friction_load": "static"}
