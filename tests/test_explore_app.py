@@ -143,3 +143,33 @@ def test_a_slow_run_shows_its_progress_and_stops(monkeypatch: pytest.MonkeyPatch
     explorer.poll()
     assert explorer.outcome is None and not explorer.progress.visible
     release.set()
+
+
+def test_a_served_page_runs_once_shown_and_sends_its_figures_then() -> None:
+    """In a served session the first run and the figures wait for the page to be shown,
+    so that its controls answer first; once shown, the run starts and the figures come."""
+    from unittest.mock import MagicMock
+
+    from bokeh.document import Document
+    from panel.io.state import set_curdoc
+
+    document = Document()
+    document._session_context = lambda: MagicMock()  # what a served page's document has
+    with set_curdoc(document):
+        explorer = Explorer(Inputs(t_end=1.0))
+        explorer.layout.get_root(document)
+        assert explorer.runner.generation == 0 and explorer.outcome is None
+        assert "computing the first run" in explorer.status.object
+        assert not _has_figure(explorer.layout, explorer.spin_figure)
+        pn.state._on_load(document)  # the browser has shown the page
+        assert explorer.runner.generation == 1
+        assert _has_figure(explorer.layout, explorer.spin_figure)
+    if explorer._callback is not None:
+        explorer._callback.stop()
+    _settle(explorer)
+    assert explorer.outcome is not None and explorer.outcome.trajectory is not None
+
+
+def _has_figure(layout: object, figure: object) -> bool:
+    """Whether ``figure`` is in ``layout``'s rendered objects."""
+    return any(shown is figure for shown in layout.select(type(figure)))  # type: ignore[attr-defined]

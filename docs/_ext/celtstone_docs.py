@@ -5,6 +5,7 @@
 * ``api/MODULE.rst``: one page per public module of :data:`MODULES`, its docstring and
   its public names, each documented once (:func:`documented_at`);
 * ``cli.md``: each ``celtstone`` command's ``--help``, from the argument parsers;
+* the explorer's screenshots, taken in Chromium when the machine has it;
 
 and docstrings read as the plain text they are written in (bars escaped).
 """
@@ -268,6 +269,29 @@ def _tutorial(app: Any) -> None:
     _write_if_changed(out / "tutorial.md", executed_tutorial(source / "tutorial.ipynb", out))
 
 
+def _explorer_screenshots(app: Any) -> None:
+    """Screenshots of the live explorer taken now (``_static/make_explorer_screenshots.py``)
+    and published in place of the committed ones in ``_static/explorer``; without
+    Chromium, Playwright or Panel the committed ones stay, and the build says so."""
+    import importlib.util
+
+    from sphinx.util import logging
+
+    script = Path(app.srcdir) / "_static" / "make_explorer_screenshots.py"
+    spec = importlib.util.spec_from_file_location("make_explorer_screenshots", script)
+    assert spec is not None and spec.loader is not None
+    screenshots = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(screenshots)
+    lacking = screenshots.missing()
+    if lacking:
+        logging.getLogger(__name__).info(f"explorer screenshots: the committed ones ({lacking})")
+        return
+    taken = Path(app.doctreedir) / "explorer-screenshots"
+    screenshots.take(taken / "explorer")
+    # copied after the source's _static, so these replace the committed pictures
+    app.config.html_static_path = [*app.config.html_static_path, str(taken)]
+
+
 def _write_if_changed(path: Path, text: str) -> None:
     if not path.exists() or path.read_text(encoding="utf-8") != text:
         path.write_text(text, encoding="utf-8")
@@ -376,6 +400,7 @@ def setup(app: Any) -> dict[str, Any]:
     app.add_html_math_renderer("mathtext", (_visit_inline_math, None), (_visit_display_math, None))
     app.connect("config-inited", _generate)  # before autosummary reads api.rst
     app.connect("builder-inited", _tutorial)
+    app.connect("builder-inited", _explorer_screenshots)
     app.connect("config-inited", _exclude_from_validation, priority=400)  # before numpydoc reads it
     app.connect("autodoc-process-docstring", _data_docstring, priority=90)
     app.connect("autodoc-process-docstring", _escape_bars, priority=100)

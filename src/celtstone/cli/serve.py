@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import threading
 
 from celtstone.errors import ParameterError
 
@@ -37,19 +36,13 @@ def _port(text: str) -> int:
     return port
 
 
-def _warm_up() -> None:
-    """Load the rolling and sliding kernels from numba's cache while the browser loads the
-    page, so that the first page's first run does not wait for them."""
-    from celtstone.explorer.inputs import Inputs, prepare
-    from celtstone.integrate import simulate
-
-    for kind in ("rolling", "sliding"):
-        prepared = prepare(Inputs(kind=kind, t_end=0.01))
-        simulate(prepared.model, prepared.body, prepared.initial_state, prepared.t_end)
-
-
 def handle(args: argparse.Namespace) -> int:
-    """Serve the explorer until Ctrl-C (exit 130) or SIGTERM (exit 143)."""
+    """Serve the explorer until Ctrl-C (exit 130) or SIGTERM (exit 143).
+
+    Nothing runs beside the server while the first page is built: the page's first run
+    starts once the browser shows the page (its controls answer before its verdict), and
+    that run loads the compiled kernels from numba's cache, which the other models share.
+    """
     from celtstone.explorer import require_panel
 
     port = _port(args.port)
@@ -61,6 +54,7 @@ def handle(args: argparse.Namespace) -> int:
             "can open the explorer and start runs on this machine",
             file=sys.stderr,
         )
+    print("celtstone: starting the explorer (loading Panel) …", file=sys.stderr)
     import panel as pn
 
     from celtstone.explorer.app import Explorer
@@ -70,7 +64,6 @@ def handle(args: argparse.Namespace) -> int:
 
     shown = "localhost" if host in LOCAL_HOSTS else host
     origins = ["*"] if host not in LOCAL_HOSTS else [f"localhost:{port}", f"127.0.0.1:{port}"]
-    threading.Thread(target=_warm_up, name="celtstone-warm-up", daemon=True).start()
     print(f"celtstone explorer at http://{shown}:{port}/ (Ctrl-C stops it)", file=sys.stderr)
     pn.serve(
         {"/": page},

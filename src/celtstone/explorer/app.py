@@ -4,7 +4,9 @@ Panel and Bokeh are imported here only, when an explorer is made (``celtstone se
 :func:`celtstone.explorer`). Every control change makes an :class:`~.inputs.Inputs` and
 hands it to a :class:`~.runner.Runner`; a periodic callback of the page's own session
 takes finished runs and draws them (Bokeh documents may only change on their session's
-thread), so a figure always shows the newest inputs' run.
+thread), so a figure always shows the newest inputs' run. A served page is sent
+without its figures and before its first run: both follow once the browser shows it, so
+that its controls answer first.
 """
 
 from __future__ import annotations
@@ -98,7 +100,8 @@ class Explorer:
     inputs : Inputs, optional
         The first state of the controls (default: K&L's stone spun the wrong way, rolling).
     run_first : bool
-        Start a run of the first inputs at once.
+        Start a run of the first inputs: at once, or in a served page once the browser
+        shows it (the controls answer before the first verdict).
     """
 
     def __init__(self, inputs: Inputs | None = None, run_first: bool = True) -> None:
@@ -109,6 +112,13 @@ class Explorer:
         self._build_controls(first)
         self._build_plots()
         self._build_outputs()
+        figures: Any
+        if _served():  # most of the page's Bokeh models: sent once the page is shown
+            figures = pn.param.ParamFunction(
+                lambda: self._figures(), defer_load=True, sizing_mode="stretch_width"
+            )
+        else:
+            figures = self._figures()
         self.layout = pn.Row(
             pn.Column(*self._control_cards, width=400, scroll=True, sizing_mode="stretch_height"),
             pn.Column(
@@ -118,10 +128,7 @@ class Explorer:
                 self.status,
                 self.time_cursor,
                 self.cursor_words,
-                self.stone_figure,
-                self.spin_figure,
-                self.energy_figure,
-                self.tilt_figure,
+                figures,
                 pn.pane.Markdown(NOTES["plots"], styles={"font-size": "0.9em"}),
                 self.downloads,
                 sizing_mode="stretch_width",
@@ -132,7 +139,11 @@ class Explorer:
         for widget in self._watched:
             widget.param.watch(self._changed, "value")
         if run_first:
-            self._changed()
+            if _served():  # the page first, usable at once; the first run once it is shown
+                self.status.object = "computing the first run …"
+                pn.state.onload(self._changed)
+            else:
+                self._changed()
 
     # -- controls ---------------------------------------------------------------------
     def _build_controls(self, first: Inputs) -> None:
@@ -291,8 +302,7 @@ class Explorer:
         ``anywhere``, in a notebook's event loop); tests call :meth:`poll` themselves."""
         if self._callback is not None:
             return
-        document = pn.state.curdoc
-        if anywhere or (document is not None and document.session_context is not None):
+        if anywhere or _served():
             self._callback = pn.state.add_periodic_callback(self.poll, period=POLL_MS)
 
     def poll(self) -> None:
@@ -436,6 +446,15 @@ class Explorer:
             sizing_mode="stretch_width",
         )
         self.time_cursor.param.watch(self._move_cursor, "value")
+
+    def _figures(self) -> Any:
+        return pn.Column(
+            self.stone_figure,
+            self.spin_figure,
+            self.energy_figure,
+            self.tilt_figure,
+            sizing_mode="stretch_width",
+        )
 
     def _move_cursor(self, event: Any = None) -> None:
         for span in self.cursor_spans:
@@ -606,6 +625,12 @@ class Explorer:
         """Shown inline in a notebook (Jupyter calls this)."""
         self._ensure_polling(anywhere=True)
         return self.layout._repr_mimebundle_(include, exclude)
+
+
+def _served() -> bool:
+    """Whether this runs in a served page's session (not a notebook, not a test)."""
+    document = pn.state.curdoc
+    return document is not None and document.session_context is not None
 
 
 def _real(value: Any) -> Any:

@@ -5,9 +5,17 @@ leaves the run in flight, of the last good inputs, alone), numbers them with a n
 *generation*, stops the run in flight and starts the new one on a daemon thread.
 :func:`celtstone.simulate` calls its ``progress`` callback about ten times a second; the
 callback raises :class:`Cancelled` once the run is stopped, which ends ``simulate`` at
-once. (The compiled loop it ran on its own thread cannot be interrupted: it finishes in
-the background and its result is dropped.) A finished run is kept only if its generation
-is still the newest, so the page never draws a figure of inputs it no longer shows.
+once. A finished run is kept only if its generation is still the newest, so the page
+never draws a figure of inputs it no longer shows.
+
+A stopped run's computation is not interrupted, because a run is not made of chunks:
+``simulate`` hands the whole of [0, t_end] to one call of the compiled loop
+(``solvers.driver.integrate``, or ``solvers.phases.run_phases`` for stick-slip), which
+``solvers._run`` starts on a thread of its own, and calls ``progress`` from the thread
+that waits for it. Raising there ends the wait, not the loop: the loop reads no stop
+request (it ends at t_end, at ``max_steps``, at a terminal event or on a failure), so it
+finishes in the background and its result is dropped. Stopping it within a run needs a
+stop flag that the compiled loop reads at each step, a change to the compiled solvers.
 """
 
 from __future__ import annotations
