@@ -138,3 +138,36 @@ def test_a_compile_inside_a_run_says_what_it_compiles(monkeypatch: pytest.Monkey
     line = _jit.compiling_notice("the rolling model with vern9", 35.0)
     assert stream.getvalue() == line + "\n"
     assert line.startswith("celtstone: compiling the rolling model with vern9, about 35 s, once")
+
+
+def test_a_branch_decided_by_the_callers_code_is_never_inlined() -> None:
+    """The inliner goes one call level at a time (``kernels._pruning.InlineOnePerLevel``):
+    a dispatcher inlined with a constant code has its other branches removed before the
+    calls inside them are inlined, so a callee only a dead branch calls is never made
+    into IR, as the run loop's method dispatcher must not copy every method's step."""
+    from numba import njit
+
+    from celtstone.kernels import _pruning
+
+    @njit(inline="always")
+    def add_one(x):
+        return x + 1.0
+
+    @njit(inline="always")
+    def double(x):
+        return 2.0 * x
+
+    @njit(inline="always")
+    def dispatch(code, x):
+        if code == 0:
+            return add_one(x)
+        return double(x)
+
+    @njit(pipeline_class=_pruning.CodePruningCompiler)
+    def with_code_zero(x):
+        return dispatch(0, x)
+
+    assert with_code_zero(3.0) == 4.0
+    made = {function for function, _ in _pruning._CALLEE_IR}
+    assert dispatch.py_func in made and add_one.py_func in made
+    assert double.py_func not in made, "the dead branch's callee was inlined"

@@ -2,7 +2,8 @@
 
 ``_cache`` subclasses numba's cache classes (a locked save, a load without the
 compiler, the linking bitcode parsed when linked) and ``_pruning`` adds a compiler pass
-that calls numba's branch pruning. Both were written against one numba version
+that calls numba's branch pruning and replaces numba's inlining pass by one that inlines
+a level at a time. Both were written against one numba version
 (``TESTED_NUMBA``, the one ``pyproject.toml`` pins) and the private functions listed in
 ``PRIVATE_SIGNATURES``. :func:`internals_changed` names what differs in the numba that
 is installed; where anything does, ``_jit.cached_njit`` uses numba's own cache and
@@ -42,6 +43,14 @@ PRIVATE_SIGNATURES = {
     "numba.core.ir_utils.build_definitions": "(blocks, definitions=None)",
     "numba.core.compiler.DefaultPassBuilder.define_nopython_pipeline": "(state, name='nopython')",
     "numba.core.compiler_machinery.PassManager.add_pass_after": "(self, pass_cls, location)",
+    "numba.core.compiler.DefaultPassBuilder.define_untyped_pipeline": "(state, name='untyped')",
+    "numba.core.inline_closurecall.InlineWorker.run_untyped_passes": (
+        "(self, func, enable_ssa=False)"
+    ),
+    "numba.core.untyped_passes.InlineInlinables._do_work": (
+        "(self, state, work_list, block, i, expr, inline_worker)"
+    ),
+    "numba.core.ir.FunctionIR.copy": "(self)",
 }
 
 

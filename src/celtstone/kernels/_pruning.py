@@ -17,6 +17,16 @@ to, and numba's own dead-branch pass then removes the branch it decides. A compa
 with anything else is left as it is, so a call with a runtime code compiles every branch,
 as before. Nothing else changes: the same IR minus branches a run can never take.
 
+The inlining itself is numba's ``InlineInlinables`` one call level at a time
+(:class:`InlineOnePerLevel`): numba's pass makes each callee's IR anew with every
+``inline="always"`` callee of its own already inlined, so the run loop's call to the
+method dispatcher (``solvers._methods.attempt``) copied every method's step, Radau's
+Newton iteration included, before the loop's constant method code could remove them,
+and made the IR of a helper anew at each of its call sites: 9 of the 15 s of CPU that
+a first rolling run spent on the run loop itself (29 s in all, then 20 s). One level
+at a time, the caller's codes decide each inlined dispatcher's branches before the
+calls inside them are inlined, and each callee's IR is made once per process.
+
 The pass uses numba's documented extension points for compiler passes
 (``numba.core.compiler_machinery``, ``CompilerBase.define_pipelines``); the pinned
 numba's pass names are checked at import.
@@ -28,11 +38,12 @@ import operator
 from types import ModuleType
 from typing import Any
 
-from numba.core import ir, types
+from numba.core import bytecode, ir, postproc, types
 from numba.core.analysis import compute_cfg_from_blocks, dead_branch_prune
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.compiler_machinery import FunctionPass, register_pass
-from numba.core.ir_utils import build_definitions, get_definition, guard
+from numba.core.inline_closurecall import InlineWorker, callee_ir_validator
+from numba.core.ir_utils import build_definitions, get_definition, guard, simplify_CFG
 from numba.core.untyped_passes import InlineClosureLikes, InlineInlinables
 
 _COMPARISONS = {
@@ -121,17 +132,105 @@ class FoldCodeComparisons(FunctionPass):
         FunctionPass.__init__(self)
 
     def run_pass(self, state: Any) -> bool:
-        changed = False
+        return prune_folded_branches(state.func_ir, state.args)
+
+
+def prune_folded_branches(func_ir: Any, argument_types: Any) -> bool:
+    """Fold comparisons of compile-time codes and remove the branches they decide,
+    repeated while something folds (a pruned branch can leave a variable with one
+    definition, and so known); whether anything was."""
+    changed = False
+    while fold_code_comparisons(func_ir, argument_types):
+        dead_branch_prune(func_ir, argument_types)
+        # the blocks no branch reaches any more, and their definitions: a variable
+        # assigned in one live block only is then known (an inlined helper's return)
+        for label in compute_cfg_from_blocks(func_ir.blocks).dead_nodes():
+            del func_ir.blocks[label]
+        func_ir._definitions = build_definitions(func_ir.blocks)
+        changed = True
+    return changed
+
+
+def _untyped_pipeline_without_inlining(state: Any, name: str = "untyped") -> Any:
+    """numba's untyped pipeline without its ``InlineInlinables``: a callee's own
+    ``inline="always"`` calls are left to the caller's pass (:class:`InlineOnePerLevel`)."""
+    pipeline = DefaultPassBuilder.define_untyped_pipeline(state, name)
+    position = pipeline.passes.index((InlineInlinables, "inline inlinable functions"))
+    del pipeline.passes[position]
+    return pipeline
+
+
+# a function's untyped IR, made once per process: every inlining copies it
+_CALLEE_IR: dict[Any, Any] = {}
+
+
+class _OneLevelInliner(InlineWorker):
+    """numba's ``InlineWorker`` whose callee IR holds its own inlinable calls uninlined,
+    made once per function."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._compiler_pipeline = _untyped_pipeline_without_inlining
+
+    def run_untyped_passes(self, func: Any, enable_ssa: bool = False) -> Any:
+        key = (func, enable_ssa)
+        cached = _CALLEE_IR.get(key)
+        if cached is None:
+            cached = _CALLEE_IR[key] = super().run_untyped_passes(func, enable_ssa)
+        callee_ir = cached.copy()  # inline_ir copies the blocks, which it mutates
+        # a fresh identity per copy: the inlined variables are named after it
+        callee_ir.func_id = bytecode.FunctionIdentity.from_function(func)
+        return callee_ir
+
+
+@register_pass(mutates_CFG=True, analysis_only=False)
+class InlineOnePerLevel(InlineInlinables):
+    """numba's ``InlineInlinables``, one call level at a time: a callee is inlined
+    without its own inlinable calls, the caller's codes then decide its branches
+    (:func:`prune_folded_branches`), and only the calls left in live blocks are
+    inlined in turn. numba's pass inlines each callee with every callee of its own,
+    each made anew, before any branch is decided: every method's step for a run that
+    takes one."""
+
+    _name = "celtstone_inline_one_per_level"
+
+    def run_pass(self, state: Any) -> bool:
+        worker = _OneLevelInliner(
+            state.typingctx,
+            state.targetctx,
+            state.locals,
+            state.pipeline,
+            state.flags,
+            validator=callee_ir_validator,
+        )
         func_ir = state.func_ir
-        while fold_code_comparisons(func_ir, state.args):
-            dead_branch_prune(func_ir, state.args)
-            # the blocks no branch reaches any more, and their definitions: a variable
-            # assigned in one live block only is then known (an inlined helper's return)
-            for label in compute_cfg_from_blocks(func_ir.blocks).dead_nodes():
-                del func_ir.blocks[label]
-            func_ir._definitions = build_definitions(func_ir.blocks)
-            changed = True
-        return changed
+        prune_folded_branches(func_ir, state.args)
+        modified = False
+        work_list = list(func_ir.blocks.items())
+        while work_list:
+            label, block = work_list.pop()
+            if func_ir.blocks.get(label) is not block:
+                continue  # pruned since
+            for index, statement in enumerate(block.body):
+                expression = getattr(statement, "value", None)
+                if not (
+                    isinstance(statement, ir.Assign)
+                    and isinstance(expression, ir.Expr)
+                    and expression.op == "call"
+                ):
+                    continue
+                if guard(self._do_work, state, work_list, block, index, expression, worker):
+                    modified = True
+                    if prune_folded_branches(func_ir, state.args):
+                        live = set(func_ir.blocks)
+                        work_list = [item for item in work_list if item[0] in live]
+                    break  # the block was split
+        if modified:
+            for dead in compute_cfg_from_blocks(func_ir.blocks).dead_nodes():
+                del func_ir.blocks[dead]
+            postproc.PostProcessor(func_ir).run()
+            func_ir.blocks = simplify_CFG(func_ir.blocks)
+        return True
 
 
 class CodePruningCompiler(CompilerBase):
@@ -143,6 +242,8 @@ class CodePruningCompiler(CompilerBase):
     def define_pipelines(self) -> list[Any]:
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
         pipeline.add_pass_after(FoldCodeComparisons, InlineClosureLikes)
-        pipeline.add_pass_after(FoldCodeComparisons, InlineInlinables)
+        position = pipeline.passes.index((InlineInlinables, "inline inlinable functions"))
+        pipeline.passes[position] = (InlineOnePerLevel, "inline inlinable functions")
+        pipeline.add_pass_after(FoldCodeComparisons, InlineOnePerLevel)
         pipeline.finalize()
         return [pipeline]

@@ -314,14 +314,15 @@ call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers.
 
 
 # The methods whose run loops are compiled on their own for a model when the loop for
-# every code is not compiled yet: a first rolling run with vern9 compiles in 34 s of CPU
-# instead of 56 s (2-core machine, empty cache). A loop of auto or radau5 holds most
-# of the code of every method and compiles nearly as long on its own, so those runs
-# compile the loop for every code, which serves every later run.
+# every code is not compiled yet: a first rolling run with vern9 compiles in 20-24 s of
+# CPU, the loop for every code (a first sliding run's) in about 50 s (2-core machine,
+# empty cache). A loop of auto or radau5 holds most of the code of every method and
+# compiles nearly as long on its own (the sliding model with auto: 48.6 s against
+# 52.2 s), so those runs compile the loop for every code, which serves every later run.
 OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
-OWN_LOOP_SECONDS = 35.0
-EVERY_CODE_SECONDS = 60.0
+OWN_LOOP_SECONDS = 25.0
+EVERY_CODE_SECONDS = 55.0
 
 
 def integrate_link(arguments: tuple[Any, ...], own_loop: bool = True) -> tuple[int, int]:
