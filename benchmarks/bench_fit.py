@@ -5,7 +5,8 @@ rad/s, Euler angles 0.5°, 0.5°), its spin sampled at 100 Hz for 10 s with Gaus
 of 0.05 rad/s and a bias of 0.01 rad/s (seed 0). Free: f and ε, started at f = 0.2,
 ε = 1.4 mm; the spin's bias is free by default; the initial spin is the known release's.
 
-Printed: runs (of which speculative Jacobian columns wasted on rejected steps), wall time,
+Printed: runs (of which speculative Jacobian columns wasted on rejected steps; and the
+runs of each stage: screening, local fits, interval checks, the fitted run), wall time,
 CPU time and time per run of ``celtstone.fit`` with its default options (the global
 search, the bias free, one thread per core, the Jacobian's columns started beside each
 residual); the same from one start; from one start on one thread without speculation
@@ -140,6 +141,8 @@ def main() -> None:
             f"{wall / result.runs:.3f} s/run (load average {load:.2f} before, other "
             f"processes {others:.1f} s CPU meanwhile); {values}"
         )
+        stages = ", ".join(f"{stage} {count}" for stage, count in result.runs_by_stage.items())
+        print(f"    runs by stage: {stages}")
     default_wall = results["default options"][1]
     one_start = results["one start"][1]
     serial = results["one start, serial"][1]

@@ -114,6 +114,8 @@ def test_bias_is_fitted_and_reported_like_a_physical_number(kane_levinson: cs.Bo
     assert held["euler_alpha"]["source"] == "default" and held["euler_alpha"]["value"] == 0.5
     assert held["damping"]["source"] == "default"
     assert summary["converged"] and summary["warnings"] == []
+    stages = summary["runs_by_stage"]  # every run counted once, in the stage that made it
+    assert sum(stages.values()) == summary["runs"] and stages["screening"] == 0
 
 
 def test_a_held_bias_is_written_with_its_source(kane_levinson: cs.Body) -> None:
@@ -444,7 +446,8 @@ def test_compare_models_ranks_the_true_model_first(
 ) -> None:
     """A record of the sliding model with N = m g: ``--compare-models`` fits the four
     models, ranks them by AIC, and the record's own model comes first (rolling, without
-    friction, cannot follow the spin's decay)."""
+    friction, cannot follow the spin's decay); ``--out`` holds each model's figure, named
+    in the comparison, and owned by the folder's manifest."""
     truth = Truth(0.3, 1e-3, 0.0, ("spin",))
     record = phone_record(kane_levinson, truth, 1.0, seed=8, noise=0.005)
     path = tmp_path / "spin.csv"
@@ -453,10 +456,19 @@ def test_compare_models_ranks_the_true_model_first(
     arguments = [
         "fit", str(path), "--body", "kane_levinson_1982", "--free",
         "friction_coefficient,contact_radius", "--set", "omega3=-5", "--starts", "1",
-        "--compare-models", "--no-progress", "--json",
+        "--compare-models", "--no-progress", "--json", "--out", str(tmp_path / "fit"),
     ]  # fmt: skip
     main(arguments)
-    comparison = json.loads(capsys.readouterr().out)["model_comparison"]
+    printed = json.loads(capsys.readouterr().out)
+    comparison = printed["model_comparison"]
+    out = tmp_path / "fit"
+    assert json.loads((out / "summary.json").read_text()) == printed
+    figures = [entry["figure"] for entry in comparison]
+    assert figures[0] == "fit.png" and len(set(figures)) == 4
+    manifest = (out / ".celtstone-output.json").read_text()
+    for figure in figures:
+        for name in (figure, figure.replace(".png", ".svg")):
+            assert (out / name).read_bytes()[:4] in (b"\x89PNG", b"<?xm") and name in manifest
     assert comparison[0]["model"] in ("sliding, N = m g", "stick-slip")
     assert {entry["model"] for entry in comparison} == {
         "rolling",
@@ -484,3 +496,33 @@ def test_an_acceptable_second_minimum_widens_the_interval_to_hold_it() -> None:
     assert near.standard_errors[0] == pytest.approx(error * expected)
     far = _widened_by_minima(spread, np.zeros(1), 2.0, [(np.array([2.5 * error]), 4.5)])
     assert far.standard_errors[0] == error
+
+
+@NOT_REVERSING
+def test_a_hertz_contact_s_radius_is_written_as_used(kane_levinson: cs.Body) -> None:
+    """With E and ν set, ``held`` gives the contact radius the run used, not the
+    default: Hertz's ε = (3 m g R / (4 E*))^(1/3) with E* = E / (2 (1 − ν²)) and, at
+    the rest point of the ellipsoid (a, b, c), R = sqrt(a² b²) / c (Johnson, Contact
+    Mechanics, ch. 4); the stone tilts by half a degree, so within 1 %."""
+    truth = Truth(0.3, 1e-3, 0.0, ("spin",))
+    record = phone_record(kane_levinson, truth, 0.5, seed=9)
+    modulus, ratio = 2e9, 0.3
+    result = cs.fit(
+        record,
+        kane_levinson,
+        "sliding",
+        ["friction_coefficient"],
+        fixed={"omega3": -5.0, "elastic_modulus": modulus, "poisson_ratio": ratio},
+        sensor_bias=False,
+        starts=1,
+    )
+    held = result.summary()["held"]["contact_radius"]
+    a, b, c = kane_levinson.shape.semi_axes
+    effective = modulus / (2.0 * (1.0 - ratio**2))
+    weight = kane_levinson.mass * kane_levinson.gravity
+    expected = (3.0 * weight * (a * b / c) / (4.0 * effective)) ** (1.0 / 3.0)
+    assert held["value"] == pytest.approx(expected, rel=1e-2)
+    low, high = held["range"]
+    assert low <= held["value"] <= high
+    assert held["value"] != pytest.approx(cs.SlidingModel().contact_radius, rel=0.1)
+    assert "Hertz" in held["source"]

@@ -1,5 +1,6 @@
 """A fit's directory: ``summary.json``, ``fit.png``/``fit.svg`` and ``run.nc``, written
-whole or not at all.
+whole or not at all; with a comparison of models, each other model's figure beside them
+(``fit-<model>.png``/``.svg``, :func:`comparison_figures`).
 
 The files are written into a staging directory beside the target
 (``.NAME.<pid>.<random>.part``, ``export.temporary_directory``) with the manifest of
@@ -13,8 +14,10 @@ own input data keep the directory from being replaced.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+import re
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 from celtstone.errors import ParameterError
 from celtstone.export import (
@@ -34,12 +37,35 @@ from celtstone.ownership import (
     write_manifest,
 )
 
-__all__ = ["FILES", "check_fit_target", "write_fit"]
+__all__ = ["FILES", "check_fit_target", "comparison_figures", "write_fit"]
 
 FILES = ("summary.json", "fit.png", "fit.svg", "run.nc", MANIFEST)
 
 
 _COMMAND = "fit"
+_FIGURE = "fit"  # the best model's figure: fit.png, fit.svg
+
+
+def comparison_figures(ranking: Iterable[str]) -> dict[str, str]:
+    """Each compared model's figure (PNG) in the fit's directory, best first: the best
+    model's is ``fit.png``, another's ``fit-<its label in lower case, words joined by
+    "-">.png`` ("sliding, N = m g" -> ``fit-sliding-n-m-g.png``).
+
+    Parameters
+    ----------
+    ranking : iterable of str
+        The models' labels, the best first.
+
+    Returns
+    -------
+    dict of str to str
+        Label -> the figure's file name.
+    """
+    names = {}
+    for index, label in enumerate(ranking):
+        slug = "-".join(re.findall(r"[a-z0-9]+", label.lower())) or str(index)
+        names[label] = f"{_FIGURE}.png" if index == 0 else f"{_FIGURE}-{slug}.png"
+    return names
 
 
 def check_fit_target(
@@ -69,7 +95,7 @@ def check_fit_target(
     return target
 
 
-def _figure(result: FitResult, staging: Path) -> None:
+def _figure(result: FitResult, staging: Path, stem: str = _FIGURE, model: str = "") -> None:
     from celtstone.plotting import FitPanel, FittedValue, plot_fit, save_figure_formats
 
     trajectory = result.trajectory.samples
@@ -90,9 +116,9 @@ def _figure(result: FitResult, staging: Path) -> None:
             result.problem.free, result.values, result.standard_errors, strict=True
         )
     ]
-    title = f"{result.problem.body.name}, {result.problem.model_name} model"
+    title = f"{result.problem.body.name}, {model or result.problem.model_name} model"
     figure = plot_fit(result.problem.record.times, panels, title, values)
-    save_figure_formats(figure, staging, "fit")
+    save_figure_formats(figure, staging, stem)
 
 
 def write_fit(
@@ -101,6 +127,8 @@ def write_fit(
     *,
     overwrite: bool = False,
     inputs: Iterable[str | Path] = (),
+    summary: Mapping[str, Any] | None = None,
+    compared: Mapping[str, FitResult] | None = None,
 ) -> Path:
     """Write the fit's files (``FILES``) and their manifest into the directory ``out``,
     whole or not at all.
@@ -115,6 +143,12 @@ def write_fit(
         Whether a fit's directory there may be replaced (:func:`check_fit_target`).
     inputs : iterable of path, optional
         Files the fit read, besides its record's own file: never inside ``out``.
+    summary : mapping, optional
+        What ``summary.json`` holds (default ``result.summary()``; the CLI adds the
+        comparison of models).
+    compared : mapping of str to FitResult, optional
+        Model label -> its fit, the best first (``result`` itself): each other model's
+        figure is written too, named by :func:`comparison_figures`.
 
     Returns
     -------
@@ -126,8 +160,12 @@ def write_fit(
         read.append(result.problem.record.source)
     target = check_fit_target(out, overwrite=overwrite, inputs=read)
     with temporary_directory(target) as staging:
-        write_json(result.summary(), staging / "summary.json")
+        write_json(dict(result.summary() if summary is None else summary), staging / "summary.json")
         _figure(result, staging)
+        names = comparison_figures(compared or {})
+        for label, other in (compared or {}).items():
+            if other is not result:
+                _figure(other, staging, names[label].removesuffix(".png"), label)
         if result.trajectory.samples.values("time").size >= 2:
             write(result.trajectory.dataset, staging / "run.nc")
         manifest = new_manifest(_COMMAND)

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from celtstone.fitting.intervals import ProfiledInterval
 from celtstone.fitting.nuisance import NUISANCES, bias_name, is_nuisance
 from celtstone.fitting.problem import Problem, current_values
 from celtstone.fitting.profile import Profile
@@ -17,7 +19,9 @@ from celtstone.sweep.spec import PARAMETERS
 from celtstone.trajectory import Trajectory
 
 if TYPE_CHECKING:
+    from celtstone.bodies import Body
     from celtstone.fitting.assess import Assessment
+    from celtstone.models import Model
 
 __all__ = ["FORMAT", "FitResult", "StartOutcome"]
 
@@ -51,6 +55,27 @@ class StartOutcome:
         }
 
 
+def hertz_radii(model: Model, body: Body, trajectory: Trajectory) -> np.ndarray:
+    """The Hertz contact radius ε [m] the run used at each of its samples: the kernel's
+    own ``contact_radius`` of the vertical n and the friction law's load (m g, or the true
+    N with ``friction_load="dynamic"``), shape (samples reached,)."""
+    from celtstone.kernels.dynamics import contact_radius
+    from celtstone.models import kernel_parameters
+
+    params = kernel_parameters(model, body)
+    vertical = trajectory.samples.values("n")
+    if getattr(model, "friction_load", "static") == "dynamic":
+        loads = trajectory.samples.values("normal_force")
+    else:
+        loads = np.full(len(vertical), body.mass * body.gravity)
+    return np.array(
+        [
+            contact_radius((float(n[0]), float(n[1]), float(n[2])), float(load), params)
+            for n, load in zip(vertical, loads, strict=True)
+        ]
+    )
+
+
 def _number(value: float) -> float | None:
     """JSON's number, or null for inf and NaN."""
     return float(value) if math.isfinite(value) else None
@@ -76,6 +101,11 @@ class FitResult:
         Each start's outcome, the user's (or default) start first.
     runs : int
         Simulations made.
+    runs_by_stage : mapping of str to int
+        Those of each stage of the fit, in order: the screening of the global search,
+        the local fits from the starts, a refit with each series weighted by its
+        residuals' noise, the checks and profiles of the intervals
+        (``fitting.intervals``), ``--profile``, the fitted run and its integration check.
     failed_runs : int
         Those of the runs that stopped early or raised.
     speculative_runs_wasted : int
@@ -88,6 +118,10 @@ class FitResult:
         The run at the best values, sampled at the record's times.
     profile : Profile or None
         The profile likelihood of one parameter, if asked for.
+    intervals : tuple of ProfiledInterval
+        The profile-likelihood 95 % intervals of the physical numbers whose cost is not
+        quadratic about the optimum (``fitting.intervals``); their standard errors are
+        widened to hold them.
     warnings : tuple of str
         The warnings issued (identifiability and fit quality).
     assessment : Assessment or None
@@ -103,10 +137,12 @@ class FitResult:
     starts: tuple[StartOutcome, ...]
     runs: int
     failed_runs: int
+    runs_by_stage: Mapping[str, int]
     speculative_runs_wasted: int
     wall_time: float
     trajectory: Trajectory
     profile: Profile | None = None
+    intervals: tuple[ProfiledInterval, ...] = ()
     warnings: tuple[str, ...] = ()
     assessment: Assessment | None = None
 
@@ -179,11 +215,17 @@ class FitResult:
             source = problem.fixed_source.get(name, "default")
             unit = PARAMETERS[name].unit
             if name == "contact_radius" and getattr(model, "is_hertz_radius", False):
+                radii = hertz_radii(model, body, self.trajectory)
                 held[name] = {
-                    "value": None,
+                    "value": _number(float(np.mean(radii))) if radii.size else None,
+                    "range": [_number(float(radii.min())), _number(float(radii.max()))]
+                    if radii.size
+                    else None,
                     "unit": unit,
-                    "source": "Hertz contact: computed along the run from elastic_modulus, "
-                    "poisson_ratio and the normal force (the default is not used)",
+                    "source": "Hertz contact: computed at each sample of the fitted run from "
+                    "elastic_modulus, poisson_ratio, the friction's normal load and the "
+                    "curvature at the contact point; value: their mean, range: least and "
+                    "largest (the default is not used)",
                 }
                 continue
             held[name] = {"value": value, "unit": unit, "source": source}
@@ -258,6 +300,7 @@ class FitResult:
             },
             "record": problem.record.describe(),
             "runs": self.runs,
+            "runs_by_stage": dict(self.runs_by_stage),
             "failed_runs": self.failed_runs,
             "speculative_runs_wasted": self.speculative_runs_wasted,
             "wall_time": self.wall_time,
@@ -268,5 +311,6 @@ class FitResult:
             "rtol": problem.rtol,
             "atol": problem.atol,
             "profile": None if self.profile is None else self.profile.summary(),
+            "profile_intervals": {i.name: i.summary() for i in self.intervals},
             **({} if checks is None else checks.summary()),
         }

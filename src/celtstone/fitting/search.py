@@ -3,10 +3,11 @@ search that screens the bounds first.
 
 The global search (``fit(starts=None)``) runs each of a seeded Latin hypercube of points
 once, sets each bias to its best value there (the residuals are linear in a bias), and
-starts local fits from the best few beside the user's start. A free ``release_offset``
-makes the cost oscillate with the rocking period (tens of ms) over its bounds (2 s): no
-affordable grid of starts finds its basin, so each screened point is one run from the
-release sampled every ``SCAN_STEP``, and the record is slid along it to the best offset.
+starts local fits from the best few (the user's start screened among them). A free
+``release_offset`` makes the cost oscillate with the rocking period (tens of ms) over its
+bounds (2 s): no affordable grid of starts finds its basin, so each screened point is one
+run from the release sampled every ``SCAN_STEP``, and the record is slid along it to the
+best offset.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ __all__ = [
 ]
 
 # screened points per free number other than a bias or the release offset, at least
-# SCREEN_MINIMUM; the best SCREEN_KEPT of them start local fits beside the user's start
+# SCREEN_MINIMUM; the best SCREEN_KEPT of them start local fits
 SCREEN_PER_PARAMETER = 12
 SCREEN_MINIMUM = 16
 SCREEN_KEPT = 2
@@ -199,9 +200,10 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
     each, in parallel), ranked with each bias at its best value there (a start keeps the
     problem's: a bias fitted to a wrong motion leads to a wrong minimum), the release
     offset slid to its best, the kept ones apart by a tenth of the bounds in some free
-    number and within ``SCREEN_COST_RATIO`` of the best cost; the problem's start (as
-    given) besides, if it is not among them and there is no release offset (then it was
-    screened as the rest)."""
+    number and within ``SCREEN_COST_RATIO`` of the best cost. The problem's start is
+    screened as the rest and fitted from only if it is among them: a start screened
+    below the best few leads a local fit into another minimum, at the cost of a whole
+    fit's runs (``starts=1`` fits from it alone)."""
     problem = runs.problem
     linear = problem.bias_columns
     slid = RELEASE_OFFSET in problem.names
@@ -238,6 +240,4 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
         # the averaged motion, then on the samples (the rocking's phase)
         kept = [_refined(problem, point, others, runs, window) for point in kept]
         kept = [_refined(problem, point, others, runs) for point in kept]
-    if not slid and not any(np.array_equal(p[drawn], problem.start[drawn]) for p in kept):
-        kept.insert(0, problem.start)  # the user's start is always fitted from
-    return kept
+    return kept or [problem.start]

@@ -5,7 +5,9 @@ free numbers; the forward-difference Jacobian's runs go in parallel on threads, 
 as there are idle threads started beside each residual (``fitting.runs``); a bias's
 column is exact and takes no run. By default the starts come from a global search
 (``fitting.search``); with ``starts=N`` they are the user's and N − 1 drawn by Latin
-hypercube within the bounds, seeded. The finished fit is checked (``fitting.assess``):
+hypercube within the bounds, seeded. Each physical number's interval is checked for a
+cost that is not quadratic, and then taken from its profile likelihood
+(``fitting.intervals``). The finished fit is checked (``fitting.assess``):
 residual whiteness (the errors widened where it fails), goodness against the noise
 measured without the model, bounds, convergence, the runs' integration error.
 """
@@ -19,6 +21,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
+from typing import NamedTuple
 
 import numpy as np
 
@@ -33,6 +36,15 @@ from celtstone.errors import (
 )
 from celtstone.fitting.assess import assess
 from celtstone.fitting.diagnostics import Whiteness, correlation_length, whiteness
+from celtstone.fitting.intervals import (
+    PROFILE_COST_TOLERANCE,
+    QUADRATIC_TOLERANCE,
+    LowerMinimum,
+    ProfiledInterval,
+    profiled_intervals,
+    quadratic_misfits,
+)
+from celtstone.fitting.nuisance import is_nuisance
 from celtstone.fitting.problem import Problem, make_problem
 from celtstone.fitting.profile import profile_likelihood
 from celtstone.fitting.record import Record
@@ -62,9 +74,8 @@ FIT_ATOL = 1e-10
 MAX_ITERATIONS = 50  # residual evaluations of one start (least_squares' max_nfev)
 MAX_STARTS = 1000  # starts one may ask for
 MAX_WORKERS = 1024  # threads one may ask for
-# local fits started this many standard errors either side of the optimum, along each
-# physical number's linearised profile, looking for other minima the data cannot reject
-NEIGHBOUR_STEPS = 2.0
+# fits again from a lower minimum a profile's walk found, at most
+MAX_REFITS = 3
 Z_95 = 1.959963984540054
 
 # relative changes of cost and of x below which a start has converged
@@ -73,11 +84,11 @@ STEP_TOLERANCE = 1e-6
 
 
 def _minimise(
-    runs: Runs, x0: np.ndarray, columns: list[int]
+    runs: Runs, x0: np.ndarray, columns: list[int], cost_tolerance: float = COST_TOLERANCE
 ) -> tuple[np.ndarray, float, bool, str, np.ndarray, np.ndarray]:
     """least_squares over ``columns`` of the parameter vector from ``x0`` (the others
-    held): (optimum, cost, converged, message, Jacobian of the columns there, residuals
-    there)."""
+    held), stopping at a relative change of the cost below ``cost_tolerance``: (optimum,
+    cost, converged, message, Jacobian of the columns there, residuals there)."""
     from scipy.optimize import least_squares
 
     problem = runs.problem
@@ -95,9 +106,9 @@ def _minimise(
         bounds=(problem.lower[columns], problem.upper[columns]),
         x_scale=problem.scale[columns],
         method="trf",
-        ftol=COST_TOLERANCE,
+        ftol=cost_tolerance,
         xtol=STEP_TOLERANCE,
-        gtol=COST_TOLERANCE,
+        gtol=cost_tolerance,
         max_nfev=MAX_ITERATIONS,
     )
     converged = result.status > 0
@@ -123,6 +134,11 @@ def _from_starts(
         for x0, x, cost, converged, message, _, _, used in ends
     ]
     return outcomes, (best[1], best[2], best[5], best[6])
+
+
+def _costed(runs: Runs, points: list[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Each of ``points`` with its residuals under ``runs``' problem (one run each)."""
+    return list(zip(points, runs.evaluate_many(points), strict=True)) if points else []
 
 
 def reweighted(problem: Problem, residuals: np.ndarray) -> Problem:
@@ -213,8 +229,8 @@ def fit(
         by ``fixed``.
     starts : int or None
         Local fits from this many starts, the first being ``start``, the others drawn
-        (1 to 1000); None: the global search, a screening of the bounds whose best
-        points start local fits beside ``start`` (``screened_starts``).
+        (1 to 1000); None: the global search, a screening of the bounds (``start``
+        among its points) whose best points start local fits (``screened_starts``).
     seed : int or None
         Seed of the drawn starts.
     profile : str or None
@@ -270,22 +286,22 @@ def fit(
         starting = (
             screened_starts(runs, seed) if starts is None else draw_starts(problem, starts, seed)
         )
+        stages = {"screening": runs.count}
         outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starting)
+        stages["local fits"] = runs.count - sum(stages.values())
         best_converged = min(outcomes, key=lambda s: s.cost).converged
+        ends = [(s.end, s.cost) for s in outcomes if s.converged]
         if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
             problem = reweighted(problem, residuals)
             runs.use(problem)
             values, cost, best_converged, _, jacobian, residuals = _minimise(runs, values, columns)
-        spread, whiteness = _spread(problem, jacobian, residuals, cost)
-        minima = _neighbour_minima(runs, values, spread, columns)
-        lowest = min(minima, key=lambda m: m[1], default=None)
-        if lowest is not None and lowest[1] < cost - 0.1 * spread.residual_variance:
-            # a lower minimum beside the optimum: it is the optimum
-            minima.append((values, cost, best_converged, jacobian, residuals))
-            values, cost, best_converged, jacobian, residuals = lowest
-            spread, whiteness = _spread(problem, jacobian, residuals, cost)
-        ends = [(s.end, s.cost) for s in outcomes if s.converged]
-        spread = _widened_by_minima(spread, values, cost, [m[:2] for m in minima] + ends)
+            # the starts' ends costed again with these weights: comparable with the optimum's
+            ends = [(x, 0.5 * float(r @ r)) for x, r in _costed(runs, [x for x, _ in ends])]
+            stages["refit with the residuals' noise"] = runs.count - sum(stages.values())
+        optimum = _Optimum(values, cost, best_converged, jacobian, residuals)
+        optimum, spread, whiteness, intervals = _checked(runs, optimum, ends)
+        values, cost, best_converged, jacobian, residuals = optimum
+        stages["interval checks and profiles"] = runs.count - sum(stages.values())
         profiled = None
         if profile is not None:
             index = problem.names.index(profile)
@@ -302,7 +318,9 @@ def fit(
                 spread.standard_errors[index],
                 spread.residual_variance,
             )
+            stages["--profile"] = runs.count - sum(stages.values())
         count, failed, wasted = runs.count, runs.failed, runs.wasted
+    stages["fitted run and its integration check"] = 2
     trajectory = problem.run(values)
     residuals = problem.residuals(trajectory, values)
     integration_error = _integration_error(problem, values, trajectory)
@@ -331,14 +349,65 @@ def fit(
         uncertainty=spread,
         starts=tuple(outcomes),
         runs=count + 2,
+        runs_by_stage=MappingProxyType(stages),
         failed_runs=failed + (not trajectory.ok),
         speculative_runs_wasted=wasted,
         wall_time=time.perf_counter() - began,
         trajectory=trajectory,
         profile=profiled,
+        intervals=tuple(intervals),
         warnings=(*spread.warnings(problem.names), *assessment.warnings),
         assessment=assessment,
     )
+
+
+class _Optimum(NamedTuple):
+    """A local fit's end: values, cost, whether converged, Jacobian and residuals there."""
+
+    values: np.ndarray
+    cost: float
+    converged: bool
+    jacobian: np.ndarray
+    residuals: np.ndarray
+
+
+def _checked(
+    runs: Runs, optimum: _Optimum, ends: list[tuple[np.ndarray, float]]
+) -> tuple[_Optimum, Uncertainty, dict[str, Whiteness], list[ProfiledInterval]]:
+    """The optimum, its uncertainty (each physical number's error widened to hold its
+    profile's 95 % interval where the cost is not quadratic or other minima the data cannot
+    reject were found, ``fitting.intervals``, and to hold those minima, ``ends``), the
+    residuals' whiteness and the profiled intervals. A profile that finds a lower cost
+    moves the optimum there (fitted again, at most ``MAX_REFITS`` times)."""
+    problem = runs.problem
+    columns = list(range(len(problem.free)))
+    physical = [j for j, name in enumerate(problem.names) if not is_nuisance(name)]
+    spread, white = _spread(problem, optimum.jacobian, optimum.residuals, optimum.cost)
+    intervals: list[ProfiledInterval] = []
+
+    def loose_refit(x: np.ndarray, others: list[int]) -> tuple[np.ndarray, float]:
+        optimum, cost = _minimise(runs, x, others, PROFILE_COST_TOLERANCE)[:2]
+        return optimum, cost
+
+    for _ in range(MAX_REFITS):
+        values, cost = optimum.values, optimum.cost
+        misfits = quadratic_misfits(runs, values, cost, spread, physical)
+        others = _other_minima(spread, values, cost, ends, physical)
+        chosen = [j for j in physical if others or misfits.get(j, 0.0) > QUADRATIC_TOLERANCE]
+        walked = profiled_intervals(runs, loose_refit, values, cost, spread, chosen)
+        if not isinstance(walked, LowerMinimum):
+            intervals = walked
+            break
+        # a lower cost beside the optimum: fitted from there, it is the optimum
+        ends.append((values, cost))
+        x, cost, converged, _, jacobian, residuals = _minimise(runs, walked.values, columns)
+        optimum = _Optimum(x, cost, converged, jacobian, residuals)
+        spread, white = _spread(problem, jacobian, residuals, cost)
+    factors = np.maximum(
+        _minima_factors(spread, optimum.values, optimum.cost, ends),
+        _profile_factors(spread, optimum.values, intervals),
+    )
+    return optimum, _widened(spread, factors), white, intervals
 
 
 def _spread(
@@ -367,37 +436,36 @@ def _spread(
     return spread, white
 
 
-def _neighbour_minima(
-    runs: Runs, values: np.ndarray, spread: Uncertainty, columns: list[int]
-) -> list[tuple[np.ndarray, float, bool, np.ndarray, np.ndarray]]:
-    """Local minima found from ``NEIGHBOUR_STEPS`` standard errors either side of the
-    optimum along each physical number's linearised profile (the number moved, the others
-    to their conditional optimum): (values, cost, converged, Jacobian, residuals) each.
-
-    A record whose cost has several minima a few standard errors apart (a spin-only
-    record: the rocking's phase) hides them from the Jacobian at one of them."""
-    problem = runs.problem
-    found = []
-    for j in range(len(problem.free)):
-        if j in problem.bias_columns or not np.isfinite(spread.standard_errors[j]):
-            continue
-        direction = spread.covariance[:, j] / np.sqrt(spread.covariance[j, j])
-        for step in (-NEIGHBOUR_STEPS, NEIGHBOUR_STEPS):
-            start = np.clip(values + step * direction, problem.lower, problem.upper)
-            x, cost, converged, _, jacobian, residuals = _minimise(runs, start, columns)
-            found.append((x, cost, converged, jacobian, residuals))
-    return found
-
-
-def _widened_by_minima(
+def _other_minima(
     spread: Uncertainty,
     values: np.ndarray,
     cost: float,
     minima: Sequence[tuple[np.ndarray, float]],
-) -> Uncertainty:
-    """``spread`` with each standard error widened so that the 95 % interval holds every
-    other minimum the data cannot reject (2 Δcost / s² below ``CHI2_95``) with the part of
-    its own interval below the threshold.
+    columns: Sequence[int],
+) -> list[tuple[np.ndarray, float]]:
+    """The ``minima`` the data cannot reject (2 Δcost / s² below ``CHI2_95``) that lie
+    apart from the optimum (by half a standard error or more in one of ``columns``)."""
+    from celtstone.fitting.profile import CHI2_95
+
+    errors = spread.standard_errors[list(columns)]
+    found = []
+    for x, other in minima:
+        statistic = 2.0 * (other - cost) / spread.residual_variance
+        distance = np.abs(x - values)[list(columns)]
+        if statistic < CHI2_95 and np.any(distance > 0.5 * errors):
+            found.append((x, other))
+    return found
+
+
+def _minima_factors(
+    spread: Uncertainty,
+    values: np.ndarray,
+    cost: float,
+    minima: Sequence[tuple[np.ndarray, float]],
+) -> np.ndarray:
+    """Each standard error's factor [1] that makes the 95 % interval hold every other
+    minimum the data cannot reject (2 Δcost / s² below ``CHI2_95``) with the part of its
+    own interval below the threshold.
 
     Notes
     -----
@@ -417,14 +485,45 @@ def _widened_by_minima(
         with np.errstate(invalid="ignore", divide="ignore"):
             ratio = np.where(np.isfinite(errors) & (errors > 0), reach / (Z_95 * errors), 1.0)
         factors = np.maximum(factors, ratio)
+    return factors
+
+
+def _profile_factors(
+    spread: Uncertainty, values: np.ndarray, intervals: Sequence[ProfiledInterval]
+) -> np.ndarray:
+    """Each standard error's factor [1] that makes ± 1.96 errors hold the profile's 95 %
+    interval of ``intervals`` (its farther end from the optimum); 1 for a number not
+    profiled. ``intervals`` are of ``values``' columns, in order (``column``)."""
+    factors = np.ones(values.size)
+    for interval in intervals:
+        j, error = interval.column, spread.standard_errors[interval.column]
+        if np.isfinite(error) and error > 0.0:
+            reach = max(values[j] - interval.lower, interval.upper - values[j])
+            factors[j] = max(1.0, reach / (Z_95 * error))
+    return factors
+
+
+def _widened(spread: Uncertainty, factors: np.ndarray) -> Uncertainty:
+    """``spread`` with each standard error multiplied by its factor (correlations kept)."""
     if np.all(factors <= 1.0 + 1e-9):
         return spread
     return replace(
         spread,
         covariance=spread.covariance * np.outer(factors, factors),
-        standard_errors=errors * factors,
+        standard_errors=spread.standard_errors * factors,
         widened_by_profile=tuple(float(f) for f in factors),
     )
+
+
+def _widened_by_minima(
+    spread: Uncertainty,
+    values: np.ndarray,
+    cost: float,
+    minima: Sequence[tuple[np.ndarray, float]],
+) -> Uncertainty:
+    """``spread`` widened so that the 95 % interval holds every other minimum the data
+    cannot reject (:func:`_minima_factors`)."""
+    return _widened(spread, _minima_factors(spread, values, cost, minima))
 
 
 def _integration_error(problem: Problem, values: np.ndarray, trajectory: Trajectory) -> float:
