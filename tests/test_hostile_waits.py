@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import celtstone as cs
+from celtstone import ParameterError
 from celtstone._threads import map_in_threads
 from celtstone.analysis import stability
 from celtstone.cli import animate as animate_cli
@@ -234,3 +235,96 @@ def test_a_sweep_of_a_million_points_says_what_it_does_before_it_starts(
     assert "validating" in text or "sweep of 1000000 points" in text, text
     assert process.returncode == 130, text
     assert "Traceback" not in text
+
+
+def test_a_million_points_over_a_body_and_a_model_validate_each_body_once(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A 1000 x 1000 grid of masses by friction coefficients: each body and each model
+    is built once, and each body is checked once with the one contact the models share
+    (the friction coefficient is not part of it), not a million times."""
+    from celtstone.sweep import runner, spec
+
+    calls = {"body": 0, "runnable": 0}
+    build_body, require_runnable = spec.build_body, spec.plausibility.require_runnable
+
+    def count_body(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls["body"] += 1
+        return build_body(*args, **kwargs)
+
+    def count_runnable(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls["runnable"] += 1
+        return require_runnable(*args, **kwargs)
+
+    monkeypatch.setattr(spec, "build_body", count_body)
+    monkeypatch.setattr(spec.plausibility, "require_runnable", count_runnable)
+    reports: list[tuple[int, int]] = []
+    sweep = runner.Sweep(
+        {"mass": np.linspace(0.5, 2.0, 1000), "friction_coefficient": np.linspace(0.1, 0.5, 1000)},
+        t_end=1.0,
+        force=True,
+        progress=lambda built, total: reports.append((built, total)),
+    )
+    assert sweep.size == 1_000_000
+    assert calls["body"] <= 1000 + 10  # a few for the sweep's description aside
+    assert 1000 <= calls["runnable"] <= 1000 + 10
+    assert reports[-1][0] == reports[-1][1]  # the progress ends at its total
+
+
+def test_the_first_unrunnable_pair_is_named_as_point_by_point() -> None:
+    """The oracle: each point built and checked on its own (``kernel_parameters``); the
+    deduplicated validation names the same first point with the same message."""
+    from celtstone.bodies import load_body
+    from celtstone.models import kernel_parameters, model_from_name
+    from celtstone.sweep import spec
+
+    base = load_body("kane_levinson_1982")
+    rho_min = min(base.shape.radii_of_curvature)
+    masses = np.array([1.0, 1.5, 2.0])
+    radii = np.array([0.1 * rho_min, 0.5 * rho_min, 2.0 * rho_min])  # the last: too large
+    mass, radius = (a.ravel() for a in np.meshgrid(masses, radii, indexing="ij"))
+    expected = None
+    for index in range(mass.size):  # point by point
+        body = spec.build_body(base, {"mass": float(mass[index])})
+        model = model_from_name("sliding", contact_radius=float(radius[index]))
+        try:
+            kernel_parameters(model, body)
+        except ParameterError as error:
+            expected = (index, error)
+            break
+    assert expected is not None and expected[0] == 2
+    with pytest.raises(ParameterError) as caught:
+        spec.PointBuilder(base, "sliding", {}, {"mass": mass, "contact_radius": radius})
+    error, oracle = caught.value, expected[1]
+    assert error.name == oracle.name == "contact_radius"
+    assert (error.value, error.allowed) == (oracle.value, oracle.allowed)
+    assert error.hint == f"{oracle.hint}; at sweep point 2 (mass=1, contact_radius={radii[2]:g})"
+
+
+# ---- fit: a long record says what happens --------------------------------------------------
+
+
+def test_a_fit_of_a_million_samples_says_what_it_does(tmp_path: Path) -> None:
+    """A record of 10^6 rows (23 MB): the command says that it reads it, then that it
+    fits it, and stops at SIGTERM (not a hang without a word)."""
+    time_s = np.linspace(0.0, 20.0, 1_000_000)
+    spin = -5.0 * np.exp(-0.1 * time_s) + 0.01 * np.sin(37.0 * time_s)
+    data = tmp_path / "long.csv"
+    np.savetxt(data, np.column_stack([time_s, spin]), delimiter=",", header="time,spin",
+               comments="", fmt="%.9g")  # fmt: skip
+    command = [
+        str(CELTSTONE), "fit", str(data), "--body", "kane_levinson_1982",
+        "--column", "omega3=spin", "--free", "friction_coefficient", "--set", "omega3=-5",
+    ]  # fmt: skip
+    with subprocess.Popen(
+        command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    ) as process:
+        assert process.stderr is not None
+        said = [process.stderr.readline(), process.stderr.readline()]  # blocks until said
+        process.send_signal(signal.SIGTERM)
+        rest = process.stderr.read()
+        process.wait(WAIT)
+    assert said[0].startswith(f"celtstone: reading {data} (23 MB)"), said
+    assert said[1] == "celtstone: fitting the sliding model to 1000000 samples ...\n", said
+    assert process.returncode == 143, rest
+    assert "Traceback" not in rest

@@ -30,6 +30,7 @@ import re
 import secrets
 import shutil
 import stat
+import sys
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -339,11 +340,50 @@ def _new_temporary(target: Path, make: Callable[[Path], None]) -> Iterator[Path]
         yield temporary
     finally:
         if temporary is not None:
+            # a write still under way would make it again, even if not there now (Zarr
+            # empties a store's folder before its first write)
+            settle_zarr_writes()
             if temporary.is_dir():
                 shutil.rmtree(temporary, ignore_errors=True)
             else:
                 with contextlib.suppress(OSError):
                     temporary.unlink(missing_ok=True)
+
+
+_SETTLE_TIMEOUT = 30.0  # s: Zarr's writes of one block or of an empty store take far less
+
+
+def settle_zarr_writes(timeout: float = _SETTLE_TIMEOUT) -> None:
+    """Wait until the writes that Zarr still runs on its I/O thread are done.
+
+    Zarr runs each write as a task on its own event loop and waits for it in the calling
+    thread; Ctrl-C or SIGTERM ends the wait, not the task, which may then create files
+    and their folders after a temporary has been removed (a store built in a temporary
+    directory would leave a ``.part`` behind). Nothing is waited for unless Zarr is
+    loaded and its loop runs; after ``timeout`` the tasks are left as they are.
+
+    Parameters
+    ----------
+    timeout : float, optional
+        The longest wait [s].
+    """
+    zarr_sync = sys.modules.get("zarr.core.sync")  # never imports Zarr for this
+    loop = getattr(zarr_sync, "loop", [None])[0]
+    if loop is None or loop.is_closed() or not loop.is_running():
+        return
+    import asyncio
+    import concurrent.futures
+
+    async def settled() -> None:
+        current = asyncio.current_task()
+        pending = [task for task in asyncio.all_tasks() if task is not current]
+        if pending:
+            await asyncio.wait(pending, timeout=timeout)
+
+    try:
+        asyncio.run_coroutine_threadsafe(settled(), loop).result(timeout + 1.0)
+    except (concurrent.futures.TimeoutError, RuntimeError):
+        pass
 
 
 def _make_private_file(path: Path) -> None:

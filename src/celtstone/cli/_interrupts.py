@@ -28,6 +28,7 @@ from celtstone._early_signals import exit_now, is_the_command, stop_at_once
 
 __all__ = [
     "Interruption",
+    "Signals",
     "Terminated",
     "Termination",
     "is_the_command",
@@ -52,7 +53,11 @@ class Interruption:
     second Ctrl-C during the clean-up ends the process at once (one line, exit 130)
     instead of raising again wherever the clean-up is (a traceback)."""
 
+    def __init__(self) -> None:
+        self.received = False
+
     def __call__(self, signum: int, frame: FrameType | None) -> None:
+        self.received = True
         if is_the_command():
             signal.signal(signal.SIGINT, exit_now)
         raise KeyboardInterrupt
@@ -100,12 +105,32 @@ def _redelivering(
     return hook
 
 
+class Signals:
+    """The two handlers of one :func:`unwinding`, and what they saw."""
+
+    def __init__(self) -> None:
+        self.interruption = Interruption()
+        self.termination = Termination()
+
+    def lost(self) -> KeyboardInterrupt | None:
+        """The stop that a received signal asked for, for a command that went on as if it
+        had not come: C code may replace the exception a handler raised (an extension
+        module imported while the signal lands reports an ``ImportError`` instead, which
+        a library may even catch as "optional module missing"). None if none came."""
+        if self.termination.received:
+            return Terminated()
+        if self.interruption.received:
+            return KeyboardInterrupt()
+        return None
+
+
 @contextmanager
-def unwinding() -> Iterator[Termination]:
+def unwinding() -> Iterator[Signals]:
     """Inside: SIGINT raises ``KeyboardInterrupt`` and SIGTERM :class:`Terminated` (main
     thread only; an ignored signal stays ignored). Afterwards: in the command, both end
     the process at once (:func:`stop_at_once`); in-process, the previous handlers are back."""
-    interruption, termination = Interruption(), Termination()
+    signals = Signals()
+    interruption, termination = signals.interruption, signals.termination
     handlers: dict[signal.Signals, _Handler] = {
         signal.SIGINT: interruption,
         signal.SIGTERM: termination,
@@ -122,7 +147,7 @@ def unwinding() -> Iterator[Termination]:
     hook = sys.unraisablehook
     sys.unraisablehook = _redelivering(hook, interruption, termination)
     try:
-        yield termination
+        yield signals
     finally:
         sys.unraisablehook = hook
         if is_the_command():

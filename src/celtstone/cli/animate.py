@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from celtstone import ParameterError
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.cli._progress import progress_bar
 from celtstone.visual import VIDEO_FPS_LIMITS, VIDEO_FRAME_LIMITS, animate, load_run
 from celtstone.visual.animation import check_video_target
@@ -38,7 +39,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--out", required=True, metavar="FILE.mp4|FILE.gif", help="the video")
-    parser.add_argument("--overwrite", action="store_true", help="replace the video if it exists")
+    add_overwrite_arg(parser, "the video")
     parser.add_argument(
         "--speed",
         default="1",

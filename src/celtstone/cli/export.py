@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.errors import ParameterError
 from celtstone.export import check_target, output_beside, read_run, write
 from celtstone.ownership import check_inputs_outside
@@ -14,7 +15,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--csv", action="store_true", help="write CSV (the one format so far)")
     parser.add_argument("--out", default=None, metavar="FILE.csv", help="default: RUN.csv")
-    parser.add_argument("--overwrite", action="store_true", help="replace the CSV if it exists")
+    add_overwrite_arg(parser, "the CSV")
 
 
 def handle(args: argparse.Namespace) -> int:

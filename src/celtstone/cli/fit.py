@@ -11,6 +11,7 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.errors import ParameterError
 from celtstone.fitting.nuisance import NUISANCES
 from celtstone.fitting.problem import DEFAULT_BOUNDS, DEFAULT_RATE_SPAN, parse_bounds
@@ -52,6 +53,8 @@ EPILOG = (
 _NEGATIVE_VALUE = re.compile(r"^-\d+$|^-\d*\.\d+$|^-[xyz123]\s*,")
 # a record file larger than this [bytes] is announced while it is read
 ANNOUNCED_FILE_SIZE = 5_000_000
+# a record of this many samples or more is announced as it is fitted
+ANNOUNCED_SAMPLES = 100_000
 MODEL_VARIANTS = {
     "rolling": ("rolling", {}),
     "sliding, N = m g": ("sliding", {"friction_load": "static"}),
@@ -150,7 +153,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", default=None, metavar="DIR", help="write summary.json, fit.png|svg, run.nc"
     )
-    parser.add_argument("--overwrite", action="store_true", help="replace a former fit's --out")
+    add_overwrite_arg(parser, "a former fit's --out")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
 
@@ -237,7 +240,7 @@ def handle(args: argparse.Namespace) -> int:
     """Read, fit, print the summary, write ``--out``; exit 3 if the fit did not converge
     (or the fitted run stopped early; with ``--strict``, on any warning)."""
     from celtstone.fitting import fit, read_record
-    from celtstone.fitting.outputs import check_fit_target, write_fit
+    from celtstone.fitting.outputs import check_fit_target, comparison_figures, write_fit
     from celtstone.fitting.solve import FIT_ATOL, FIT_RTOL, MAX_STARTS, MAX_WORKERS
 
     free = [name.strip() for name in args.free.split(",") if name.strip()]
@@ -262,8 +265,16 @@ def handle(args: argparse.Namespace) -> int:
     results = {}
     for label, (model_name, options) in variants.items():
         names = _model_free(model_name, free) if args.compare_models else free
-        if args.compare_models and not sys.stderr.isatty():
-            print(f"celtstone: fitting the {label} model ...", file=sys.stderr, flush=True)
+        # the bar shows only on a terminal, after the first run: a long record's first
+        # runs take seconds each, so the fit says what it does at once
+        if (args.compare_models and not sys.stderr.isatty()) or (
+            record.n_points >= ANNOUNCED_SAMPLES
+        ):
+            print(
+                f"celtstone: fitting the {label} model to {record.n_points} samples ...",
+                file=sys.stderr,
+                flush=True,
+            )
         with _progress_bar(not args.no_progress) as progress:
             results[label] = fit(
                 record,
@@ -286,10 +297,16 @@ def handle(args: argparse.Namespace) -> int:
     ranking = sorted(results, key=lambda label: results[label].summary()["aic"])
     result = results[ranking[0]]
     summary = result.summary()
+    compared = {label: results[label] for label in ranking} if args.compare_models else None
     if args.compare_models:
         summary["model_comparison"] = _comparison(results, ranking)
+        if args.out is not None:  # each model's fit and residuals in a figure of the folder
+            for entry, figure in zip(
+                summary["model_comparison"], comparison_figures(ranking).values(), strict=True
+            ):
+                entry["figure"] = figure
     if args.out is not None:
-        write_fit(result, args.out, overwrite=args.overwrite)
+        write_fit(result, args.out, overwrite=args.overwrite, summary=summary, compared=compared)
     print(json.dumps(summary) if args.json else _text(summary))
     if not result.trajectory.ok:
         print(f"celtstone: the fitted run stopped: {result.trajectory.message}", file=sys.stderr)
@@ -343,7 +360,7 @@ def _text(summary: dict) -> str:
         lines.append(
             "  held: "
             + ", ".join(
-                f"{n} = {h['value']:.6g} ({h['source']})"
+                f"{n} = {h['value']:.6g} ({h['source'].split(':')[0]})"
                 for n, h in held.items()
                 if h["value"] is not None and h["source"] != "default"
             )
@@ -381,6 +398,12 @@ def _text(summary: dict) -> str:
             else ""
         )
     )
+    for name, walked in summary.get("profile_intervals", {}).items():
+        ends = [
+            f"{v:.6g}" + (" (open)" if is_open else "")
+            for v, is_open in zip(walked["interval_95"], walked["open"], strict=True)
+        ]
+        lines.append(f"  95 % profile-likelihood interval of {name}: {ends[0]} .. {ends[1]}")
     if summary["profile"] is not None:
         low, high = summary["profile"]["interval_95"]
         text = [f"{v:.6g}" if v is not None else "open" for v in (low, high)]
@@ -392,5 +415,6 @@ def _text(summary: dict) -> str:
             f"  model {entry['model']:24s} AIC {entry['aic']:12.6g} (Δ {entry['delta_aic']:.4g}), "
             f"BIC {entry['bic']:12.6g} (Δ {entry['delta_bic']:.4g}), reduced chi-square "
             f"{entry['reduced_chi_square']:.4g}"
+            + (f", figure {entry['figure']}" if "figure" in entry else "")
         )
     return "\n".join(lines)

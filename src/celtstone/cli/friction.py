@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 from celtstone import ParameterError
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.contact import (
     CONTACT_PRESSURES,
     FRICTION_LAWS,
@@ -63,7 +64,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.png|FILE.svg|FILE.pdf",
         help="draw both laws against u for the chosen pressure",
     )
-    parser.add_argument("--overwrite", action="store_true", help="replace an existing --plot file")
+    add_overwrite_arg(parser, "the --plot file")
 
 
 def handle(args: argparse.Namespace) -> int:

@@ -16,8 +16,8 @@ from types import ModuleType
 from typing import Any
 
 from celtstone._about import version
+from celtstone.cli._interrupts import Signals, stop_at_once, unwinding
 from celtstone.cli._interrupts import Terminated as Terminated
-from celtstone.cli._interrupts import Termination, stop_at_once, unwinding
 from celtstone.errors import CeltstoneError, CeltstoneWarning
 
 
@@ -178,18 +178,26 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Ctrl-C and SIGTERM at any moment, the command's imports included, give exit 130 or
     143 and one line on standard error (``_interrupts``)."""
-    with unwinding() as termination:
+    with unwinding() as signals:
         try:
-            return _main(argv, termination)
+            status = _main(argv, signals)
         except KeyboardInterrupt as stop:
             return _stopped(stop)
         except Exception as error:
             # an interrupt that Python wrapped on its way (a signal while a class is
-            # made: "Error calling __set_name__") is still the interrupt
-            behind = _interrupt_behind(error)
+            # made: "Error calling __set_name__"), or replaced (a signal while an
+            # extension module is imported: an ImportError), is still the interrupt
+            behind = _interrupt_behind(error) or signals.lost()
             if behind is None:
                 raise
             return _stopped(behind)
+        lost = signals.lost()
+        if lost is not None and status not in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+            # the signal's exception was swallowed on its way (a library that took the
+            # replaced ImportError for a missing optional module): the command went on,
+            # but the exit status still says that it was asked to stop
+            return _stopped(lost)
+        return status
 
 
 def _interrupt_behind(error: BaseException) -> KeyboardInterrupt | None:
@@ -215,7 +223,7 @@ def _stopped(stop: KeyboardInterrupt) -> int:
     return EXIT_INTERRUPTED
 
 
-def _main(argv: Sequence[str] | None, termination: Termination) -> int:
+def _main(argv: Sequence[str] | None, signals: Signals) -> int:
     arguments = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(only=_command_named(arguments))
     if not arguments:
@@ -231,16 +239,22 @@ def _main(argv: Sequence[str] | None, termination: Termination) -> int:
         # a handler that caught the interrupt itself (sweep: its resume message) says 130
         if status == EXIT_INTERRUPTED:
             _quiet_abandoned_writes()
-            if termination.received:
+            if signals.termination.received:
                 return EXIT_TERMINATED
         return status
     except CeltstoneError as error:
+        lost = signals.lost()  # an error the signal caused in C code: the signal
+        if lost is not None:
+            return _stopped(lost)
         _say(f"celtstone: error: {error}")
         return EXIT_USAGE
     except BrokenPipeError:  # the reader of standard output has gone (`| head -1`)
         _drop_standard_output()
         return EXIT_OUTPUT_FAILED
     except OSError as error:
+        lost = signals.lost()
+        if lost is not None:
+            return _stopped(lost)
         _say(f"celtstone: error: cannot write output: {error}")
         return EXIT_OUTPUT_FAILED
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.export import output_beside
 from celtstone.plotting.save import check_figure_target
 from celtstone.schema import check, parse_number
@@ -15,9 +16,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", default=None, metavar="FILE.png|FILE.svg", help="figure file (default: RUN.png)"
     )
-    parser.add_argument(
-        "--overwrite", action="store_true", help="replace the figure file if it exists"
-    )
+    add_overwrite_arg(parser, "the figure file")
     parser.add_argument(
         "--band",
         type=str,

@@ -17,6 +17,7 @@ from celtstone import (
     simulate,
 )
 from celtstone.cli._methods import add_method_args
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.export import check_target, write
 from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
 from celtstone.schema import PARAMETERS, RENAMED, parse_count, parse_number, renamed
@@ -113,9 +114,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         help="no progress bar (shown on a terminal when a run lasts over a second)",
     )
     parser.add_argument("--out", default=None, metavar="FILE.nc|FILE.csv", help="save the run")
-    parser.add_argument(
-        "--overwrite", action="store_true", help="replace the --out file if it exists"
-    )
+    add_overwrite_arg(parser, "the --out file")
     _add_renamed(parser)
 
 

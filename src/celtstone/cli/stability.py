@@ -9,6 +9,7 @@ from pathlib import Path
 from celtstone import ParameterError, RollingModel, load_body
 from celtstone._about import version
 from celtstone.analysis.stability import SpinStability, parse_spin_range, spin_stability
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.cli._progress import progress_bar
 from celtstone.export import atomic_path, check_target, write
 from celtstone.ownership import CSV_MARK
@@ -37,9 +38,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", default=None, metavar="FILE.png|FILE.svg", help="plot the growth rates"
     )
-    parser.add_argument(
-        "--overwrite", action="store_true", help="replace existing --csv, --netcdf, --plot files"
-    )
+    add_overwrite_arg(parser, "the --csv, --netcdf and --plot files")
     parser.add_argument(
         "--no-progress",
         action="store_true",

@@ -13,6 +13,7 @@ from celtstone import ParameterError
 from celtstone._path_names import check_path_name
 from celtstone.cli._interrupts import Terminated
 from celtstone.cli._methods import add_method_args
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.schema import PARAMETERS as SCHEMA
 from celtstone.schema import parse_number
 from celtstone.sweep import (
@@ -95,7 +96,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", required=True, metavar="STORE.zarr", help="Zarr store to write")
     parser.add_argument("--resume", action="store_true", help="compute only the missing points")
-    parser.add_argument("--overwrite", action="store_true", help="replace an existing store")
+    add_overwrite_arg(parser, "the store")
     parser.add_argument(
         "--scheduler",
         default=None,
@@ -157,6 +158,8 @@ def _validation_progress(enabled: bool) -> Callable[[int, int], None]:
                 delay=1.0,
                 leave=False,
             )
+        if bar.total != total:  # the body-model pairs are counted once the models are built
+            bar.total = total
         bar.update(built - bar.n)
         if built >= total:
             bar.close()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.visual import load_run, write_viewer
 from celtstone.visual.viewer import check_page_target
 
@@ -12,7 +13,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone view``."""
     parser.add_argument("run", metavar="RUN.nc", help="a run saved by `celtstone run --out`")
     parser.add_argument("--out", required=True, metavar="FILE.html", help="the page")
-    parser.add_argument("--overwrite", action="store_true", help="replace the page if it exists")
+    add_overwrite_arg(parser, "the page")
 
 
 def handle(args: argparse.Namespace) -> int:

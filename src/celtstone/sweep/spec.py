@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from celtstone import schema
+from celtstone import plausibility, schema
 from celtstone.bodies import SHAPES, Body
 from celtstone.bodies.declaration import SweepName
 from celtstone.errors import CeltstoneError, ParameterError, did_you_mean, require_choice
@@ -27,6 +27,7 @@ from celtstone.models import (
     HybridModel,
     InitialState,
     Model,
+    contact_settings,
     initial_vector,
     kernel_parameters,
     model_from_name,
@@ -564,37 +565,89 @@ class PointBuilder:
     def _stages(self) -> list[tuple[list[str], Callable[[tuple[float, ...]], object]]]:
         """What is built to validate the points: the columns each stage depends on and
         the function building one distinct row of them."""
-        n_body = len(self._groups[BODY])
         return [
             (self._groups[BODY], self._body),
             (self._groups[MODEL], self._model),
             (self._groups[STATE], self._state),
-            (  # a body and a model are also checked together
-                self._groups[BODY] + self._groups[MODEL],
-                lambda row: self._parameters(row[:n_body], row[n_body:]),
-            ),
         ]
 
-    def validate(self, progress: Callable[[int, int], None] | None = None) -> None:
-        """Build every distinct body, model, state and body-model pair once; raise the
-        error of the first point that fails, as a point-by-point check would.
+    def _numbered(self, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+        """Each point's number among the distinct rows of the columns ``names``, shape
+        (n_points,), and the first point of each number (vectorised)."""
+        if not names:
+            return np.zeros(self.n_points, dtype=np.intp), np.zeros(1, dtype=np.intp)
+        table = np.column_stack([self.columns[name] for name in names])
+        _, first, number = np.unique(table, axis=0, return_index=True, return_inverse=True)
+        return number.reshape(-1), first
 
-        ``progress`` is called with (objects built, objects to build) now and then.
+    def _contact_numbers(self, models: np.ndarray, first: np.ndarray) -> np.ndarray:
+        """Each point's number among the distinct contacts of its model: what
+        :func:`plausibility.require_runnable` reads of a model (``contact_settings``).
+        A model that cannot be built has a number of its own (its error is raised when
+        the pair is checked)."""
+        numbers: dict[object, int] = {}
+        of_model = np.empty(len(first), dtype=np.intp)
+        for number, index in enumerate(first):
+            key = self._keys(int(index))[1]
+            try:
+                settings: object = contact_settings(self._model(key))
+            except CeltstoneError:
+                settings = ("cannot be built", number)
+            of_model[number] = numbers.setdefault(settings, len(numbers))
+        return of_model[models]
+
+    def _runnable_pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """One point of each distinct body with each distinct contact (a grid of bodies
+        by friction coefficients checks each body once): the rows (body columns, then
+        model columns) and the first point of each, in the order the points show them."""
+        bodies, _ = self._numbered(self._groups[BODY])
+        models, first_models = self._numbered(self._groups[MODEL])
+        contacts = self._contact_numbers(models, first_models)
+        _, first = np.unique(np.column_stack([bodies, contacts]), axis=0, return_index=True)
+        first = np.sort(first)
+        names = self._groups[BODY] + self._groups[MODEL]
+        if not names:
+            return np.empty((len(first), 0)), first
+        table = np.column_stack([self.columns[name][first] for name in names])
+        return table, first
+
+    def _check_runnable(self, row: tuple[float, ...]) -> None:
+        """A body and a model checked together (``plausibility.require_runnable``, the
+        check of ``models.kernel_parameters``)."""
+        n_body = len(self._groups[BODY])
+        body, model = self._body(row[:n_body]), self._model(row[n_body:])
+        plausibility.require_runnable(body, contact_settings(model))
+
+    def validate(self, progress: Callable[[int, int], None] | None = None) -> None:
+        """Build every distinct body, model and state once, and check each distinct body
+        with each distinct contact of the models; raise the error of the first point that
+        fails, as a point-by-point check would.
+
+        ``progress`` is called with (objects built, objects to build) now and then; the
+        number to build grows once, when the pairs are known (after the models).
         """
         stages = [(self._distinct(names), build) for names, build in self._stages()]
         total = sum(len(first) for (_, first), _ in stages)
         built = 0
         failures: list[tuple[int, int, CeltstoneError]] = []
-        for rank, ((rows, first), build) in enumerate(stages):
+
+        def run(rank: int, rows: np.ndarray, first: np.ndarray, build: Callable) -> None:
+            nonlocal built
             for row, index in zip(rows, first, strict=True):
                 try:
                     build(tuple(float(v) for v in row))
                 except CeltstoneError as error:
                     failures.append((int(index), rank, error))  # the stage's first failure
-                    break
+                    return
                 built += 1
                 if progress is not None and built % VALIDATION_PROGRESS_EVERY == 0:
                     progress(built, total)
+
+        for rank, ((rows, first), build) in enumerate(stages):
+            run(rank, rows, first, build)
+        pairs, first = self._runnable_pairs()
+        total += len(first)
+        run(len(stages), pairs, first, self._check_runnable)
         if progress is not None:
             progress(total, total)
         if failures:
