@@ -101,13 +101,13 @@ class FitResult:
         Each start's outcome, the user's (or default) start first.
     runs : int
         Simulations made.
+    failed_runs : int
+        Those of the runs that stopped early or raised.
     runs_by_stage : mapping of str to int
         Those of each stage of the fit, in order: the screening of the global search,
         the local fits from the starts, a refit with each series weighted by its
         residuals' noise, the checks and profiles of the intervals
         (``fitting.intervals``), ``--profile``, the fitted run and its integration check.
-    failed_runs : int
-        Those of the runs that stopped early or raised.
     speculative_runs_wasted : int
         Those of the runs that were Jacobian columns started beside a residual
         (``fitting.runs``) at a point whose Jacobian was never asked for (a step the
