@@ -49,7 +49,7 @@ lint: $(STAMP)
 # compile the same drivers at once
 test: $(STAMP)
 	$(MAKE) --no-print-directory -j2 compile lint bytecode BYTECODE_JOBS=1
-	$(BIN)/python -m pytest -n 2 -m "not slow" tests
+	$(BIN)/python -m pytest -n 2 --dist loadgroup -m "not slow" tests
 
 # compile every model's and method's run loop into numba's cache (`celtstone compile`;
 # 2–3 s once cached)
@@ -59,7 +59,7 @@ compile: $(STAMP)
 # the tests marked `slow` (long oracle runs, a 64-point sweep store, full-length videos,
 # the atlas search): not in `make test`'s 10 minutes; 9 min 33 s on the 2-core machine
 test-slow: $(STAMP)
-	$(BIN)/python -m pytest -n 2 -m slow tests
+	$(BIN)/python -m pytest -n 2 --dist loadgroup -m slow tests
 
 # the documentation site, warnings as errors: docs/_build/html/index.html (`make test`
 # builds it too, in tests/test_docs.py)

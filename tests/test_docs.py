@@ -26,6 +26,10 @@ import pytest
 import celtstone
 from celtstone.cli.main import build_parser, main
 
+# one worker builds the site: two builds at once (one per xdist worker) write the same
+# gallery files under docs/auto_examples, and one can read a half-written image
+pytestmark = pytest.mark.xdist_group("docs-site")
+
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 SPHINX = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html"]
 
