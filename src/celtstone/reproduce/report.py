@@ -257,11 +257,13 @@ radius ε becomes the Hertz ellipse at the current contact point of a polymer st
 polymer plate (E = 3 GPa, ν = 0.35, chosen so that Kane & Levinson's *circular* Hertz
 radius is 1.09 mm, the paper's ε: the contact changes its shape, not its size), Zhuravlev's
 Padé law becomes the exact Coulomb–Contensou law, a rolling-friction length λ (Coulomb's
-law of rolling friction) resists the rocking, the friction law is loaded with the true
-normal force N (the consistent load) instead of the paper's m g in the threshold and
-Figure 3 runs, and the contact sticks when the friction it needs lies inside the
-Coulomb–Contensou limit set (the stick–slip contact) instead of creeping under a
-regularised law. What each does alone is measured in the one-at-a-time table
+law of rolling friction) resists the rocking, and the contact sticks when the friction
+it needs lies inside the Coulomb–Contensou limit set (the stick–slip contact) instead of
+creeping under a regularised law. The fifth, the friction law loaded with the true normal
+force N (the consistent load) instead of the paper's m g, is run in Figure 2 and in the
+one-at-a-time table; the threshold and Figure 3 runs keep the paper's m g, because with
+the consistent load and the stick–slip contact some of the threshold's runs take tens of
+minutes each. What each does alone is measured in the one-at-a-time table
 ("What each ingredient of the realistic contact does"); in words:
 
 * **the ellipse pivots harder.** A rattleback's contact ellipse is long and thin (Kane &
