@@ -102,7 +102,7 @@ def run_celtstone(
     if model_name == "rolling":
         model = cs.model_from_name("rolling")
     elif model_name == "sliding":
-        # δ = 1e-6 m/s, the oracle's (celtstone's default is 1e-10 since 2026-11-24)
+        # δ = 1e-6 m/s, the oracle's (celtstone's default is 1e-10)
         model = cs.model_from_name("sliding", regularisation_speed=1e-6, **FRICTION)
     else:  # the stick-slip contact of the sliding model
         model = cs.model_from_name("sliding", contact="hybrid", **FRICTION)

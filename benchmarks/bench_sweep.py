@@ -58,7 +58,7 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """
 
 
-# δ [m/s] of both codes: the oracle's, and celtstone's default before 2026-11-24 (now
+# δ [m/s] of both codes: the oracle's, and celtstone's former default (now
 # 1e-10, which costs 1.6-2.2 times per run; docs/decisions.md §4), kept so that the
 # figures compare with earlier ones
 REGULARISATION_SPEED = 1e-6

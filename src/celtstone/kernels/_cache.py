@@ -12,7 +12,7 @@ signature's machine code for another signature, which a later process loads and 
 with arguments of other types. Measured with ``tests/test_numba_cache.py``'s four
 processes saving 150 new signatures each at once: numba's own class kept 264–364 of the
 600 entries, 66–119 of them naming another signature's data (three runs, 2-core
-machine, 2026-11-26). Pytest's two workers, Dask workers and a user's parallel jobs all
+machine). Pytest's two workers, Dask workers and a user's parallel jobs all
 share one cache.
 
 :class:`LockedCacheFile` saves an entry under an exclusive lock of the cache directory
@@ -27,7 +27,7 @@ no locks, entries are saved in the same order without the lock.
 **Loading.** numba's ``Cache.load_overload`` refreshes the target context before it reads
 an entry: it imports and installs every lowering registry numba has (NumPy's array
 functions, typed containers, random generators, ``scipy.linalg`` for BLAS...), 0.95 s of a
-2.45 s ``celtstone run --json`` (cProfile, 2026-11-26). Loaded machine code needs none of
+2.45 s ``celtstone run --json`` (cProfile). Loaded machine code needs none of
 it: the helper and math symbols are installed when the context is made, and the runtime
 (NRT) by ``rtsys.initialize``, which :class:`LeanFunctionCache` calls instead. A compile
 later in the process refreshes the context itself (numba's compiler does so first), so
@@ -37,7 +37,7 @@ nothing a compile needs is skipped, only put off until one happens.
 the LLVM bitcode of its module "for linking" (the one a later compile links in when it
 calls the function), and on loading parses that bitcode whole only to list the symbols
 the library defines: 0.09–0.10 s of a short run's 0.26 s first call (the run loop's
-three libraries, 2.2 MB of bitcode; 2026-11-27). :class:`LockedCacheFile` saves that
+three libraries, 2.2 MB of bitcode). :class:`LockedCacheFile` saves that
 list beside the bitcode (the entry kind ``LAZY_KIND``), and :class:`LazyLinkingLibrary`
 registers the listed symbols and parses the bitcode only if a compile later in the
 process links the function in. Entries saved by plain numba (kind "object") load as

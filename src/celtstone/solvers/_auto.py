@@ -13,7 +13,7 @@ of the Jacobian (power iteration, ``spectral_radius``):
   real axis and 5.96 on the imaginary one, computed from its tableau). Where stability
   holds its steps, they average h ρ ≈ ``HELD_STEP``, rejections included; a Radau
   step costs about ``COST_RATIO`` DOP853 steps (5.2 against 2.4 µs for the sliding
-  model on the 2-core machine, 2026-11-26). Radau's steps h_R and DOP853's therefore
+  model on the 2-core machine; docs/decisions.md). Radau's steps h_R and DOP853's therefore
   cost the same where h_R ρ = ``BREAK_EVEN``; each switch waits until the other method
   is ``HYSTERESIS`` times cheaper, so that the two do not take turns at every check.
 - **Radau → DOP853**: ρ whenever Radau evaluates its Jacobian (and a Jacobian for ρ
