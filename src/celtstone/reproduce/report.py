@@ -392,9 +392,10 @@ def render_report(out: Path) -> str:
         "from the data files beside this report. Model: rolling (paper eq. 3–5) and rolling "
         "with sliding (eq. 6–12) with Zhuravlev's Padé friction law, ε = 1 mm, N = m g unless "
         "said otherwise; integrator tolerances in each file's header. A column `BODY+VARIANT` "
-        "is the same body with another contact (its settings in its rows below; section 6 "
-        "sets it beside the paper's). To cite: the paper, *On the influence of sliding on the "
-        "Celt rattleback motion*, for the models, and celtstone as its `CITATION.cff` says.",
+        "is the same body with another contact (its settings in its rows below; the sections "
+        "after the one-at-a-time table set it beside the paper's). To cite: the paper, "
+        "*On the influence of sliding on the Celt rattleback motion*, for the models, and "
+        "celtstone as its `CITATION.cff` says.",
         "",
         "| finding | " + " | ".join(keys) + " |",
         "|---|" + "---|" * len(keys),
