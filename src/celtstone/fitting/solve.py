@@ -21,7 +21,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -255,12 +255,7 @@ def fit(
         :class:`FitQualityWarning` for the rest).
     """
     began = time.perf_counter()
-    if starts is not None:
-        _check_count("starts", starts, 1, MAX_STARTS)
-    if workers is not None:
-        _check_count("workers", workers, 1, MAX_WORKERS)
-    if seed is not None:
-        _check_count("seed", seed, 0)
+    _check_counts(starts, workers, seed)
     problem = make_problem(
         record,
         _body(body),
@@ -278,7 +273,6 @@ def fit(
     if profile is not None and profile not in problem.names:
         raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
     noise = dict(problem.sigma)  # the model-free noise estimates (or the given σ_s)
-    columns = list(range(len(problem.free)))
     with warnings.catch_warnings(), Runs(problem, workers, progress) as runs:
         # trial runs warn about nothing; the fitted run below warns once
         warnings.simplefilter("ignore", FrictionBoundWarning)
@@ -292,50 +286,21 @@ def fit(
         best_converged = min(outcomes, key=lambda s: s.cost).converged
         ends = [(s.end, s.cost) for s in outcomes if s.converged]
         if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
-            problem = reweighted(problem, residuals)
-            runs.use(problem)
-            values, cost, best_converged, _, jacobian, residuals = _minimise(runs, values, columns)
-            # the starts' ends costed again with these weights: comparable with the optimum's
-            ends = [(x, 0.5 * float(r @ r)) for x, r in _costed(runs, [x for x, _ in ends])]
+            problem, ends, (values, cost, best_converged, _, jacobian, residuals) = _reweighted(
+                runs, problem, values, residuals, ends
+            )
             stages["refit with the residuals' noise"] = runs.count - sum(stages.values())
         optimum = _Optimum(values, cost, best_converged, jacobian, residuals)
         optimum, spread, whiteness, intervals = _checked(runs, optimum, ends)
         values, cost, best_converged, jacobian, residuals = optimum
         stages["interval checks and profiles"] = runs.count - sum(stages.values())
-        profiled = None
-        if profile is not None:
-            index = problem.names.index(profile)
-
-            def refit(x: np.ndarray, others: list[int]) -> tuple[np.ndarray, float]:
-                optimum, cost = _minimise(runs, x, others)[:2]
-                return optimum, cost
-
-            profiled = profile_likelihood(
-                runs,
-                refit,
-                values,
-                index,
-                spread.standard_errors[index],
-                spread.residual_variance,
-            )
+        profiled = None if profile is None else _profile(runs, values, spread, profile)
+        if profiled is not None:
             stages["--profile"] = runs.count - sum(stages.values())
         count, failed, wasted = runs.count, runs.failed, runs.wasted
     stages["fitted run and its integration check"] = 2
-    trajectory = problem.run(values)
-    residuals = problem.residuals(trajectory, values)
-    integration_error = _integration_error(problem, values, trajectory)
-    assessment = assess(
-        problem,
-        values,
-        trajectory,
-        residuals,
-        spread,
-        whiteness,
-        noise,
-        outcomes,
-        best_converged,
-        profiled,
-        integration_error,
+    trajectory, residuals, assessment = _fitted_run(
+        problem, values, spread, whiteness, noise, outcomes, best_converged, profiled
     )
     for text in spread.warnings(problem.names):
         warnings.warn(text, IdentifiabilityWarning, stacklevel=2)
@@ -538,3 +503,64 @@ def _integration_error(problem: Problem, values: np.ndarray, trajectory: Traject
         return math.inf
     difference = tighter.residuals(reference, values) - problem.residuals(trajectory, values)
     return float(np.max(np.abs(difference)))
+
+
+def _profile(runs: Runs, values: np.ndarray, spread: Any, name: str) -> Any:
+    """The profile likelihood of the free number ``name`` about ``values`` (``--profile``)."""
+    index = runs.problem.names.index(name)
+
+    def refit(x: np.ndarray, others: list[int]) -> tuple[np.ndarray, float]:
+        optimum, cost = _minimise(runs, x, others)[:2]
+        return optimum, cost
+
+    return profile_likelihood(
+        runs, refit, values, index, spread.standard_errors[index], spread.residual_variance
+    )
+
+
+def _reweighted(
+    runs: Runs,
+    problem: Any,
+    values: np.ndarray,
+    residuals: np.ndarray,
+    ends: list[tuple[np.ndarray, float]],
+) -> tuple[Any, list[tuple[np.ndarray, float]], Any]:
+    """Each series weighted by its residuals' noise, the optimum refitted, and the starts'
+    ends costed again with these weights (comparable with the optimum's)."""
+    problem = reweighted(problem, residuals)
+    runs.use(problem)
+    minimum = _minimise(runs, values, list(range(len(problem.free))))
+    ends = [(x, 0.5 * float(r @ r)) for x, r in _costed(runs, [x for x, _ in ends])]
+    return problem, ends, minimum
+
+
+def _fitted_run(
+    problem: Any,
+    values: np.ndarray,
+    spread: Any,
+    whiteness: Any,
+    noise: dict[str, float],
+    outcomes: list[Any],
+    converged: bool,
+    profiled: Any,
+) -> tuple[Any, np.ndarray, Any]:
+    """The run at the fitted values, its residuals, and the fit's assessment (with the
+    run's integration error checked at tighter tolerances)."""
+    trajectory = problem.run(values)
+    residuals = problem.residuals(trajectory, values)
+    integration_error = _integration_error(problem, values, trajectory)
+    assessment = assess(
+        problem, values, trajectory, residuals, spread, whiteness, noise, outcomes,
+        converged, profiled, integration_error,
+    )  # fmt: skip
+    return trajectory, residuals, assessment
+
+
+def _check_counts(starts: int | None, workers: int | None, seed: int | None) -> None:
+    """The counts among :func:`fit`'s arguments, each checked where given."""
+    if starts is not None:
+        _check_count("starts", starts, 1, MAX_STARTS)
+    if workers is not None:
+        _check_count("workers", workers, 1, MAX_WORKERS)
+    if seed is not None:
+        _check_count("seed", seed, 0)
