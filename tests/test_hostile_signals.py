@@ -19,6 +19,7 @@ import xarray as xr
 
 from celtstone.cli.main import main
 from celtstone.visual.animation import _count_frames
+from tests.processes import catches_sigterm
 
 pytestmark = pytest.mark.skipif(
     not Path("/proc/self/status").exists(), reason="reads a process's signal mask from /proc"
@@ -61,16 +62,6 @@ def _command(name: str, inputs: Path, out: Path) -> list[str]:
     return commands[name]
 
 
-def _catches_sigterm(pid: int) -> bool:
-    """Whether the process has a handler for SIGTERM: celtstone's first line has run."""
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
-    return bool(int(caught.split()[1], 16) >> (signal.SIGTERM - 1) & 1)
-
-
 def _interrupt(launcher: list[str], arguments: list[str], signum: int, delay: float | None):
     """Start the command, send ``signum`` ``delay`` s after its first line ran (None: at
     once, before the interpreter itself may have started), return (exit status, stderr)."""
@@ -84,7 +75,7 @@ def _interrupt(launcher: list[str], arguments: list[str], signum: int, delay: fl
     try:
         if delay is not None:
             deadline = time.monotonic() + WAIT
-            while not _catches_sigterm(process.pid) and process.poll() is None:
+            while not catches_sigterm(process.pid) and process.poll() is None:
                 assert time.monotonic() < deadline, "the command never started"
                 time.sleep(0.001)
             time.sleep(delay)
@@ -167,7 +158,7 @@ def test_a_second_signal_during_the_clean_up_gives_no_traceback(
         text=True,
     )
     try:
-        while not _catches_sigterm(process.pid):
+        while not catches_sigterm(process.pid):
             time.sleep(0.001)
         time.sleep(0.5)
         for _ in range(20):  # a user pressing Ctrl-C again and again

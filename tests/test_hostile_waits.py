@@ -24,6 +24,7 @@ from celtstone.cli.main import main
 from celtstone.fitting.runs import Runs
 from celtstone.visual import animate, load_run
 from celtstone.visual.animation import _count_frames
+from tests.processes import catches_sigterm
 
 CELTSTONE = Path(sys.executable).with_name("celtstone")
 WAIT = 300  # s: only stops a hung test
@@ -171,16 +172,6 @@ def test_animate_says_what_it_draws_when_not_at_a_terminal(
     assert capsys.readouterr().err == ""  # a short animation: no line
 
 
-def _started(pid: int) -> bool:
-    """celtstone's first line ran: it catches SIGTERM (``/proc/PID/status``)."""
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
-    return bool(int(caught.split()[1], 16) >> (signal.SIGTERM - 1) & 1)
-
-
 @pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc")
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGKILL])
 @pytest.mark.parametrize("delay", [0.3, 1.0, 2.0, 3.0, 4.0])
@@ -194,7 +185,7 @@ def test_an_interrupted_animation_leaves_the_whole_video_or_none(
         stderr=subprocess.PIPE,
         text=True,
     ) as process:
-        while not _started(process.pid) and process.poll() is None:
+        while not catches_sigterm(process.pid) and process.poll() is None:
             time.sleep(0.001)
         time.sleep(delay)
         process.send_signal(signum)
