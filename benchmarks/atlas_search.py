@@ -48,9 +48,9 @@ from celtstone.atlas.search import (
     search_summary,
     search_table,
 )
-from celtstone.export import write_json, write_table
-from celtstone.integrate import version
+from celtstone.files.export import write_json, write_table
 from celtstone.reproduce.findings import FINDINGS
+from celtstone.simulation.integrate import version
 
 DESIGN_FIELDS = ("length", "width_ratio", "height_ratio", "misalignment", "mass_fraction")
 

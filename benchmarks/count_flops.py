@@ -458,7 +458,7 @@ def case(name: str) -> tuple[int, Any, list[float]]:
 
     import celtstone as cs
     from celtstone.kernels.layout import Y_N, Y_SLIP
-    from celtstone.models import initial_vector, kernel_parameters
+    from celtstone.simulation.models import initial_vector, kernel_parameters
 
     model = model_object(name)
     params = kernel_parameters(model, cs.load_body(BODY))

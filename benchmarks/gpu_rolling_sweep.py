@@ -57,9 +57,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from numba import cuda, float64, int64, types
 from numba.core.extending import overload
 
-from celtstone.integrate import DEFAULT_ATOL, DEFAULT_RTOL
 from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
 from celtstone.kernels.system import rhs
+from celtstone.simulation.integrate import DEFAULT_ATOL, DEFAULT_RTOL
 from celtstone.solvers import _dop853, _vern9
 from celtstone.solvers._events import spin_of
 from celtstone.solvers._step_control import initial_step
@@ -300,7 +300,7 @@ def initial_states(n_spin: int, n_alpha: int) -> np.ndarray:
 def save_whole(path: Path, force: bool, option: str, **arrays: object) -> None:
     """``np.savez`` to ``path`` through celtstone's atomic writer: whole or not at all, and
     an existing file only replaced with ``force``."""
-    from celtstone.export import atomic_path
+    from celtstone.files.export import atomic_path
 
     with atomic_path(path, overwrite=force, parameter=option) as temporary:
         with open(temporary, "wb") as handle:

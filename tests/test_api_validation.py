@@ -24,12 +24,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import celtstone as cs
-import celtstone.integrate as integrate_module
-from celtstone import schema
+import celtstone.simulation.integrate as integrate_module
 from celtstone.cli.main import main
 from celtstone.contact import friction_functions, friction_integrals
 from celtstone.contact.ellipse import elliptic_friction_functions
 from celtstone.contact.ellipse_table import fast_friction_functions
+from celtstone.simulation import schema
 from celtstone.sweep import Sweep
 
 NAN = float("nan")

@@ -21,7 +21,7 @@ from celtstone.atlas.target import ATLAS_GRIDS, AtlasGrid, AtlasSlice, AtlasTarg
 from celtstone.cli.main import main
 from celtstone.cli.reproduce import ATLAS_GRID_WORDS
 from celtstone.errors import ParameterError
-from celtstone.export import read_table
+from celtstone.files.export import read_table
 from celtstone.reproduce import reproduce
 from celtstone.reproduce.atlas_report import atlas_counts
 from celtstone.reproduce.findings import FINDINGS

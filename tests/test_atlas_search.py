@@ -33,10 +33,10 @@ from celtstone.atlas.search import (
     stored_search,
 )
 from celtstone.errors import ParameterError
-from celtstone.integrate import simulate
 from celtstone.reproduce.atlas_report import search_lines
 from celtstone.reproduce.cases import summarise
 from celtstone.reproduce.findings import JUDGES
+from celtstone.simulation.integrate import simulate
 
 SHORT = dataclasses.replace(ATLAS_STUDY, fig3_t_end=3.0)  # long runs of 3 s
 

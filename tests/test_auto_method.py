@@ -9,7 +9,7 @@ import pytest
 import celtstone as cs
 from celtstone import solvers
 from celtstone.kernels import layout
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation.models import initial_vector, kernel_parameters
 from celtstone.solvers import _auto
 
 BODY = "kane_levinson_1982"

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import celtstone as cs
-import celtstone.integrate as integrate_module
+import celtstone.simulation.integrate as integrate_module
 from celtstone.bodies import BodyFileError
 from celtstone.bodies.file_schema import (
     BODY_ENTRIES,

@@ -401,7 +401,7 @@ def test_python_dash_m_help() -> None:
 
 def test_text_output_when_a_summary_value_is_null(monkeypatch: pytest.MonkeyPatch) -> None:
     """The JSON summary allows null for the minimum normal force; the text must cope."""
-    from celtstone.trajectory import Trajectory
+    from celtstone.simulation.trajectory import Trajectory
 
     original = Trajectory.summary
 

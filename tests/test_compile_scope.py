@@ -75,7 +75,7 @@ def test_the_diagnostics_of_a_rolling_run_compile_no_other_model(tmp_path: Path)
 import numpy as np
 import celtstone as cs
 from celtstone.kernels import layout, system
-from celtstone.models import RollingModel, kernel_parameters
+from celtstone.simulation.models import RollingModel, kernel_parameters
 
 body = cs.load_body("kane_levinson_1982")
 params = kernel_parameters(RollingModel(), body)

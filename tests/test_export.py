@@ -10,8 +10,8 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone import export
 from celtstone.cli.main import main
+from celtstone.files import export
 from tests.conftest import LITERATURE_EULER_ANGLES
 
 # every time series of a run and its CSV columns (vectors split per component)

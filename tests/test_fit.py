@@ -18,7 +18,7 @@ import pytest
 import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.errors import CeltstoneError
-from celtstone.export import read_run
+from celtstone.files.export import read_run
 from celtstone.fitting.problem import FAILED_RESIDUAL, Problem, make_problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.series import yaw_angle

@@ -29,7 +29,7 @@ from celtstone.kernels.hertz_ellipse import (
     radius_of_curvature_tensor,
 )
 from celtstone.kernels.vector import tangent_basis
-from celtstone.models import kernel_parameters
+from celtstone.simulation.models import kernel_parameters
 
 AXES, OFFSET = (0.20, 0.03, 0.02), 0.01  # Kane & Levinson (references.md)
 LOAD = 1.0 * 9.81  # m g of Kane & Levinson's stone [N]

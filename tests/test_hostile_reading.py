@@ -20,9 +20,9 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone._path_names import TEMPORARY_NAME_EXTRA
 from celtstone.cli.main import main
 from celtstone.errors import CeltstoneWarning
+from celtstone.files.path_names import TEMPORARY_NAME_EXTRA
 from celtstone.reproduce.report import collect
 from celtstone.visual.runs import check_run
 

@@ -15,9 +15,8 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import ParameterError
+from celtstone import ParameterError, stability
 from celtstone._threads import map_in_threads
-from celtstone.analysis import stability
 from celtstone.cli import animate as animate_cli
 from celtstone.cli import stability as stability_cli
 from celtstone.cli.main import main
@@ -266,7 +265,7 @@ def test_the_first_unrunnable_pair_is_named_as_point_by_point() -> None:
     """The oracle: each point built and checked on its own (``kernel_parameters``); the
     deduplicated validation names the same first point with the same message."""
     from celtstone.bodies import load_body
-    from celtstone.models import kernel_parameters, model_from_name
+    from celtstone.simulation.models import kernel_parameters, model_from_name
     from celtstone.sweep import spec
 
     base = load_body("kane_levinson_1982")

@@ -15,8 +15,8 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone import export
 from celtstone.errors import ParameterError
+from celtstone.files import export
 from celtstone.kernels import geometry
 from celtstone.sweep import Sweep
 from celtstone.visual import scene

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import schema, solvers
+from celtstone import solvers
 from celtstone.kernels import (
     dynamics,
     friction,
@@ -35,7 +35,8 @@ from celtstone.kernels.layout import (
     ModelCode,
     ShapeCode,
 )
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation import schema
+from celtstone.simulation.models import initial_vector, kernel_parameters
 
 CODES: list[type[enum.IntEnum]] = [ModelCode, ShapeCode, FrictionLoad, FrictionLaw, ContactPressure]
 UNKNOWN = [-1, 99]  # codes no enum has

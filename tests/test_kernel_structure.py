@@ -24,7 +24,7 @@ from celtstone.kernels.layout import (
     ModelCode,
     ShapeCode,
 )
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation.models import initial_vector, kernel_parameters
 from celtstone.solvers import _radau
 from tests.test_kernel_dispatch import BODIES, STATE
 

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import models, solvers
+from celtstone import solvers
 from celtstone.kernels import layout
+from celtstone.simulation import models
 from celtstone.solvers import _linking, batch, driver, phases
 from celtstone.solvers import _structures as structures
 from celtstone.sweep import Sweep

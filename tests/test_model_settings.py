@@ -12,8 +12,8 @@ import celtstone as cs
 from celtstone.cli.main import build_parser
 from celtstone.contact import CONTACT_PRESSURES, FRICTION_LAWS, LAW_WORDS, PRESSURE_WORDS
 from celtstone.kernels.layout import PARAMETERS, ContactPressure, FrictionLaw, FrictionLoad
-from celtstone.models import MODEL_KINDS, SETTINGS, kernel_parameters, setting_defaults
-from celtstone.schema import PARAMETERS as SCHEMA
+from celtstone.simulation.models import MODEL_KINDS, SETTINGS, kernel_parameters, setting_defaults
+from celtstone.simulation.schema import PARAMETERS as SCHEMA
 
 
 @pytest.mark.parametrize("kind", list(MODEL_KINDS))

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import ownership
 from celtstone.cli.main import main
+from celtstone.files import ownership
 from celtstone.fitting.outputs import write_fit
 from celtstone.reproduce import Study, reproduce, write_report
 from celtstone.reproduce import report as report_module

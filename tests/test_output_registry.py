@@ -16,11 +16,12 @@ import pytest
 import zarr
 
 import celtstone as cs
-from celtstone import solvers, trajectory
-from celtstone.integrate import STATUS_NAMES
+from celtstone import solvers
 from celtstone.kernels import system
 from celtstone.plotting.maps import plot_field_map
-from celtstone.schema import VARIABLES, Variable
+from celtstone.simulation import trajectory
+from celtstone.simulation.integrate import STATUS_NAMES
+from celtstone.simulation.schema import VARIABLES, Variable
 from celtstone.solvers import batch, codes
 from celtstone.sweep import RESULT_FIELDS, Sweep, open_sweep
 from celtstone.sweep.plots import MAPPED_FIELDS

@@ -36,9 +36,9 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 import celtstone as cs
-from celtstone import export, ownership
 from celtstone.cli.main import Terminated, build_parser, main
 from celtstone.errors import OutputError
+from celtstone.files import export, ownership
 from celtstone.plotting import save_figure
 from celtstone.reproduce import Study, reproduce
 from celtstone.reproduce import cases as reproduce_cases
@@ -777,7 +777,7 @@ def test_a_signal_between_the_two_swaps_leaves_no_handler_swapped(
 _ENDLESS = """
 import importlib, sys
 from celtstone.cli.main import main
-from celtstone.models import RollingModel
+from celtstone.simulation.models import RollingModel
 
 module = importlib.import_module(sys.argv[1])  # where the command finds simulate
 simulate = module.simulate

@@ -7,10 +7,11 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import hybrid, solvers
+from celtstone import solvers
 from celtstone.kernels import layout
 from celtstone.kernels import stick as stick_kernels
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation import hybrid
+from celtstone.simulation.models import initial_vector, kernel_parameters
 
 KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
 ROCKING_START = cs.InitialState(omega=(0.0, 0.0, 0.0), euler_angles=(1.0, 0.3))  # no spin, no slip

@@ -1,5 +1,5 @@
 """Inputs no run can mean anything with are refused up front; implausible ones are warned
-about by name, and named again when the run then stops (``celtstone.plausibility``).
+about by name, and named again when the run then stops (``celtstone.simulation.plausibility``).
 
 The cases are the hostile inputs of issue 11: a mass of 1e300 kg (NaN in the normal force
 before), a damping of 1e300 N m s, E = 1e-300 Pa and a body written in centimetres (all three
@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-import celtstone.integrate as integrate_module
-from celtstone import plausibility, schema
+import celtstone.simulation.integrate as integrate_module
 from celtstone.cli.main import main
-from celtstone.models import contact_settings
+from celtstone.simulation import plausibility, schema
+from celtstone.simulation.models import contact_settings
 from tests.conftest import BODY_NAMES
 
 KL_INERTIA = ((2.0e-4, -2.0e-5, 0.0), (-2.0e-5, 1.6e-3, 0.0), (0.0, 0.0, 1.7e-3))  # kg m^2

@@ -11,7 +11,7 @@ from matplotlib.lines import Line2D
 
 import celtstone as cs
 from celtstone.cli.main import main
-from celtstone.export import write
+from celtstone.files.export import write
 from celtstone.plotting import (
     plot_energy_budget,
     plot_run,
@@ -19,6 +19,7 @@ from celtstone.plotting import (
     plot_threshold,
     save_figure,
 )
+from celtstone.simulation.reversals import dataset_reversal_times
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +55,7 @@ def test_plot_run_panels_labels_and_reversals(runs: dict[str, cs.Trajectory]) ->
         assert any(expected in label for label in ylabels), expected
     spin_axes = axes[0]
     assert "spin" in spin_axes.get_ylabel()
-    reversals = cs.analysis.dataset_reversal_times(dataset)
+    reversals = dataset_reversal_times(dataset)
     assert reversals.size == 1
     marks = _vertical_lines(spin_axes)
     assert [float(m.get_xdata()[0]) for m in marks] == pytest.approx(list(reversals))

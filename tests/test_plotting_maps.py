@@ -14,7 +14,7 @@ from matplotlib.collections import PolyCollection, QuadMesh
 import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.plotting.maps import plot_field_map
-from celtstone.schema import VARIABLES
+from celtstone.simulation.schema import VARIABLES
 from celtstone.sweep.plots import (
     DEFAULT_MAPPED_FIELDS,
     MAPPED_FIELDS,

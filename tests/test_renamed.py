@@ -13,11 +13,12 @@ import xarray as xr
 
 import celtstone as cs
 from celtstone.cli.main import main
-from celtstone.export import read_run, write
-from celtstone.models import SETTINGS
+from celtstone.files.export import read_run, write
 from celtstone.plotting.labels import run_label
 from celtstone.reproduce.report import collect
-from celtstone.schema import RENAMED, RENAMED_ATTRIBUTES
+from celtstone.simulation.models import SETTINGS
+from celtstone.simulation.schema import PARAMETERS as SCHEMA_PARAMETERS
+from celtstone.simulation.schema import RENAMED, RENAMED_ATTRIBUTES
 from celtstone.sweep import Sweep
 from celtstone.sweep.spec import CHOICES, MODEL, PARAMETERS
 
@@ -89,7 +90,7 @@ def test_every_numeric_model_setting_is_a_sweep_parameter() -> None:
     options = {name for name, setting in SETTINGS.items() if setting.choices is not None}
     assert {name for name, p in PARAMETERS.items() if p.group == MODEL} == numbers
     for name in numbers:
-        assert PARAMETERS[name].unit == cs.schema.PARAMETERS[name].unit
+        assert PARAMETERS[name].unit == SCHEMA_PARAMETERS[name].unit
     for name in options:
         assert CHOICES[name] == tuple(SETTINGS[name].choices or ())
 

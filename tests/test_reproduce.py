@@ -18,7 +18,7 @@ import xarray as xr
 
 import celtstone as cs
 from celtstone.cli.main import main
-from celtstone.export import read_table
+from celtstone.files.export import read_table
 from celtstone.reproduce import Study, figure2, reduced, threshold
 from celtstone.reproduce import cases as reproduce_cases
 from celtstone.reproduce.findings import (

@@ -18,7 +18,6 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone.analysis import dataset_reversal_times
 from celtstone.reproduce import Study, reduced, reproduce
 from celtstone.reproduce.findings import (
     judge_energy_decrease,
@@ -36,6 +35,7 @@ from celtstone.reproduce.study import (
     realistic_study_for,
     study_for,
 )
+from celtstone.simulation.reversals import dataset_reversal_times
 
 TOY = "toy_rattleback_10cm"
 

@@ -2,7 +2,7 @@
 sampling to the time of a converged run (tight rtol, dense sampling), the oracle here.
 
 The averaged spin whose zero times a reversal is the samples' running mean
-(``celtstone.reversals``); sweeps compute it in the same compiled kernel from their own
+(``celtstone.simulation.reversals``); sweeps compute it in the same compiled kernel from their own
 samples, so the time depends on the sample rate. These tests bound that dependence at
 the default rate and check that it is the sampling's: it shrinks as the rate grows.
 """
@@ -15,7 +15,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.errors import FrictionBoundWarning
-from celtstone.reversals import REVERSAL_TIME_RESOLUTION
+from celtstone.simulation.reversals import REVERSAL_TIME_RESOLUTION
 
 START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
 

@@ -21,7 +21,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.errors import PlausibilityWarning
-from celtstone.reversals import averaged_spin, reversal_times
+from celtstone.simulation.reversals import averaged_spin, reversal_times
 
 KL_INERTIA = np.array([[2.0e-4, -2.0e-5, 0.0], [-2.0e-5, 1.6e-3, 0.0], [0.0, 0.0, 1.7e-3]])
 START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone.analysis import reversal_times
+from celtstone.simulation.reversals import reversal_times
 from tests.conftest import LITERATURE_EULER_ANGLES
 
 
@@ -57,7 +57,7 @@ def test_threshold_must_be_positive() -> None:
 
 
 def test_sweep_bands_scale_with_the_spin_and_keep_a_floor() -> None:
-    from celtstone.reversals import REVERSAL_BAND_FLOOR, reversal_band, reversal_bands
+    from celtstone.simulation.reversals import REVERSAL_BAND_FLOOR, reversal_band, reversal_bands
 
     np.testing.assert_allclose(reversal_bands([-5.0, 3.0, 0.0, 0.1]), [0.2, 0.12, 0.01, 0.01])
     assert REVERSAL_BAND_FLOOR == 0.01

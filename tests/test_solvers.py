@@ -7,10 +7,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import celtstone as cs
-from celtstone import hybrid, solvers
+from celtstone import solvers
 from celtstone.kernels import layout, system
 from celtstone.kernels import stick as stick_kernels
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation import hybrid
+from celtstone.simulation.models import initial_vector, kernel_parameters
+from celtstone.simulation.reversals import dataset_reversal_times
 from celtstone.solvers import _events, _methods, _structures, codes
 
 STATE = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
@@ -439,7 +441,7 @@ def test_the_rolling_default_places_a_sensitive_reversal() -> None:
     def reversals(**options: float) -> np.ndarray:
         run = cs.simulate(model, body, STATE, 50.0, n_samples=10_001, **options)
         run.raise_for_status()
-        return cs.reversals.dataset_reversal_times(run.dataset)
+        return dataset_reversal_times(run.dataset)
 
     converged = reversals(rtol=1e-13, atol=1e-15)
     default = reversals()

@@ -8,7 +8,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.errors import ParameterError
-from celtstone.integrate import method_names
+from celtstone.simulation.integrate import method_names
 from celtstone.sweep import Sweep
 from tests.test_cli import Result
 

@@ -9,8 +9,8 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone.analysis import dataset_reversal_times
 from celtstone.cli.main import main
+from celtstone.simulation.reversals import dataset_reversal_times
 from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
 from celtstone.sweep.plots import DEFAULT_MAPPED_FIELDS
 from celtstone.sweep.spec import build_body, build_state

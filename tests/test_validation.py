@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import celtstone as cs
-import celtstone.integrate as integrate_module
+import celtstone.simulation.integrate as integrate_module
 from celtstone.cli.main import main
 
 KL_NAME = "kane_levinson_1982"

@@ -27,7 +27,7 @@ from celtstone.cli.main import build_parser
 #: The public modules documented beside ``celtstone.__all__`` (decisions §33): the
 #: subpackages and modules a user imports. ``celtstone.kernels`` and ``celtstone.solvers``
 #: (the compiled core under the user API), ``celtstone.cli`` (the CLI page) and
-#: ``celtstone.export`` (the commands' file-writing machinery) are not.
+#: ``celtstone.files.export`` (the commands' file-writing machinery) are not.
 MODULES = (
     "celtstone.analysis",
     "celtstone.atlas",
@@ -36,7 +36,7 @@ MODULES = (
     "celtstone.fitting",
     "celtstone.plotting",
     "celtstone.reproduce",
-    "celtstone.reversals",
+    "celtstone.simulation.reversals",
     "celtstone.sweep",
     "celtstone.visual",
 )
@@ -77,7 +77,7 @@ def documented_at(module: str, name: str) -> str:
     """The full name under which ``module.name`` is documented, once: ``celtstone.NAME``
     when ``celtstone`` re-exports the same object, the documented module that defines it
     when another one re-exports it (``celtstone.analysis.reversal_band`` is
-    ``celtstone.reversals.reversal_band``), else ``module.name``."""
+    ``celtstone.simulation.reversals.reversal_band``), else ``module.name``."""
     origin = _origin(module, name)
     if name in celtstone.__all__ and _origin("celtstone", name) == origin:
         return f"celtstone.{name}"

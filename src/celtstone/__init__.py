@@ -29,8 +29,6 @@ from celtstone.errors import ParameterError as ParameterError
 from celtstone.errors import PlausibilityWarning as PlausibilityWarning
 
 if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
-    from celtstone.analysis.stability import SpinStability as SpinStability
-    from celtstone.analysis.stability import spin_stability as spin_stability
     from celtstone.bodies import AddedMass as AddedMass
     from celtstone.bodies import Body as Body
     from celtstone.bodies import Design as Design
@@ -47,19 +45,21 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.fitting import fit as fit
     from celtstone.fitting import make_record as make_record
     from celtstone.fitting import read_record as read_record
-    from celtstone.integrate import simulate as simulate
-    from celtstone.models import MODELS as MODELS
-    from celtstone.models import HybridModel as HybridModel
-    from celtstone.models import InitialState as InitialState
-    from celtstone.models import RollingModel as RollingModel
-    from celtstone.models import SlidingModel as SlidingModel
-    from celtstone.models import model_from_name as model_from_name
     from celtstone.precompile import CompileReport as CompileReport
     from celtstone.precompile import compile_solvers as compile_solvers
-    from celtstone.reversals import reversal_times as reversal_times
+    from celtstone.simulation.integrate import simulate as simulate
+    from celtstone.simulation.models import MODELS as MODELS
+    from celtstone.simulation.models import HybridModel as HybridModel
+    from celtstone.simulation.models import InitialState as InitialState
+    from celtstone.simulation.models import RollingModel as RollingModel
+    from celtstone.simulation.models import SlidingModel as SlidingModel
+    from celtstone.simulation.models import model_from_name as model_from_name
+    from celtstone.simulation.reversals import reversal_times as reversal_times
+    from celtstone.simulation.trajectory import Trajectory as Trajectory
+    from celtstone.stability import SpinStability as SpinStability
+    from celtstone.stability import spin_stability as spin_stability
     from celtstone.sweep import Sweep as Sweep
     from celtstone.sweep import open_sweep as open_sweep
-    from celtstone.trajectory import Trajectory as Trajectory
 
 __all__ = [
     "MODELS",
@@ -108,9 +108,9 @@ __all__ = [
 # name -> module: imported on first use, so that `import celtstone` stays light (no numba,
 # SciPy, xarray, Zarr or Dask until the engine, a dataset or a sweep is asked for)
 _LAZY = {
-    "SpinStability": "celtstone.analysis.stability",
-    "reversal_times": "celtstone.reversals",
-    "spin_stability": "celtstone.analysis.stability",
+    "SpinStability": "celtstone.stability",
+    "reversal_times": "celtstone.simulation.reversals",
+    "spin_stability": "celtstone.stability",
     "AddedMass": "celtstone.bodies",
     "Body": "celtstone.bodies",
     "Design": "celtstone.bodies",
@@ -122,19 +122,19 @@ _LAZY = {
     "list_bodies": "celtstone.bodies",
     "explore": "celtstone.explorer",
     "load_body": "celtstone.bodies",
-    "simulate": "celtstone.integrate",
+    "simulate": "celtstone.simulation.integrate",
     "FitResult": "celtstone.fitting",
     "Record": "celtstone.fitting",
     "fit": "celtstone.fitting",
     "make_record": "celtstone.fitting",
     "read_record": "celtstone.fitting",
-    "MODELS": "celtstone.models",
-    "HybridModel": "celtstone.models",
-    "InitialState": "celtstone.models",
-    "RollingModel": "celtstone.models",
-    "SlidingModel": "celtstone.models",
-    "model_from_name": "celtstone.models",
-    "Trajectory": "celtstone.trajectory",
+    "MODELS": "celtstone.simulation.models",
+    "HybridModel": "celtstone.simulation.models",
+    "InitialState": "celtstone.simulation.models",
+    "RollingModel": "celtstone.simulation.models",
+    "SlidingModel": "celtstone.simulation.models",
+    "model_from_name": "celtstone.simulation.models",
+    "Trajectory": "celtstone.simulation.trajectory",
     "Sweep": "celtstone.sweep",
     "open_sweep": "celtstone.sweep",
     "CompileReport": "celtstone.precompile",

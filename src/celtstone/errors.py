@@ -154,7 +154,8 @@ class CeltstoneWarning(UserWarning):
 
 
 class PlausibilityWarning(CeltstoneWarning):
-    """A parameter is allowed but implausible for a rattleback (``celtstone.plausibility``)."""
+    """A parameter is allowed but implausible for a rattleback
+    (``celtstone.simulation.plausibility``)."""
 
 
 class FrictionBoundWarning(CeltstoneWarning):

@@ -76,8 +76,8 @@ def compile_solvers(progress: Callable[[int, int, str], None] | None = None) -> 
         How many functions were compiled and how long it took.
     """
     from celtstone.bodies import load_body
-    from celtstone.integrate import simulate
-    from celtstone.models import HybridModel, InitialState, RollingModel
+    from celtstone.simulation.integrate import simulate
+    from celtstone.simulation.models import HybridModel, InitialState, RollingModel
     from celtstone.sweep import Sweep
 
     body = load_body("kane_levinson_1982")

@@ -19,7 +19,7 @@ import celtstone as cs
 from celtstone.contact.ellipse import hertz_ellipse
 from celtstone.kernels.dynamics import friction_per_unit_load
 from celtstone.kernels.hertz_ellipse import hertz_ellipse_axes, principal_radii
-from celtstone.models import kernel_parameters
+from celtstone.simulation.models import kernel_parameters
 from tests.conftest import LITERATURE_EULER_ANGLES
 
 # E = 3 GPa, ν = 0.35: Kane & Levinson's circular Hertz radius is ε = 1.09 mm (equations.md)
@@ -253,7 +253,7 @@ def test_leaving_the_range_during_a_run_is_a_status_not_a_nan() -> None:
     value, and the driver turns it into the ``contact_range`` status with its message."""
     from celtstone.kernels.layout import MODEL_SLIDING, RHS_CONTACT_RANGE, parameter_record
     from celtstone.kernels.system import rhs
-    from celtstone.models import initial_vector
+    from celtstone.simulation.models import initial_vector
     from celtstone.solvers.codes import Status
     from celtstone.solvers.driver import rhs_failure
 

@@ -12,7 +12,7 @@ from celtstone.contact import effective_modulus, hertz_contact_radius
 from celtstone.kernels.dynamics import contact_radius
 from celtstone.kernels.geometry import contact
 from celtstone.kernels.hertz import equivalent_radius
-from celtstone.models import kernel_parameters
+from celtstone.simulation.models import kernel_parameters
 from tests.conftest import LITERATURE_EULER_ANGLES
 
 

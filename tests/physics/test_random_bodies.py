@@ -16,7 +16,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 import celtstone as cs
-from celtstone.integrate import STATUS_NAMES
+from celtstone.simulation.integrate import STATUS_NAMES
 
 # log10 ranges of the body: hostile on purpose, far beyond any stone
 lengths = st.floats(-4.0, 2.0)  # m: 0.1 mm .. 100 m

@@ -19,7 +19,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.bodies import SHAPES, Shape, shape_from_table
-from celtstone.models import FRICTION_LAWS
+from celtstone.simulation.models import FRICTION_LAWS
 from celtstone.sweep import spec
 from celtstone.visual import scene
 

@@ -11,14 +11,14 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 import celtstone as cs
-from celtstone.analysis.stability import (
+from celtstone.kernels import layout, system
+from celtstone.simulation.models import kernel_parameters
+from celtstone.stability import (
     MODE_NAMES,
     linearised_matrix,
     parse_spin_range,
     spin_stability,
 )
-from celtstone.kernels import layout, system
-from celtstone.models import kernel_parameters
 from tests.physics.test_published import characteristic_roots
 
 SPINS = np.linspace(-10.0, 10.0, 201)  # the default grid [rad/s]

@@ -21,11 +21,11 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 import celtstone as cs
-from celtstone import hybrid
 from celtstone.kernels import layout
 from celtstone.kernels import stick as stick_kernels
 from celtstone.kernels.friction import contact_friction, pade_friction
-from celtstone.models import initial_vector, kernel_parameters
+from celtstone.simulation import hybrid
+from celtstone.simulation.models import initial_vector, kernel_parameters
 from tests.oracle import rattleback as oracle
 from tests.test_cli import Result
 

@@ -11,7 +11,7 @@ import pytest
 import xarray as xr
 
 from celtstone.cli.main import main
-from celtstone.export import write
+from celtstone.files.export import write
 
 
 @pytest.fixture

@@ -37,20 +37,20 @@ import numpy as np
 from celtstone.atlas.family import MaterialPair, StoneDesign
 from celtstone.bodies import Body, Ellipsoid
 from celtstone.errors import FrictionBoundWarning, ParameterError
-from celtstone.export import (
+from celtstone.files.export import (
     output_error,
     replace_directory,
     temporary_directory,
     write_json,
 )
-from celtstone.integrate import simulate
-from celtstone.models import Model
-from celtstone.ownership import check_replaceable
+from celtstone.files.ownership import check_replaceable
 from celtstone.reproduce.cases import ENERGY_MONOTONE_TOLERANCE, case_name, summarise
 from celtstone.reproduce.figure2 import figure2_models
 from celtstone.reproduce.findings import FINDINGS, JUDGES
 from celtstone.reproduce.study import Study
 from celtstone.reproduce.threshold import boundary, threshold_numbers
+from celtstone.simulation.integrate import simulate
+from celtstone.simulation.models import Model
 from celtstone.sweep import Sweep
 
 if TYPE_CHECKING:
@@ -513,7 +513,7 @@ def atlas_dataset(
     """
     import xarray as xr
 
-    from celtstone.integrate import version
+    from celtstone.simulation.integrate import version
 
     bodies = [d.body() for d in designs]
     fig2_cases = [c["case"] for c in numbers[0]["fig2"]["cases"]] if numbers else []

@@ -262,7 +262,7 @@ def search_dataset(
     of the report's judge."""
     import xarray as xr
 
-    from celtstone.integrate import version
+    from celtstone.simulation.integrate import version
 
     target, judge = JUDGES["long_run"]
     verdicts = [v for v in (judge(dict(n)) for n in numbers) if v is not None]

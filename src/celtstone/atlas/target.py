@@ -31,13 +31,13 @@ from celtstone.atlas.family import MaterialPair, StoneDesign
 from celtstone.atlas.fields import ATLAS_STUDY, compute_atlas, hertz_study, write_atlas
 from celtstone.atlas.search import ATLAS_STONE_DESIGN, stored_searches
 from celtstone.errors import ParameterError
-from celtstone.export import write_table
-from celtstone.integrate import version
+from celtstone.files.export import write_table
 from celtstone.plotting import plot_verdict_maps, save_figure_formats
 from celtstone.reproduce.atlas_report import PARAMETER_WORDS
 from celtstone.reproduce.findings import FINDINGS
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study, reduced
+from celtstone.simulation.integrate import version
 
 if TYPE_CHECKING:
     import xarray as xr

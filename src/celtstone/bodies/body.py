@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from celtstone import schema
 from celtstone.bodies.shapes import Shape
 from celtstone.errors import ParameterError
+from celtstone.simulation import schema
 
 __all__ = ["Body"]
 
@@ -111,7 +111,7 @@ class Body:
     def rocking_period(self) -> float:
         """The longest finite period of :attr:`rocking_periods` [s].
 
-        The window over which a reversal averages the spin (``celtstone.reversals``); 0
+        The window over which a reversal averages the spin (``celtstone.simulation.reversals``); 0
         (no averaging: the raw spin's reversals) if the body rocks in neither plane or
         has a flat pole.
         """

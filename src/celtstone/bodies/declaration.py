@@ -30,9 +30,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import Any, ClassVar, Self
 
-from celtstone import schema
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import ShapeCode
+from celtstone.simulation import schema
 
 __all__ = [
     "INTEGER",

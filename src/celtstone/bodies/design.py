@@ -31,10 +31,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from celtstone import schema
 from celtstone.bodies.body import Body
 from celtstone.bodies.shapes import Ellipsoid
 from celtstone.errors import ParameterError
+from celtstone.simulation import schema
 
 __all__ = [
     "DESIGN_QUANTITIES",

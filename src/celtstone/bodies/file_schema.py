@@ -27,12 +27,12 @@ from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from celtstone import schema
 from celtstone.bodies.declaration import INTEGER, Entry
 from celtstone.bodies.design import DESIGN_QUANTITIES
 from celtstone.bodies.shapes import SHAPES as SHAPE_CLASSES
 from celtstone.bodies.shapes import STORED_SHAPES
 from celtstone.errors import BodyFileError, did_you_mean
+from celtstone.simulation import schema
 
 __all__ = [
     "BODY_ENTRIES",

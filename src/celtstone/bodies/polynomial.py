@@ -15,7 +15,6 @@ from typing import Any, Self
 
 import numpy as np
 
-from celtstone import schema
 from celtstone.bodies.declaration import (
     INTEGER,
     KL_COM_OFFSET,
@@ -27,6 +26,7 @@ from celtstone.bodies.declaration import (
 from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import MAX_TERMS
+from celtstone.simulation import schema
 
 __all__ = ["ImplicitPolynomial"]
 

@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 from typing import Any, Self
 
-from celtstone import schema
 from celtstone.bodies.declaration import (
     KL_COM_OFFSET,
     KL_SEMI_AXES,
@@ -26,6 +25,7 @@ from celtstone.bodies.implicit_surface import ImplicitSurface
 from celtstone.bodies.polynomial import ImplicitPolynomial
 from celtstone.errors import ParameterError
 from celtstone.kernels.layout import ShapeCode
+from celtstone.simulation import schema
 
 __all__ = [
     "SHAPES",

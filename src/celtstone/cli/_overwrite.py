@@ -10,7 +10,7 @@ def add_overwrite_arg(parser: argparse.ArgumentParser, what: str) -> None:
 
     A file is replaced only if it carries celtstone's mark, a folder or store only if its
     manifest lists every file in it; anything else there is refused, with or without the
-    option (``celtstone.ownership``)."""
+    option (``celtstone.files.ownership``)."""
     parser.add_argument(
         "--overwrite",
         action="store_true",

@@ -6,8 +6,8 @@ import argparse
 
 from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.errors import ParameterError
-from celtstone.export import check_target, output_beside, read_run, write
-from celtstone.ownership import check_inputs_outside
+from celtstone.files.export import check_target, output_beside, read_run, write
+from celtstone.files.ownership import check_inputs_outside
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:

@@ -226,7 +226,7 @@ def _announce_reading(path: str) -> None:
 
 def _model_free(model_name: str, free: list[str]) -> list[str]:
     """The free names a model has: a model setting only where the model takes it."""
-    from celtstone.models import MODELS
+    from celtstone.simulation.models import MODELS
 
     fields = MODELS[model_name].__dataclass_fields__
     return [

@@ -18,9 +18,9 @@ from celtstone.contact import (
     friction_functions,
 )
 from celtstone.errors import require_choice
-from celtstone.export import atomic_path, check_target
-from celtstone.ownership import figure_metadata
-from celtstone.schema import PARAMETERS, parse_number
+from celtstone.files.export import atomic_path, check_target
+from celtstone.files.ownership import figure_metadata
+from celtstone.simulation.schema import PARAMETERS, parse_number
 
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 

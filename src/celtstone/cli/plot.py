@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 
 from celtstone.cli._overwrite import add_overwrite_arg
-from celtstone.export import output_beside
+from celtstone.files.export import output_beside
 from celtstone.plotting.save import check_figure_target
-from celtstone.schema import check, parse_number
+from celtstone.simulation.schema import check, parse_number
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Callable
 
-from celtstone._path_names import check_path_name
+from celtstone.files.path_names import check_path_name
 from celtstone.reproduce.study import (
     REALISTIC_STUDIES,
     STUDIES,

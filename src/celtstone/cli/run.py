@@ -18,9 +18,9 @@ from celtstone import (
 )
 from celtstone.cli._methods import add_method_args
 from celtstone.cli._overwrite import add_overwrite_arg
-from celtstone.export import check_target, write
-from celtstone.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
-from celtstone.schema import PARAMETERS, RENAMED, parse_count, parse_number, renamed
+from celtstone.files.export import check_target, write
+from celtstone.simulation.models import MODEL_KINDS, SETTINGS, Setting, setting_defaults
+from celtstone.simulation.schema import PARAMETERS, RENAMED, parse_count, parse_number, renamed
 
 MAX_PHASE_LINES = 10  # stick/slip phases listed in the text summary
 

@@ -8,14 +8,14 @@ from pathlib import Path
 
 from celtstone import ParameterError, RollingModel, load_body
 from celtstone._about import version
-from celtstone.analysis.stability import SpinStability, parse_spin_range, spin_stability
 from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.cli._progress import progress_bar
-from celtstone.export import atomic_path, check_target, write
-from celtstone.ownership import CSV_MARK
+from celtstone.files.export import atomic_path, check_target, write
+from celtstone.files.ownership import CSV_MARK
 from celtstone.plotting.save import check_figure_target, save_figure
 from celtstone.plotting.stability import growth_rate_figure
-from celtstone.schema import PARAMETERS
+from celtstone.simulation.schema import PARAMETERS
+from celtstone.stability import SpinStability, parse_spin_range, spin_stability
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:

@@ -10,12 +10,12 @@ from pathlib import Path
 from typing import Any
 
 from celtstone import ParameterError
-from celtstone._path_names import check_path_name
 from celtstone.cli._interrupts import Terminated
 from celtstone.cli._methods import add_method_args
 from celtstone.cli._overwrite import add_overwrite_arg
-from celtstone.schema import PARAMETERS as SCHEMA
-from celtstone.schema import parse_number
+from celtstone.files.path_names import check_path_name
+from celtstone.simulation.schema import PARAMETERS as SCHEMA
+from celtstone.simulation.schema import parse_number
 from celtstone.sweep import (
     DEFAULT_ATOL,
     DEFAULT_RTOL,

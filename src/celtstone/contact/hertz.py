@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from celtstone import schema
 from celtstone.kernels.hertz import hertz_contact_radius as _hertz_contact_radius
+from celtstone.simulation import schema
 
 __all__ = ["effective_modulus", "hertz_contact_radius"]
 

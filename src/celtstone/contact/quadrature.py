@@ -26,7 +26,7 @@ import math
 from collections.abc import Callable
 
 from celtstone.errors import ParameterError, require_choice
-from celtstone.schema import real_number
+from celtstone.simulation.schema import real_number
 
 __all__ = ["MAX_QUADRATURE_SLIP_RATIO", "PRESSURE_DENSITIES", "friction_integrals"]
 

@@ -22,7 +22,6 @@ import panel as pn
 from bokeh.models import ColumnDataSource, Span  # type: ignore[attr-defined]
 from bokeh.plotting import figure
 
-from celtstone import schema
 from celtstone.bodies import Ellipsoid, list_bodies
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.explorer.inputs import (
@@ -36,7 +35,8 @@ from celtstone.explorer.inputs import (
 )
 from celtstone.explorer.notes import NOTES
 from celtstone.explorer.runner import Outcome, Runner
-from celtstone.models import SETTINGS, setting_defaults, settings_of
+from celtstone.simulation import schema
+from celtstone.simulation.models import SETTINGS, setting_defaults, settings_of
 
 __all__ = ["POLL_MS", "Explorer", "verdict"]
 
@@ -262,7 +262,7 @@ class Explorer:
     def _spin_sense(self, wrong: bool) -> None:
         """Set ω so that ω·n0 has the sense whose steady spin is unstable (wrong) or stable
         (right), read from the rolling model's linear stability (``spin_stability``)."""
-        from celtstone.analysis.stability import spin_stability
+        from celtstone.stability import spin_stability
 
         try:
             body = prepare(self.inputs()).body
@@ -591,9 +591,9 @@ class Explorer:
         self.snippet.object = f"```python\n{python_snippet(inputs)}\n```"
 
     def _dataset_bytes(self, suffix: str) -> io.BytesIO:
-        """The shown run as a file, written by ``celtstone.export`` into a private
+        """The shown run as a file, written by ``celtstone.files.export`` into a private
         temporary directory and read back; nothing is left on disk."""
-        from celtstone.export import write
+        from celtstone.files.export import write
 
         if self.outcome is None or self.outcome.trajectory is None:
             return io.BytesIO(b"")

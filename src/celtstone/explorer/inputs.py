@@ -17,10 +17,16 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from celtstone import schema
 from celtstone.bodies import Body, Design, load_body, load_design
 from celtstone.errors import ParameterError, require_choice
-from celtstone.models import SETTINGS, InitialState, Model, model_from_name, setting_defaults
+from celtstone.simulation import schema
+from celtstone.simulation.models import (
+    SETTINGS,
+    InitialState,
+    Model,
+    model_from_name,
+    setting_defaults,
+)
 
 __all__ = [
     "BODY_SOURCES",

@@ -25,12 +25,12 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from celtstone import plausibility
 from celtstone.errors import CeltstoneError
 from celtstone.explorer.inputs import Inputs, Prepared, prepare
-from celtstone.integrate import simulate
-from celtstone.models import contact_settings
-from celtstone.trajectory import Trajectory
+from celtstone.simulation import plausibility
+from celtstone.simulation.integrate import simulate
+from celtstone.simulation.models import contact_settings
+from celtstone.simulation.trajectory import Trajectory
 
 __all__ = ["Cancelled", "Outcome", "Runner"]
 
@@ -54,7 +54,7 @@ class Outcome:
     error : str
         The one-line message of the error it raised ("" when none).
     concerns : tuple of str
-        What ``celtstone.plausibility`` finds implausible in the inputs (the warnings
+        What ``celtstone.simulation.plausibility`` finds implausible in the inputs (the warnings
         ``simulate`` gives before a run).
     seconds : float
         Wall time from submission to the result [s].

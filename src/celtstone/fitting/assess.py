@@ -28,7 +28,7 @@ from celtstone.fitting.problem import Problem
 from celtstone.fitting.profile import Profile
 from celtstone.fitting.result import StartOutcome
 from celtstone.fitting.uncertainty import Uncertainty
-from celtstone.trajectory import Trajectory
+from celtstone.simulation.trajectory import Trajectory
 
 __all__ = ["INTEGRATION_ERROR_LIMIT", "Assessment", "assess"]
 

@@ -4,7 +4,7 @@ whole or not at all; with a comparison of models, each other model's figure besi
 
 The files are written into a staging directory beside the target
 (``.NAME.<pid>.<random>.part``, ``export.temporary_directory``) with the manifest of
-``celtstone.ownership`` (the files with their hashes), and the directory is renamed into
+``celtstone.files.ownership`` (the files with their hashes), and the directory is renamed into
 place. An existing directory is replaced only with ``overwrite`` and only if its manifest
 proves it a fit's and it holds nothing else, unchanged (``ownership.check_replaceable``):
 a user's file put into a former fit, a ``summary.json`` copied elsewhere, or the fit's
@@ -20,22 +20,22 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.errors import ParameterError
-from celtstone.export import (
+from celtstone.files.export import (
     OVERWRITE_HINT,
     replace_directory,
     temporary_directory,
     write,
     write_json,
 )
-from celtstone.fitting.result import FitResult
-from celtstone.fitting.series import SERIES
-from celtstone.ownership import (
+from celtstone.files.ownership import (
     MANIFEST,
     check_replaceable,
     new_manifest,
     record_files,
     write_manifest,
 )
+from celtstone.fitting.result import FitResult
+from celtstone.fitting.series import SERIES
 
 __all__ = ["FILES", "check_fit_target", "comparison_figures", "write_fit"]
 

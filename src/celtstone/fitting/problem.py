@@ -15,7 +15,6 @@ from types import MappingProxyType
 
 import numpy as np
 
-from celtstone import schema
 from celtstone.bodies import Body
 from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
 from celtstone.fitting.nuisance import (
@@ -27,8 +26,10 @@ from celtstone.fitting.nuisance import (
 )
 from celtstone.fitting.record import Record
 from celtstone.fitting.series import SERIES
-from celtstone.integrate import simulate
-from celtstone.models import InitialState, Model
+from celtstone.simulation import schema
+from celtstone.simulation.integrate import simulate
+from celtstone.simulation.models import InitialState, Model
+from celtstone.simulation.trajectory import Trajectory
 from celtstone.sweep.spec import (
     BODY,
     MODEL,
@@ -38,7 +39,6 @@ from celtstone.sweep.spec import (
     build_model,
     build_state,
 )
-from celtstone.trajectory import Trajectory
 
 __all__ = [
     "DEFAULT_BOUNDS",

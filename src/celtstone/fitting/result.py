@@ -15,13 +15,13 @@ from celtstone.fitting.problem import Problem, current_values
 from celtstone.fitting.profile import Profile
 from celtstone.fitting.series import SERIES
 from celtstone.fitting.uncertainty import Uncertainty
+from celtstone.simulation.trajectory import Trajectory
 from celtstone.sweep.spec import PARAMETERS
-from celtstone.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from celtstone.bodies import Body
     from celtstone.fitting.assess import Assessment
-    from celtstone.models import Model
+    from celtstone.simulation.models import Model
 
 __all__ = ["FORMAT", "FitResult", "StartOutcome"]
 
@@ -60,7 +60,7 @@ def hertz_radii(model: Model, body: Body, trajectory: Trajectory) -> np.ndarray:
     own ``contact_radius`` of the vertical n and the friction law's load (m g, or the true
     N with ``friction_load="dynamic"``), shape (samples reached,)."""
     from celtstone.kernels.dynamics import contact_radius
-    from celtstone.models import kernel_parameters
+    from celtstone.simulation.models import kernel_parameters
 
     params = kernel_parameters(model, body)
     vertical = trajectory.samples.values("n")

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from celtstone.trajectory import RunSamples
+    from celtstone.simulation.trajectory import RunSamples
 
 __all__ = ["ANGLE_UNITS", "RATE_UNITS", "SERIES", "Series", "yaw_angle"]
 

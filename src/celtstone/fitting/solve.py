@@ -56,7 +56,7 @@ from celtstone.fitting.uncertainty import (
     autocorrelation_consistent,
     uncertainty,
 )
-from celtstone.trajectory import Trajectory
+from celtstone.simulation.trajectory import Trajectory
 
 __all__ = [
     "FIT_ATOL",

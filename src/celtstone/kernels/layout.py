@@ -4,7 +4,7 @@ Parameters
 ----------
 One NumPy structured dtype, :data:`PARAMETERS`, declared once from the table
 :data:`PARAMETER_FIELDS` (name, type, shape, unit, the ``schema.PARAMETERS`` entry it
-carries where one exists, and meaning). ``celtstone.models.kernel_parameters`` fills
+carries where one exists, and meaning). ``celtstone.simulation.models.kernel_parameters`` fills
 one record per run from validated objects; numba compiles ``params.mass`` or
 ``params.inertia[i, j]`` to a load at a fixed offset and caches the kernels on the
 dtype (docs/decisions.md, "Typed kernel parameters"). A sweep stacks the records of

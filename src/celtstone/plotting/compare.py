@@ -7,9 +7,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_label, wrapped_title
 from celtstone.plotting.legible import make_legible
+from celtstone.simulation.reversals import dataset_reversal_times
 
 if TYPE_CHECKING:
     import xarray as xr

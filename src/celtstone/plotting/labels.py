@@ -5,7 +5,7 @@ from __future__ import annotations
 import textwrap
 from typing import TYPE_CHECKING
 
-from celtstone.schema import VARIABLES, current_attributes
+from celtstone.simulation.schema import VARIABLES, current_attributes
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -19,7 +19,7 @@ import numpy as np
 
 from celtstone.plotting.labels import wrapped_title
 from celtstone.plotting.legible import make_legible
-from celtstone.schema import VARIABLES
+from celtstone.simulation.schema import VARIABLES
 
 if TYPE_CHECKING:
     import xarray as xr

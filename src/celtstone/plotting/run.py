@@ -7,9 +7,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.analysis import dataset_reversal_times
 from celtstone.plotting.labels import axis_label, run_title, wrapped_title
 from celtstone.plotting.legible import make_legible
+from celtstone.simulation.reversals import dataset_reversal_times
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -64,7 +64,7 @@ def plot_run(dataset: xr.Dataset, threshold: float | None = None) -> Figure:
     Parameters
     ----------
     dataset : xarray.Dataset
-        A run (``Trajectory.dataset`` or :func:`celtstone.export.read_run`).
+        A run (``Trajectory.dataset`` or :func:`celtstone.files.export.read_run`).
     threshold : float, optional
         Hysteresis band of the reversals [rad/s]; default from the initial spin.
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from celtstone.export import atomic_path, check_target
-from celtstone.ownership import figure_metadata
+from celtstone.files.export import atomic_path, check_target
+from celtstone.files.ownership import figure_metadata
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from celtstone.analysis.stability import SpinStability
 from celtstone.plotting.labels import wrapped_title
 from celtstone.plotting.legible import make_legible
+from celtstone.stability import SpinStability
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

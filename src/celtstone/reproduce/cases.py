@@ -11,16 +11,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone.analysis import dataset_reversal_times
 from celtstone.bodies import Body
 from celtstone.errors import FrictionBoundWarning
-from celtstone.export import write, write_json, write_table
-from celtstone.integrate import simulate, version
-from celtstone.models import Model
+from celtstone.files.export import write, write_json, write_table
 from celtstone.reproduce.parallel import map_in_threads
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
-from celtstone.trajectory import Trajectory
+from celtstone.simulation.integrate import simulate, version
+from celtstone.simulation.models import Model
+from celtstone.simulation.reversals import dataset_reversal_times
+from celtstone.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -1,7 +1,7 @@
 """The reproduction's directory: which files in it are celtstone's, and which may be replaced.
 
 A reproduction adds its targets' files to ``out``, a directory that may hold the user's
-own files too. Its manifest (``celtstone.ownership.MANIFEST``) lists every file a
+own files too. Its manifest (``celtstone.files.ownership.MANIFEST``) lists every file a
 reproduction moved in, with its size, SHA-256 and its *result* (``TARGET_KEY``, the stem
 of the target's numbers ``data/TARGET_KEY.json``), and each result's source (the body
 file, or the shipped body, it was computed for). The rules:
@@ -29,8 +29,8 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.errors import ParameterError
-from celtstone.export import OVERWRITE_HINT
-from celtstone.ownership import (
+from celtstone.files.export import OVERWRITE_HINT
+from celtstone.files.ownership import (
     WriterLock,
     file_entry,
     foreign_file,

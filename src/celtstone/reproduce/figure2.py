@@ -12,12 +12,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from celtstone.models import FRICTION_LOAD_OPTIONS, Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
 from celtstone.reproduce.cases import case_name, run_cases, save_results
 from celtstone.reproduce.ingredients import run_ingredients
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
+from celtstone.simulation.models import FRICTION_LOAD_OPTIONS, Model
 from celtstone.visual import animate_comparison
 
 __all__ = ["FRICTION_LOADS", "figure2", "figure2_models"]

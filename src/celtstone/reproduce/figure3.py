@@ -9,11 +9,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from celtstone.models import Model
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
 from celtstone.reproduce.cases import run_cases, save_results
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
+from celtstone.simulation.models import Model
 
 __all__ = ["figure3"]
 

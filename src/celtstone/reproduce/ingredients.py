@@ -16,10 +16,10 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.bodies import Body
-from celtstone.models import Model
 from celtstone.reproduce.cases import run_cases
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import REALISTIC_CONTACT, Study
+from celtstone.simulation.models import Model
 
 __all__ = [
     "INGREDIENTS",

@@ -9,7 +9,7 @@ from typing import Any
 
 from celtstone._about import version
 from celtstone.bodies import load_body
-from celtstone.export import atomic_path
+from celtstone.files.export import atomic_path
 from celtstone.reproduce.atlas_report import atlas_section
 from celtstone.reproduce.directory import REPORT, ReproductionDirectory
 from celtstone.reproduce.findings import (
@@ -26,7 +26,7 @@ from celtstone.reproduce.findings import (
 )
 from celtstone.reproduce.ingredients import ingredients_section
 from celtstone.reproduce.results import read_result
-from celtstone.reversals import REVERSAL_TIME_RESOLUTION
+from celtstone.simulation.reversals import REVERSAL_TIME_RESOLUTION
 
 __all__ = ["collect", "render_report", "write_report"]
 
@@ -134,7 +134,7 @@ sliding stone whose spin has died changes sign many times without reversing
 (`celtstone.analysis.reversal_times`). The band is applied to the spin's running mean
 over one rocking period, read from the runs' samples (200 per second): a reversal's
 time is known to the samples' resolution, within {resolution:g} s of a converged run's
-for Kane & Levinson's stone (`celtstone.reversals.REVERSAL_TIME_RESOLUTION`); the
+for Kane & Levinson's stone (`celtstone.simulation.reversals.REVERSAL_TIME_RESOLUTION`); the
 table's four significant digits are within it.
 """
 

@@ -16,13 +16,13 @@ from typing import Any, Protocol
 
 from celtstone._about import version
 from celtstone.errors import OutputError, ParameterError
-from celtstone.export import (
+from celtstone.files.export import (
     output_error,
     replace_directory,
     temporary_directory,
     write_json,
 )
-from celtstone.ownership import file_entry
+from celtstone.files.ownership import file_entry
 from celtstone.reproduce.directory import ReproductionDirectory
 from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from celtstone.bodies import Body
-from celtstone.export import write_json, write_table
+from celtstone.files.export import write_json, write_table
 from celtstone.plotting import plot_threshold, save_figure_formats
 from celtstone.reproduce.cases import (
     provenance,

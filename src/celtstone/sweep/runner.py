@@ -21,13 +21,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone import schema, solvers
+from celtstone import solvers
 from celtstone.bodies import STORED_SHAPES, Body, load_body
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.integrate import STICK_METHOD, method_names, version
 from celtstone.kernels.layout import Y_N, Y_OMEGA
-from celtstone.models import MODELS, HybridModel
-from celtstone.reversals import REVERSAL_BAND_FLOOR, REVERSAL_BAND_FRACTION, reversal_bands
+from celtstone.simulation import schema
+from celtstone.simulation.integrate import STICK_METHOD, method_names, version
+from celtstone.simulation.models import MODELS, HybridModel
+from celtstone.simulation.reversals import (
+    REVERSAL_BAND_FLOOR,
+    REVERSAL_BAND_FRACTION,
+    reversal_bands,
+)
 from celtstone.solvers import batch
 from celtstone.sweep import budget
 from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder, parse_axis_spec
@@ -397,7 +402,7 @@ class Sweep:
             ),
             "reversal_band_rule": self._band_rule(),
             "reversal_window_rule": "the spin's running mean over each point's "
-            "Body.rocking_period [s] (celtstone.reversals)",
+            "Body.rocking_period [s] (celtstone.simulation.reversals)",
             "sweep_spec": self.spec(chunk_points),
         }
 

@@ -17,11 +17,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from celtstone import plausibility, schema
 from celtstone.bodies import SHAPES, Body
 from celtstone.bodies.declaration import SweepName
 from celtstone.errors import CeltstoneError, ParameterError, did_you_mean, require_choice
-from celtstone.models import (
+from celtstone.simulation import plausibility, schema
+from celtstone.simulation.models import (
     CONTACTS,
     SETTINGS,
     HybridModel,

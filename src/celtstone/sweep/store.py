@@ -44,11 +44,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone._path_names import check_path_name
 from celtstone.errors import CeltstoneError, ParameterError
-from celtstone.export import output_error, replace_directory, temporary_directory
-from celtstone.ownership import WriterLock, check_replaceable
-from celtstone.schema import VARIABLES
+from celtstone.files.export import output_error, replace_directory, temporary_directory
+from celtstone.files.ownership import WriterLock, check_replaceable
+from celtstone.files.path_names import check_path_name
+from celtstone.simulation.schema import VARIABLES
 from celtstone.solvers import batch
 
 if TYPE_CHECKING:

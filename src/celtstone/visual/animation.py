@@ -25,8 +25,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from celtstone.errors import OutputError, ParameterError
-from celtstone.export import atomic_path, check_target
-from celtstone.ownership import video_mark
+from celtstone.files.export import atomic_path, check_target
+from celtstone.files.ownership import video_mark
 from celtstone.visual import scene
 from celtstone.visual.frames import (
     VIDEO_FPS_LIMITS,

@@ -18,8 +18,8 @@ import numpy as np
 
 from celtstone._about import version
 from celtstone.errors import ParameterError
-from celtstone.export import MIN_SAMPLES, read_run
-from celtstone.models import MODEL_KINDS, MODELS, SETTINGS, settings_of
+from celtstone.files.export import MIN_SAMPLES, read_run
+from celtstone.simulation.models import MODEL_KINDS, MODELS, SETTINGS, settings_of
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -241,7 +241,7 @@ def load_run(path: str | Path) -> xr.Dataset:
     Returns
     -------
     xarray.Dataset
-        The run, loaded into memory (:func:`celtstone.export.read_run`), checked by
+        The run, loaded into memory (:func:`celtstone.files.export.read_run`), checked by
         :func:`check_run`.
 
     Raises

@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone.export import atomic_path, check_target
-from celtstone.schema import VARIABLES
+from celtstone.files.export import atomic_path, check_target
+from celtstone.simulation.schema import VARIABLES
 from celtstone.visual import scene
 from celtstone.visual.frames import FPS_MAX, PAGE_FRAME_LIMIT, PLOT_BUCKETS, envelope, plan_frames
 from celtstone.visual.runs import check_run, default_label

@@ -36,10 +36,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from celtstone._about import version
-from celtstone._path_names import check_path_name
 from celtstone.errors import OutputError, ParameterError
-from celtstone.ownership import CSV_MARK, SOFTWARE, is_marked_file
-from celtstone.schema import current_attributes
+from celtstone.files.ownership import CSV_MARK, SOFTWARE, is_marked_file
+from celtstone.files.path_names import check_path_name
+from celtstone.simulation.schema import current_attributes
 
 if TYPE_CHECKING:  # imported where used: a JSON-only command needs neither
     import pandas as pd

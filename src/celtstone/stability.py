@@ -30,12 +30,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from celtstone import schema
 from celtstone.bodies import Body
 from celtstone.errors import ParameterError
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
-from celtstone.models import RollingModel, kernel_parameters
+from celtstone.simulation import schema
+from celtstone.simulation.models import RollingModel, kernel_parameters
 
 if TYPE_CHECKING:
     import xarray as xr

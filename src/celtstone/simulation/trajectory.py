@@ -24,8 +24,8 @@ from celtstone.errors import (
 )
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
-from celtstone.reversals import reversal_bands, reversal_times
-from celtstone.schema import VARIABLES, Variable
+from celtstone.simulation.reversals import reversal_bands, reversal_times
+from celtstone.simulation.schema import VARIABLES, Variable
 from celtstone.solvers.codes import Status
 
 if TYPE_CHECKING:
@@ -300,7 +300,7 @@ class Trajectory:
         """Default half-width of the reversal's hysteresis band [rad/s].
 
         4 % of the initial |spin|, at least 0.01 rad/s
-        (``celtstone.reversals.reversal_bands``), as in sweeps and the reproduction.
+        (``celtstone.simulation.reversals.reversal_bands``), as in sweeps and the reproduction.
         """
         return float(reversal_bands(np.array([self.samples.values("spin")[0]]))[0])
 
@@ -317,7 +317,8 @@ class Trajectory:
         """Find the reversals of the sense of spin.
 
         A reversal is a change of sign of the spin's rocking average
-        (:attr:`reversal_window`) held beyond the hysteresis band (``celtstone.reversals``).
+        (:attr:`reversal_window`) held beyond the hysteresis band
+        (``celtstone.simulation.reversals``).
 
         Parameters
         ----------

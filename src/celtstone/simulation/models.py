@@ -13,7 +13,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from celtstone import plausibility, schema
 from celtstone.bodies import Body
 from celtstone.contact import (
     CONTACT_PRESSURES,
@@ -28,6 +27,7 @@ from celtstone.contact import (
 from celtstone.errors import ParameterError, require_choice
 from celtstone.kernels import layout
 from celtstone.kernels.layout import FrictionLoad, ModelCode, parameter_record
+from celtstone.simulation import plausibility, schema
 
 __all__ = [
     "CONTACTS",
@@ -395,7 +395,7 @@ class HybridModel(SlidingModel):
 
     The sliding model while the contact slides or pivots; rolling without sliding and
     without pivoting while the friction that needs lies inside the Coulomb–Contensou
-    limit set. Phase changes are located as events (``celtstone.hybrid``).
+    limit set. Phase changes are located as events (``celtstone.simulation.hybrid``).
 
     Parameters
     ----------
@@ -577,7 +577,7 @@ def kernel_parameters(model: Model, body: Body) -> np.record:
     ------
     ParameterError
         where no run of ``body`` with ``model`` can mean anything
-        (:func:`celtstone.plausibility.require_runnable`).
+        (:func:`celtstone.simulation.plausibility.require_runnable`).
     """
     plausibility.require_runnable(body, contact_settings(model))
     values = {
@@ -593,7 +593,7 @@ def kernel_parameters(model: Model, body: Body) -> np.record:
 
 
 def contact_settings(model: Model) -> plausibility.ContactSettings:
-    """What the plausibility checks read of ``model`` (``celtstone.plausibility``)."""
+    """What the plausibility checks read of ``model`` (``celtstone.simulation.plausibility``)."""
     if isinstance(model, SlidingModel):
         return plausibility.ContactSettings(
             model.damping, model.contact_radius, model.effective_modulus, model.contact_shape

@@ -7,7 +7,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from celtstone import hybrid, plausibility, schema, solvers
+from celtstone import solvers
 from celtstone._about import version as version
 from celtstone.bodies import Body
 from celtstone.errors import (
@@ -18,7 +18,8 @@ from celtstone.errors import (
     require_choice,
 )
 from celtstone.kernels import layout
-from celtstone.models import (
+from celtstone.simulation import hybrid, plausibility, schema
+from celtstone.simulation.models import (
     HybridModel,
     Model,
     RollingModel,
@@ -27,8 +28,8 @@ from celtstone.models import (
     initial_vector,
     kernel_parameters,
 )
-from celtstone.models import InitialState as InitialState
-from celtstone.trajectory import Trajectory, sample_run
+from celtstone.simulation.models import InitialState as InitialState
+from celtstone.simulation.trajectory import Trajectory, sample_run
 
 __all__ = [
     "DEFAULT_ATOL",
