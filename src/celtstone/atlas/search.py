@@ -44,8 +44,7 @@ from celtstone.atlas.family import (
 )
 from celtstone.atlas.fields import ATLAS_STUDY, _long_runs, hertz_study
 from celtstone.errors import ParameterError
-from celtstone.reproduce.findings import JUDGES
-from celtstone.reproduce.study import Study
+from celtstone.reproduce import JUDGES, Study
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -33,10 +33,7 @@ from celtstone.atlas.search import ATLAS_STONE_DESIGN, stored_searches
 from celtstone.errors import ParameterError
 from celtstone.files.export import write_table
 from celtstone.plotting import plot_verdict_maps, save_figure_formats
-from celtstone.reproduce.atlas_report import PARAMETER_WORDS
-from celtstone.reproduce.findings import FINDINGS
-from celtstone.reproduce.progress import Progress
-from celtstone.reproduce.study import Study, reduced
+from celtstone.reproduce import FINDINGS, PARAMETER_WORDS, Progress, Study, reduced
 from celtstone.simulation.integrate import version
 
 if TYPE_CHECKING:

@@ -13,11 +13,17 @@ target's numbers carry the identity of the run that made them (``run``: id, time
 celtstone version, targets), which the report shows.
 """
 
+# The atlas (celtstone.atlas) reads the studies, findings and judges through these names
+# only: this is the one interface between the two packages (an import-linter contract).
 # every module here is light to import (matplotlib, pandas and xarray are imported where a
 # figure or table is made), so the names are imported eagerly: a lazy ``figure2`` would be
 # replaced by the submodule of that name as soon as the submodule is imported
+from celtstone.reproduce.atlas_report import PARAMETER_WORDS as PARAMETER_WORDS
 from celtstone.reproduce.figure2 import figure2 as figure2
 from celtstone.reproduce.figure3 import figure3 as figure3
+from celtstone.reproduce.findings import FINDINGS as FINDINGS
+from celtstone.reproduce.findings import JUDGES as JUDGES
+from celtstone.reproduce.progress import Progress as Progress
 from celtstone.reproduce.report import render_report as render_report
 from celtstone.reproduce.report import write_report as write_report
 from celtstone.reproduce.study import REALISTIC_STUDIES as REALISTIC_STUDIES
@@ -32,9 +38,13 @@ from celtstone.reproduce.targets import run_identity as run_identity
 from celtstone.reproduce.threshold import threshold as threshold
 
 __all__ = [
+    "FINDINGS",
+    "JUDGES",
+    "PARAMETER_WORDS",
     "REALISTIC_STUDIES",
     "STUDIES",
     "TARGETS",
+    "Progress",
     "Study",
     "figure2",
     "figure3",
