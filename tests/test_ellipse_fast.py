@@ -26,14 +26,13 @@ from celtstone.contact.ellipse_table import (
     node_ratios,
     small_slip_stiffness,
 )
-from celtstone.kernels.friction import pade_friction
+from celtstone.kernels.friction import exact_friction, pade_friction
 from celtstone.kernels.friction_ellipse import (
     ASPECT_MIN,
     COEFFICIENTS,
     elliptic_contact_friction,
     elliptic_pade,
 )
-from celtstone.kernels.friction_exact import exact_friction
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
 NORMAL = (0.0, 0.0, 1.0)

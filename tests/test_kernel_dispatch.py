@@ -21,11 +21,13 @@ from celtstone import solvers
 from celtstone.kernels import (
     dynamics,
     friction,
+    friction_ellipse,
     friction_exact,
     geometry,
     hertz,
     layout,
     stick,
+    stick_ellipse,
     system,
 )
 from celtstone.kernels.layout import (
@@ -64,9 +66,17 @@ def _bodies() -> dict[ShapeCode, cs.Body]:
 BODIES = _bodies()
 
 
-def _record(body_shape: ShapeCode = ShapeCode.ELLIPSOID, **codes: int) -> np.record:
-    """The sliding model's record of the body of ``body_shape``, ``codes`` overwritten."""
-    params = kernel_parameters(cs.SlidingModel(), BODIES[body_shape]).copy()
+ELLIPTIC_CONTACT = cs.SlidingModel(contact_shape="ellipse", elastic_modulus=3e9, poisson_ratio=0.35)
+ELLIPSE = ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 3e-3, 1e-3)  # n, the major axis a ⊥ n, A, B [m]
+
+
+def _record(
+    body_shape: ShapeCode = ShapeCode.ELLIPSOID, model: cs.SlidingModel | None = None, **codes: int
+) -> np.record:
+    """The record of ``model`` (default the sliding model) for the body of ``body_shape``,
+    ``codes`` overwritten."""
+    model = cs.SlidingModel() if model is None else model
+    params = kernel_parameters(model, BODIES[body_shape]).copy()
     for name, value in codes.items():
         params[name] = value
     return params
@@ -189,6 +199,21 @@ def test_every_law_and_pressure_has_friction(law: FrictionLaw, pressure: Contact
     assert _finite(stick.limit_moment(0.5, law.value, pressure.value))
 
 
+@pytest.mark.parametrize("law", list(FrictionLaw), ids=lambda code: code.name.lower())
+def test_every_law_has_an_elliptic_contact_and_its_stick_limit(law: FrictionLaw) -> None:
+    """The elliptic contact reads the law through the disk's dispatch: every law has it."""
+    assert friction.has_friction_law(law.value)
+    n, axis, semi_major, semi_minor = ELLIPSE
+    force, moment = friction_ellipse.elliptic_contact_friction(
+        SLIP, 2.0, n, axis, semi_major, semi_minor, 1e-6, law.value
+    )
+    assert _finite(force, moment) and moment < 0.0
+    margin = stick_ellipse.elliptic_stick_margin(
+        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, law.value
+    )
+    assert _finite(margin)
+
+
 @pytest.mark.parametrize("option", list(FrictionLoad), ids=lambda code: code.name.lower())
 def test_every_friction_load_has_dynamics(option: FrictionLoad) -> None:
     params = _record(friction_load=option.value)
@@ -229,6 +254,26 @@ def test_unknown_law_or_pressure_is_nan_in_friction(code: int) -> None:
         assert _all_nan(stick.stick_margin_of(1.0, 1e-3, 9.81, 0.3, 1e-3, law, pressure))
     for speeds in [(1.0, 2.0), (2.0, 1.0)]:
         assert _all_nan(friction_exact.exact_friction_functions(*speeds, code))
+    assert not friction.has_friction_law(code)
+    assert _all_nan(friction.law_functions(code, 1.0, 2.0, hertz_pressure))
+
+
+@pytest.mark.parametrize("code", UNKNOWN)
+def test_unknown_law_is_nan_in_the_elliptic_contact(code: int) -> None:
+    """The elliptic contact has no branch of its own: an unknown law is NaN there as on the
+    disk, never another law corrected; its stick margin is -1, no stick (the slip's
+    right-hand side then reports the code)."""
+    n, axis, semi_major, semi_minor = ELLIPSE
+    for semi_minor_axis in (semi_minor, semi_major):  # an ellipse, and the disk A = B
+        assert _all_nan(
+            *friction_ellipse.elliptic_contact_friction(
+                SLIP, 2.0, n, axis, semi_major, semi_minor_axis, 1e-6, code
+            )
+        )
+    margin = stick_ellipse.elliptic_stick_margin(
+        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, code
+    )
+    assert margin == -1.0
 
 
 @pytest.mark.parametrize("code", UNKNOWN)
@@ -261,6 +306,18 @@ def test_unknown_code_is_the_right_hand_sides_status(name: str, code: int) -> No
     assert derived[0, system.D_STATUS] == layout.RHS_UNKNOWN_CODE
     (message,) = layout.unknown_codes(model, params)
     assert message.startswith(f"{name} code {code} (known: ") and "\n" not in message
+
+
+@pytest.mark.parametrize("code", UNKNOWN)
+@pytest.mark.parametrize("model", [ModelCode.SLIDING, ModelCode.STICK], ids=["sliding", "stick"])
+def test_unknown_law_is_the_elliptic_contacts_status(model: ModelCode, code: int) -> None:
+    """With the elliptic contact too an unknown law is ``RHS_UNKNOWN_CODE``, not the
+    ``RHS_CONTACT_RANGE`` of an ellipse outside its table."""
+    params = _record(model=ELLIPTIC_CONTACT, friction_law=code)
+    y, dy = initial_vector(STATE), np.zeros(layout.N_STATE)
+    assert system.rhs(model.value, 0.0, y, params, dy)[0] == layout.RHS_UNKNOWN_CODE
+    known = _record(model=ELLIPTIC_CONTACT)
+    assert system.rhs(model.value, 0.0, y, known, dy)[0] == layout.RHS_OK
 
 
 def test_known_codes_have_no_message() -> None:

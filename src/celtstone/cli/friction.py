@@ -11,11 +11,12 @@ from celtstone import ParameterError
 from celtstone.cli._overwrite import add_overwrite_arg
 from celtstone.contact import (
     CONTACT_PRESSURES,
-    FRICTION_LAWS,
     LAW_WORDS,
+    LAWS,
     PRESSURE_WORDS,
     choice_words,
     friction_functions,
+    law_code,
 )
 from celtstone.errors import require_choice
 from celtstone.files.export import atomic_path, check_target
@@ -36,6 +37,18 @@ def _ratios(text: str) -> list[float]:
     return values
 
 
+def _ellipse_words() -> str:
+    """What ``--ellipse`` prints for each law of ``contact.LAWS``."""
+    reference = [name for name, entry in LAWS.items() if entry.elliptic_reference is not None]
+    fast = [name for name, entry in LAWS.items() if entry.elliptic_reference is None]
+    words = []
+    if reference:
+        words.append(f"{' and '.join(reference)} by quadrature")
+    if fast:
+        words.append(f"{' and '.join(fast)} in the fast form a run uses")
+    return "; ".join(words)
+
+
 def add_args(parser: argparse.ArgumentParser) -> None:
     """Options of ``celtstone friction``."""
     parser.add_argument("--law", default="exact", help=choice_words(LAW_WORDS))
@@ -48,8 +61,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="A,B",
         help="semi-axes A >= B > 0 [m] of an elliptic Hertz contact (major axis A): print "
-        "the elliptic Coulomb-Contensou law, F/(f N), its direction and M/(f N A), "
-        "u = |V| / (A |Omega_n|)",
+        "the law over the ellipse, F/(f N), its direction and M/(f N A), "
+        f"u = |V| / (A |Omega_n|): {_ellipse_words()}",
     )
     parser.add_argument(
         "--direction",
@@ -62,14 +75,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--plot",
         default=None,
         metavar="FILE.png|FILE.svg|FILE.pdf",
-        help="draw both laws against u for the chosen pressure",
+        help="draw every law against u for the chosen pressure",
     )
     add_overwrite_arg(parser, "the --plot file")
 
 
 def handle(args: argparse.Namespace) -> int:
     """Print F/(fN) and M/(fN eps) at each u; draw ``--plot``."""
-    require_choice("friction_law", args.law, FRICTION_LAWS)
+    law_code(args.law)
     require_choice("contact_pressure", args.pressure, CONTACT_PRESSURES)
     ratios = _ratios(args.u)
     if args.ellipse is not None:
@@ -128,10 +141,10 @@ def _degrees(text: str | None) -> float:
 
 
 def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
-    """``--ellipse A,B``: |F|/(fN), its direction [deg] and M/(fNA) at each u: the exact
-    law by quadrature (``contact.ellipse``) or the fast form a run uses (``--law pade``:
-    ``contact.ellipse_table.fast_friction_functions``)."""
-    from celtstone.contact.ellipse import elliptic_friction_functions
+    """``--ellipse A,B``: |F|/(fN), its direction [deg] and M/(fNA) at each u: the law's
+    ``elliptic_reference`` (the exact law by quadrature, ``contact.ellipse``) or, for a
+    law without one, the fast form a run uses
+    (``contact.ellipse_table.fast_friction_functions``)."""
     from celtstone.contact.ellipse_table import ASPECT_MIN, fast_friction_functions
 
     semi_major, semi_minor = _semi_axes(args.ellipse)
@@ -146,17 +159,20 @@ def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
         )
     direction = _degrees(args.direction)
     aspect = semi_minor / semi_major
-    if args.law == "pade" and aspect < ASPECT_MIN:
+    reference = LAWS[args.law].elliptic_reference
+    if reference is None and aspect < ASPECT_MIN:
+        unlimited = [name for name, entry in LAWS.items() if entry.elliptic_reference]
         raise ParameterError(
-            "ellipse", args.ellipse, f"B/A >= {ASPECT_MIN:g} with --law pade",
-            "the fast form's table starts there; --law exact has no such limit",
+            "ellipse", args.ellipse, f"B/A >= {ASPECT_MIN:g} with --law {args.law}",
+            "the fast form's table starts there; --law " + " or ".join(unlimited)
+            + " has no such limit",
         )  # fmt: skip
     force, force_direction, moment = [], [], []
     for u in ratios:  # spin Ω_n > 0; M reported as it opposes the spin, as for the disk
-        if args.law == "exact":
-            vector, pivot = elliptic_friction_functions(u, math.radians(direction), aspect)
+        if reference is not None:
+            vector, pivot = reference(u, math.radians(direction), aspect)
         else:  # the kernel a run uses
-            vector, pivot = fast_friction_functions(u, math.radians(direction), aspect)
+            vector, pivot = fast_friction_functions(u, math.radians(direction), aspect, args.law)
         magnitude = math.hypot(vector[0], vector[1])
         force.append(magnitude)
         # within 1e-9 deg, so that rounding does not flip 0 to 360; 0 for no force
@@ -190,7 +206,7 @@ def _handle_ellipse(args: argparse.Namespace, ratios: list[float]) -> int:
 
 
 def _plot(path: str, pressure: str, *, overwrite: bool) -> None:
-    """Both laws' F/(fN) and M/(fNε) against u (``plotting.friction``), written whole."""
+    """Every law's F/(fN) and M/(fNε) against u (``plotting.friction``), written whole."""
     import matplotlib
 
     matplotlib.use("Agg")

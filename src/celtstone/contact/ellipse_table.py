@@ -1,14 +1,15 @@
 """The table of the fast elliptic friction law: the exact elliptic law over the exact disk law.
 
-``python -m celtstone.contact.ellipse_table`` writes ``ellipse_table.npz`` next to this
-module: the ratios (d_par, r_perp, d_M) of ``kernels.friction_ellipse`` at the nodes
-of a uniform grid in s = [atan(u/k) + atan(u)]/π, β = [α + atan2(k sin α, cos α)]/2
-and q = ln k
+``python -m celtstone.contact.ellipse_table`` writes the kernel's table
+``kernels/friction_ellipse_table.npz`` (``kernels.friction_ellipse.TABLE_FILE``): the
+ratios (d_par, r_perp, d_M) of ``kernels.friction_ellipse`` at the nodes of a uniform grid
+in s = [atan(u/k) + atan(u)]/π, β = [α + atan2(k sin α, cos α)]/2 and q = ln k
 (``docs/decisions.md`` §24, "Fast form"), computed with ``contact.ellipse`` (the
-elliptic law) and ``kernels.friction_exact`` (the disk's closed forms). The kernel
-module reads the file at import and fits its B-spline; after regenerating it, delete
-``src/celtstone/kernels/__pycache__/*.nbi|*.nbc``: numba's cache keys on the source
-files, not on the data frozen into the compiled code (§15's caveat).
+elliptic law, the exact entry's ``elliptic_reference`` in ``contact.laws.LAWS``) and
+``kernels.friction_exact`` (the disk's closed forms). The ratios correct every law's
+disk law alike. The kernel module reads the file at import and fits its B-spline; after
+regenerating it, delete ``src/celtstone/kernels/__pycache__/*.nbi|*.nbc``: numba's cache
+keys on the source files, not on the data frozen into the compiled code (§15's caveat).
 
 Nodes where the exact law is not evaluated, in closed form:
 - u = 0 (s = 0): F = −f N (C_xx u cos α, C_yy u sin α) + O(u³) with
@@ -36,14 +37,14 @@ import numpy as np
 from scipy import optimize, special
 
 from celtstone.contact.ellipse import elliptic_friction_functions, zero_slip_moment
-from celtstone.contact.laws import unit_speeds
+from celtstone.contact.laws import law_code, unit_speeds
 from celtstone.kernels.friction_ellipse import (
+    TABLE_FILE,
     direction_coordinate,
     elliptic_contact_friction,
     slip_coordinate,
 )
 from celtstone.kernels.friction_exact import hertz_inside, hertz_outside
-from celtstone.kernels.layout import FrictionLaw
 
 __all__ = [
     "ASPECT_MIN",
@@ -57,7 +58,6 @@ __all__ = [
     "write_table",
 ]
 
-TABLE_FILE = Path(__file__).with_name("ellipse_table.npz")
 ASPECT_MIN = 0.02  # smallest B/A tabulated; rattleback contacts have 0.05–0.3
 SLIP_NODES = 45  # in s = [atan(u/k) + atan(u)]/π, s ∈ [0, 1]
 DIRECTION_NODES = 25  # in β = [α + atan2(k sin α, cos α)]/2, β ∈ [0, π/2]
@@ -71,14 +71,16 @@ def fast_friction_functions(
     """The fast form a run uses, in the convention of
     ``contact.ellipse.elliptic_friction_functions``: F/(fN) in the ellipse's axes and
     M/(fNA), for Ω_n > 0, u = |V|/(A|Ω_n|), the slip at ``direction`` [rad] from the
-    major axis, ``aspect`` = B/A in [ASPECT_MIN, 1]; ``law`` "pade" or "exact" names the
-    disk law that the tabulated ratios correct (``kernels.friction_ellipse``). Both
-    speeds are at most 1 m/s (``contact.laws.unit_speeds``), so no finite u overflows."""
+    major axis, ``aspect`` = B/A in [ASPECT_MIN, 1]; ``law``, a name in
+    ``contact.laws.LAWS``, names the disk law that the tabulated ratios correct
+    (``kernels.friction_ellipse``). Both speeds are at most 1 m/s
+    (``contact.laws.unit_speeds``), so no finite u overflows."""
+    code = law_code(law)
     slip_speed, spin_rate = unit_speeds(u)
     slip = (slip_speed * math.cos(direction), slip_speed * math.sin(direction), 0.0)
     force, moment = elliptic_contact_friction(
         slip, spin_rate, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0,
-        FrictionLaw[law.upper()].value,
+        code,
     )  # fmt: skip
     return np.array(force[:2]), moment
 
@@ -225,7 +227,7 @@ def write_table(path: Path = TABLE_FILE, **options: int) -> dict[str, np.ndarray
 
 
 def main() -> int:
-    """Write ``ellipse_table.npz`` and say how long it took."""
+    """Write ``kernels/friction_ellipse_table.npz`` and say how long it took."""
     start = time.perf_counter()
     table = write_table()
     shape = table["ratios"].shape

@@ -1,9 +1,9 @@
 """Fast Coulomb–Contensou friction over an elliptic Hertz contact: a disk law, corrected.
 
 The exact law over an ellipse of semi-axes A >= B (``celtstone.contact.ellipse``)
-costs about a millisecond per call. This kernel evaluates instead a law of the Hertz
-disk of radius ε = A, Zhuravlev–Padé's (``friction.pade_friction``, paper eq. 10, 12) or
-the exact closed form (``friction_exact.exact_friction``), multiplied by the ratios of
+costs about a millisecond per call. This kernel evaluates instead the run's law on the
+Hertz disk of radius ε = A (``friction.contact_friction``: Zhuravlev–Padé's, paper
+eq. 10, 12, the exact closed form, or any other law), multiplied by the ratios of
 the exact elliptic law to the exact disk law, read from a table (``docs/decisions.md``
 §24, "Fast form"). In the slip-aligned frame, with ŝ the unit tangential slip and
 ŝ⊥ = n × ŝ,
@@ -32,8 +32,8 @@ k, so that both scales of the law are inside the grid for every k: u ≈ k with 
 narrow window |α − π/2| ≲ k/u (the centre of sliding crosses the thin ellipse), and
 u ≈ 1 with α of order 1 (the disk's scale). The node values are generated from the
 exact law by ``python -m celtstone.contact.ellipse_table`` into
-``contact/ellipse_table.npz``, read here by path (``kernels`` imports nothing from
-``contact``) and frozen into the compiled code by numba.
+``friction_ellipse_table.npz`` beside this module, read here at import and frozen into
+the compiled code by numba.
 """
 
 from __future__ import annotations
@@ -44,12 +44,12 @@ from pathlib import Path
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.friction import pade_friction
-from celtstone.kernels.friction_exact import complete_elliptic_integrals, exact_friction
+from celtstone.kernels.friction import contact_friction
+from celtstone.kernels.friction_exact import complete_elliptic_integrals
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 from celtstone.kernels.vector import NAN3, Vec, cross, dot
 
-TABLE_FILE = Path(__file__).resolve().parents[1] / "contact" / "ellipse_table.npz"
+TABLE_FILE = Path(__file__).with_name("friction_ellipse_table.npz")
 HALF_PI = 0.5 * math.pi
 
 
@@ -253,10 +253,10 @@ def elliptic_contact_friction(
     semi_major_axis : A [m], >= ``semi_minor_axis``
     semi_minor_axis : B [m], with ASPECT_MIN <= B/A <= 1
     regularisation_speed : δ, |V1| -> sqrt(|V1|² + δ²) in the disk law [m/s]
-    law : ``layout.FrictionLaw``: PADE, Zhuravlev's law of the disk of radius A
-        (paper eq. 10, 12) corrected; EXACT, the exact Hertz-disk law of radius A
-        (``friction_exact``) corrected, which is the exact elliptic law to the
-        table's interpolation error
+    law : a ``layout.FrictionLaw``: the law of the Hertz disk of radius A
+        (``friction.contact_friction``) is corrected; for the exact law the result is
+        the exact elliptic law to the table's interpolation error, for Padé's
+        Zhuravlev's law of the disk (paper eq. 10, 12) corrected
 
     Returns
     -------
@@ -276,22 +276,16 @@ def elliptic_contact_friction(
 
     b, a, M0 of paper eq. (12), E(e) the complete elliptic integral, e² = 1 − k².
     Symbols: A → semi_major_axis, B → semi_minor_axis, δ → regularisation_speed.
-    An unknown law code gives NaN.
+    A law code without a branch in ``friction.law_functions`` gives NaN.
     """
-    if law == FrictionLaw.PADE:
-        disk_force, disk_moment = pade_friction(
-            slip_velocity, spin_rate, semi_major_axis, regularisation_speed
-        )
-    elif law == FrictionLaw.EXACT:
-        disk_force, disk_moment = exact_friction(
-            slip_velocity,
-            spin_rate,
-            semi_major_axis,
-            regularisation_speed,
-            ContactPressure.HERTZ,
-        )
-    else:
-        return NAN3, math.nan
+    disk_force, disk_moment = contact_friction(
+        slip_velocity,
+        spin_rate,
+        semi_major_axis,
+        regularisation_speed,
+        law,
+        ContactPressure.HERTZ.value,
+    )
     return elliptic_correction(
         disk_force,
         disk_moment,

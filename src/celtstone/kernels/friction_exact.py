@@ -21,7 +21,9 @@ uniform pressure σ = N/(πε²), with the complete elliptic integrals K, E:
 Where these cancel (small k, small u for the uniform force) the kernels use the
 power series of ``celtstone.contact.series``. The functions are checked against
 direct quadrature of the Coulomb integrals (``celtstone.contact.quadrature``) to
-about 1e-12 (``tests/physics/test_friction_exact.py``).
+about 1e-12 (``tests/physics/test_friction_exact.py``). ``friction.law_functions``
+dispatches to :func:`exact_friction_functions`; the force and moment vectors are
+``friction.law_friction``'s.
 """
 
 from __future__ import annotations
@@ -30,7 +32,6 @@ import math
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import ContactPressure
-from celtstone.kernels.vector import Vec, regularised_norm, scale
 
 # below this value of u (uniform force) or k = 1/u the power series replace the
 # closed forms, whose cancellation would cost up to log10(1/k⁴) digits
@@ -218,42 +219,3 @@ def exact_friction_functions(
     if pressure == ContactPressure.UNIFORM:
         return uniform_outside(k)
     return math.nan, math.nan
-
-
-@kernel
-def exact_friction(
-    slip_velocity: Vec,
-    spin_rate: float,
-    contact_radius: float,
-    regularisation_speed: float,
-    pressure: int,
-) -> tuple[Vec, float]:
-    """Friction force and pivoting moment of the exact Coulomb–Contensou law, per unit f N.
-
-    Parameters
-    ----------
-    slip_velocity : V1, sliding velocity of the contact point [m/s]
-    spin_rate : Ω_n = ω · n, angular velocity about the vertical [rad/s]
-    contact_radius : ε, radius of the contact disk [m]
-    regularisation_speed : δ, |V1| -> sqrt(|V1|² + δ²) as in the Padé law [m/s]
-    pressure : pressure-distribution code (``layout.ContactPressure``)
-
-    Returns
-    -------
-    force : F / (f N) [1], antiparallel to V1
-    moment : M / (f N) [m], the moment about n, opposite in sign to Ω_n
-
-    Notes
-    -----
-    Paper section 2 integrals with denominator |V + Ω × r| (references.md);
-    ε → contact_radius, u = |V1|/(ε|Ω_n|). The regularisation plays the role it
-    has in ``friction.pade_friction`` (paper eq. 11, ``docs/decisions.md`` §4).
-    """
-    speed = regularised_norm(slip_velocity, regularisation_speed)
-    pivot_speed = contact_radius * abs(spin_rate)
-    force_ratio, moment_ratio = exact_friction_functions(speed, pivot_speed, pressure)
-    force = (0.0, 0.0, 0.0)
-    if speed > 0.0:
-        force = scale(-force_ratio / speed, slip_velocity)
-    moment = -math.copysign(moment_ratio * contact_radius, spin_rate) if spin_rate != 0.0 else 0.0
-    return force, moment

@@ -20,14 +20,11 @@ from celtstone.kernels.dynamics import (
     rolling_system,
 )
 from celtstone.kernels.friction import (
-    HERTZ_MOMENT,
-    PADE_A,
-    PADE_B,
-    UNIFORM_MOMENT,
-    UNIFORM_PADE_A,
-    UNIFORM_PADE_B,
+    has_friction_law,
+    law_functions,
+    pade_limit_moment,
+    zero_slip_moment,
 )
-from celtstone.kernels.friction_exact import exact_friction_functions
 from celtstone.kernels.geometry import contact
 from celtstone.kernels.layout import (
     Y_N,
@@ -41,10 +38,6 @@ from celtstone.kernels.layout import (
 from celtstone.kernels.stick_ellipse import elliptic_stick_margin
 from celtstone.kernels.vector import Vec, add, cross, dot, scale, solve3, sub
 
-# ab - 1 of the Padé boundary μ = (1 - φ)/(1 + (ab - 1)φ): 5/2 - 1 for the Hertz
-# pressure, 8/3 - 1 for the uniform one
-PADE_BOUNDARY = PADE_A * PADE_B - 1.0
-UNIFORM_PADE_BOUNDARY = UNIFORM_PADE_A * UNIFORM_PADE_B - 1.0
 BOUNDARY_BISECTIONS = 60  # halvings of t = u/(1 + u) in [0, 1]: below 1e-17
 
 
@@ -90,55 +83,46 @@ def stick_acceleration(
 
 
 @kernel
-def zero_slip_moment(pressure: int) -> float:
-    """M0 / (f N ε), the pivoting moment without slip for a pressure code [1]; NaN if unknown."""
-    if pressure == ContactPressure.HERTZ:
-        return HERTZ_MOMENT
-    if pressure == ContactPressure.UNIFORM:
-        return UNIFORM_MOMENT
-    return math.nan
+def bisected_limit_moment(force_ratio: float, law: int, pressure: int) -> float:
+    """Largest μ = |M|/M0 a law gives together with φ = |F|/(f N), from its functions [1].
 
-
-@kernel
-def pade_boundary(pressure: int) -> float:
-    """ab - 1 of the Padé limit-set boundary for a pressure code [1]; NaN if unknown."""
-    if pressure == ContactPressure.HERTZ:
-        return PADE_BOUNDARY
-    if pressure == ContactPressure.UNIFORM:
-        return UNIFORM_PADE_BOUNDARY
-    return math.nan
+    The boundary of the limit set: sliding at slip ratio u gives (φ, μ) = (F̂(u),
+    M̂(u)/M̂(0)), u in [0, ∞], and φ rises from 0 to 1 with u
+    (``friction.law_functions``). F̂(u) = φ is solved by bisection in t = u/(1 + u).
+    φ <= 0 gives 1 (u = 0, the full pivoting moment); φ >= 1 the Padé law's expression,
+    negative: no moment is admissible with more than f N of force. A law code without
+    a branch in ``friction.law_functions`` or an unknown pressure code gives NaN.
+    """
+    if not has_friction_law(law) or math.isnan(zero_slip_moment(pressure)):
+        return math.nan
+    if force_ratio <= 0.0:
+        return 1.0
+    if force_ratio >= 1.0:
+        return pade_limit_moment(force_ratio, pressure)
+    low, high = 0.0, 1.0
+    for _ in range(BOUNDARY_BISECTIONS):
+        middle = 0.5 * (low + high)
+        force, _ = law_functions(law, middle, 1.0 - middle, pressure)
+        if force < force_ratio:
+            low = middle
+        else:
+            high = middle
+    middle = 0.5 * (low + high)
+    _, moment = law_functions(law, middle, 1.0 - middle, pressure)
+    return moment / zero_slip_moment(pressure)
 
 
 @kernel
 def limit_moment(force_ratio: float, law: int, pressure: int) -> float:
     """Largest μ = |M|/M0 the friction law gives together with φ = |F|/(f N) [1].
 
-    The boundary of the limit set: sliding at slip ratio u gives (φ, μ) = (F̂(u),
-    M̂(u)/M̂(0)), u in [0, ∞], and φ rises from 0 to 1 with u. For the Padé law
-    (paper eq. 10, 12) eliminating u gives μ = (1 - φ)/(1 + (ab - 1)φ) (ab = 5/2 for the
-    Hertz pressure, 8/3 for the uniform one). For the exact law F̂(u) = φ is solved by
-    bisection in t = u/(1 + u). For φ >= 1 it returns the Padé expression, negative:
-    no moment is admissible with more than f N of force. An unknown law or pressure
-    code gives NaN.
+    The Padé law's in closed form (``friction.pade_limit_moment``, paper eq. 10, 12),
+    every other law's by bisection of its functions (:func:`bisected_limit_moment`).
+    An unknown law or pressure code gives NaN.
     """
-    boundary = pade_boundary(pressure)
-    if (law != FrictionLaw.PADE and law != FrictionLaw.EXACT) or math.isnan(boundary):
-        return math.nan
-    if law == FrictionLaw.PADE or force_ratio >= 1.0 or force_ratio <= 0.0:
-        if law == FrictionLaw.EXACT and force_ratio <= 0.0:
-            return 1.0  # u = 0: the full pivoting moment
-        return (1.0 - force_ratio) / (1.0 + boundary * force_ratio)
-    low, high = 0.0, 1.0
-    for _ in range(BOUNDARY_BISECTIONS):
-        middle = 0.5 * (low + high)
-        force, _ = exact_friction_functions(middle, 1.0 - middle, pressure)
-        if force < force_ratio:
-            low = middle
-        else:
-            high = middle
-    middle = 0.5 * (low + high)
-    _, moment = exact_friction_functions(middle, 1.0 - middle, pressure)
-    return moment / zero_slip_moment(pressure)
+    if law == FrictionLaw.PADE:
+        return pade_limit_moment(force_ratio, pressure)
+    return bisected_limit_moment(force_ratio, law, pressure)
 
 
 @kernel

@@ -17,6 +17,7 @@ from celtstone.kernels.dynamics import (
     rolling_resistance_direction,
     sliding_acceleration,
 )
+from celtstone.kernels.friction import has_friction_law
 from celtstone.kernels.geometry import contact, contact_status
 from celtstone.kernels.layout import (
     RHS_CONTACT_RANGE,
@@ -54,7 +55,8 @@ N_CONTACT_SHAPES = len(ContactShape)
 @kernel
 def code_status(model, params) -> int:
     """``RHS_UNKNOWN_CODE`` if the model code or a code in ``params`` is none of its enum's
-    members (no kernel has a branch for it), else ``RHS_OK``."""
+    members (no kernel has a branch for it), or the sliding and stick models' friction law
+    has no branch in ``friction.law_functions``, else ``RHS_OK``."""
     known = (
         0 <= model < N_MODELS
         and 0 <= params.shape_code < N_SHAPES
@@ -63,6 +65,8 @@ def code_status(model, params) -> int:
         and 0 <= params.contact_pressure < N_PRESSURES
         and 0 <= params.contact_shape < N_CONTACT_SHAPES
     )
+    if known and model != ModelCode.ROLLING:  # rolling reads no friction law
+        known = has_friction_law(params.friction_law)
     return RHS_OK if known else RHS_UNKNOWN_CODE
 
 

@@ -1,4 +1,4 @@
-"""The two friction laws of the contact disk against the slip ratio u."""
+"""The friction laws of the contact disk (``contact.LAWS``) against the slip ratio u."""
 
 from __future__ import annotations
 
@@ -6,15 +6,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from celtstone.contact import friction_functions
+from celtstone.contact import LAWS, friction_functions
 from celtstone.plotting.legible import make_legible
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+LINE_STYLES = ("--", "-", ":", "-.")  # one per law, in the order of ``contact.LAWS``
+
 
 def friction_law_figure(pressure: str = "hertz") -> Figure:
-    """The exact law's and Padé's F/(fN) and M/(fNε) against u on a logarithmic axis.
+    """Every registered law's F/(fN) and M/(fNε) against u on a logarithmic axis.
 
     Parameters
     ----------
@@ -28,11 +30,11 @@ def friction_law_figure(pressure: str = "hertz") -> Figure:
     u = np.logspace(-3, 3, 601)
     figure = Figure(figsize=(9.0, 3.8), layout="constrained")
     force_axes, moment_axes = figure.subplots(1, 2, sharex=True)
-    for law, style in (("exact", "-"), ("pade", "--")):
-        force, moment = friction_functions(u, law, pressure)
-        label = "exact (Coulomb–Contensou)" if law == "exact" else "Padé (Zhuravlev)"
-        force_axes.plot(u, force, style, label=label)
-        moment_axes.plot(u, moment, style, label=label)
+    for index, entry in enumerate(LAWS.values()):
+        force, moment = friction_functions(u, entry.name, pressure)
+        style = LINE_STYLES[index % len(LINE_STYLES)]
+        force_axes.plot(u, force, style, label=entry.label)
+        moment_axes.plot(u, moment, style, label=entry.label)
     force_axes.set_ylabel("friction force F / (f N)")
     moment_axes.set_ylabel("pivoting moment M / (f N ε)")
     for axes in (force_axes, moment_axes):
