@@ -10,7 +10,7 @@ sweeps the hybrid contact once with each slip method instead (stick phases DOP85
 Printed:
 
 1. wall and CPU time of each sweep;
-2. agreement of the answer "does the spin reverse" (``n_reversals > 0``) point by point
+2. agreement of the answer "does the spin reverse" (``reversal_count > 0``) point by point
    between the first variant and each other, and every point where they disagree, with
    both first reversal times and final spins;
 3. where the time goes: on a sample of grid points (and the disagreeing ones), one run of
@@ -94,14 +94,14 @@ def time_sweep(
         "wall_s": elapsed,
         "cpu_s": cpu,
         "failures": int((results["status"] != "success").sum()),
-        "reversing_points": int((results["n_reversals"] > 0).sum()),
+        "reversing_points": int((results["reversal_count"] > 0).sum()),
     }, results
 
 
 def disagreements(first: Any, other: Any) -> tuple[float, list[dict[str, Any]]]:
     """Fraction of points whose reversal yes/no agrees between two sweeps' results, and
     the points where it does not (fields ``first_*`` and ``other_*``)."""
-    differ = (first["n_reversals"] > 0).values != (other["n_reversals"] > 0).values
+    differ = (first["reversal_count"] > 0).values != (other["reversal_count"] > 0).values
     rows = []
     frictions = first["friction_coefficient"].values
     spins = first["initial_spin"].values
@@ -113,7 +113,7 @@ def disagreements(first: Any, other: Any) -> tuple[float, list[dict[str, Any]]]:
                 **{
                     f"{name}_{field}": _plain(data[field].values[i, j])
                     for name, data in (("first", first), ("other", other))
-                    for field in ("n_reversals", "first_reversal_time", "final_spin", "status")
+                    for field in ("reversal_count", "first_reversal_time", "spin_final", "status")
                 },
             }
         )
@@ -123,7 +123,7 @@ def disagreements(first: Any, other: Any) -> tuple[float, list[dict[str, Any]]]:
 def largest_differences(first: Any, other: Any) -> dict[str, float | None]:
     """The largest |difference| of the final spin [rad/s] and of the first reversal time
     [s] over the points where both are defined."""
-    spin = np.abs(first["final_spin"].values - other["final_spin"].values)
+    spin = np.abs(first["spin_final"].values - other["spin_final"].values)
     reversal = np.abs(first["first_reversal_time"].values - other["first_reversal_time"].values)
     return {
         "final_spin": _plain(np.nanmax(spin)) if np.isfinite(spin).any() else None,

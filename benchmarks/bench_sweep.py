@@ -97,7 +97,7 @@ def time_sweep(n: int, t_end: float) -> dict:
         "cpu_s": cpu,
         "trajectories_per_s": sweep.size / elapsed,
         "failures": int((results["status"] != "success").sum()),
-        "reversing_points": int((results["n_reversals"] > 0).sum()),
+        "reversing_points": int((results["reversal_count"] > 0).sum()),
     }
 
 

@@ -328,8 +328,10 @@ def prepare(directory: Path, n: int, large: int, methods: list[str], force: bool
         if "y0s" in arrays and not np.array_equal(arrays["y0s"], y0s):
             raise SystemExit(f"the {method} sweep's initial states differ from the first's")
         arrays.update(params=params[:1], y0s=y0s)
-        arrays[f"cpu_final_spin_{method}"] = np.asarray(results["final_spin"]).ravel()
-        arrays[f"cpu_raw_sign_changes_{method}"] = np.asarray(results["raw_sign_changes"]).ravel()
+        arrays[f"cpu_final_spin_{method}"] = np.asarray(results["spin_final"]).ravel()
+        arrays[f"cpu_raw_sign_changes_{method}"] = np.asarray(
+            results["spin_crossing_count"]
+        ).ravel()
         arrays[f"cpu_status_{method}"] = np.asarray(results["status"]).ravel().astype(str)
         arrays[f"cpu_seconds_{method}"] = seconds
         summary[f"cpu_seconds_{method}"] = round(seconds, 2)
@@ -481,8 +483,8 @@ def check(methods: list[str], points: int = 6, t_end: float = 3.0) -> None:
         kernel = ensemble_kernel(method)
         _, gpu_results, _ = run_ensemble(kernel, params[:1], y0s, t_end)
         summary = compare(
-            np.asarray(results["final_spin"]).ravel(),
-            np.asarray(results["raw_sign_changes"]).ravel(),
+            np.asarray(results["spin_final"]).ravel(),
+            np.asarray(results["spin_crossing_count"]).ravel(),
             gpu_results,
         )
         summary.update(method=method, sign_changes=int(gpu_results[:, 3].sum()))

@@ -132,10 +132,10 @@ sweep = Sweep(
     {"friction_coefficient": [0.1, 0.25, 0.4], "initial_spin": [-6.0, -4.5, -3.0]}, t_end=2.0
 )
 results = sweep.run(workers=1)
-results["final_spin"].round(2).to_pandas()
+results["spin_final"].round(2).to_pandas()
 
 # %%
-plot_field_map(results, "final_spin")
+plot_field_map(results, "spin_final")
 
 # %% [markdown]
 # Where next: the gallery has the friction threshold, custom bodies and the two friction

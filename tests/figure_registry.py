@@ -198,8 +198,8 @@ CASES: list[FigureCase] = [
         )
         for name in MAPPED_FIELDS
     ),
-    FigureCase(plot_field_map, "map-line", lambda: plot_field_map(line_sweep(), "final_spin")),
+    FigureCase(plot_field_map, "map-line", lambda: plot_field_map(line_sweep(), "spin_final")),
     FigureCase(plot_field_map, "map-points", lambda: plot_field_map(point_sweep(), "energy_lost")),
-    FigureCase(plot_field_map, "map-cube", lambda: plot_field_map(cube_sweep(), "final_spin")),
+    FigureCase(plot_field_map, "map-cube", lambda: plot_field_map(cube_sweep(), "spin_final")),
 ]
 """Every figure the package makes, by name."""

@@ -48,9 +48,9 @@ def _case(model: str, f: float | None, first: float | None, energy: float, **ext
         "energy_final": energy,
         "energy_rest": 0.5,
         "peak_reversed_spin": 0.0 if first is None else 4.0 * energy,
-        "max_budget_error": 1e-12,
+        "max_energy_balance_error": 1e-12,
         "energy_monotone": True,
-        "raw_sign_changes": 0,
+        "spin_crossing_count": 0,
         "spin_initial": -5.0,
         "spin_final": 0.0,
         "reversal_times": [] if first is None else [first],
@@ -69,7 +69,7 @@ def _hand_made() -> dict[str, dict[str, Any]]:
             _case("rolling", None, 2.0, 1.0),
             _case("sliding", 0.35, 1.0, 0.9, peak_reversed_spin=1.0),
             _case("sliding", 0.25, 1.5, 0.8, peak_reversed_spin=2.0),
-            _case("sliding", 0.15, 3.0, 0.7, peak_reversed_spin=3.0, max_budget_error=1e-6),
+            _case("sliding", 0.15, 3.0, 0.7, peak_reversed_spin=3.0, max_energy_balance_error=1e-6),
         ]
     }
     threshold = {
@@ -88,8 +88,10 @@ def _hand_made() -> dict[str, dict[str, Any]]:
     }
     fig3 = {
         "cases": [
-            _case("rolling", None, 2.0, 1.0, reversal_times=[2.0, 12.0, 30.0], raw_sign_changes=5),
-            _case("sliding", 0.35, 1.0, 0.9, raw_sign_changes=1),
+            _case(
+                "rolling", None, 2.0, 1.0, reversal_times=[2.0, 12.0, 30.0], spin_crossing_count=5
+            ),
+            _case("sliding", 0.35, 1.0, 0.9, spin_crossing_count=1),
         ],
         "friction": 0.35,
         "band": 0.2,
@@ -167,7 +169,7 @@ def test_the_atlas_equals_a_reproduction_of_the_same_body(tmp_path: Path) -> Non
     assert {k: numbers["threshold"][k] for k in keys} == {k: expected["threshold"][k] for k in keys}
     for ours, theirs in zip(numbers["fig3"]["cases"], expected["fig3"]["cases"], strict=True):
         assert ours["reversal_times"] == theirs["reversal_times"]
-        assert ours["raw_sign_changes"] == theirs["raw_sign_changes"]
+        assert ours["spin_crossing_count"] == theirs["spin_crossing_count"]
     for finding, (target, judge) in JUDGES.items():
         verdict = judge(expected[target])
         assert atlas[finding].values[0] == verdict.reproduced, finding

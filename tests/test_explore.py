@@ -214,3 +214,62 @@ def test_serve_binds_localhost_and_says_when_widened(
     assert main(["serve", "--no-browser", "--host", "0.0.0.0"]) == 0
     assert served[-1]["address"] == "0.0.0.0"
     assert "other machines" in capsys.readouterr().err
+
+
+LONG_RUN = 1.0e6  # s of rolling: ~3.6e8 steps of K&L's stone, many minutes of computing
+
+
+def _long_run(prepared: Prepared, progress: Callable[[float], None]) -> cs.Trajectory:
+    """The page's run with few samples (its output fits in memory) and no step limit
+    (the default ends a rolling run after ~3e4 s: 1e7 steps)."""
+    return cs.simulate(
+        prepared.model,
+        prepared.body,
+        prepared.initial_state,
+        prepared.t_end,
+        n_samples=1001,
+        max_steps=10**12,
+        progress=progress,
+    )
+
+
+def _start_long_run(runner: Runner) -> list[threading.Thread]:
+    """Submit a long run and wait for its compiled loop; the threads it started."""
+    before = set(threading.enumerate())
+    long = runner.submit(Inputs(t_end=LONG_RUN))
+    deadline = time.monotonic() + WAIT
+    while (progress := runner.running()) is None or not progress.looping:
+        assert time.monotonic() < deadline, "the long run's loop never started"
+        time.sleep(0.01)
+    started = [thread for thread in threading.enumerate() if thread not in before]
+    assert f"celtstone-explore-{long}" in {thread.name for thread in started}
+    assert len(started) >= 2  # the run's worker and its compiled loop's thread
+    return started
+
+
+def _wait_ended(threads: list[threading.Thread]) -> None:
+    deadline = time.monotonic() + WAIT  # the loop alone would need many times this
+    while any(thread.is_alive() for thread in threads):
+        assert time.monotonic() < deadline, "the stopped run's compiled loop runs on"
+        time.sleep(0.05)
+
+
+def test_a_superseded_run_stops_inside_its_compiled_loop() -> None:
+    """A change ends the run in flight inside its compiled loop, not only on the page:
+    the superseded run's worker thread and the loop's own thread both end, long before
+    the loop could have reached its t_end, and nothing of that run is handed out."""
+    runner = Runner(_long_run)
+    threads = _start_long_run(runner)
+    newest = runner.submit(Inputs(t_end=0.5))
+    outcome = runner.wait(newest, WAIT)
+    assert outcome is not None and outcome.inputs.t_end == 0.5
+    _wait_ended(threads)
+    assert runner.take() is None and runner.dropped == 0  # stopped, not finished and dropped
+
+
+def test_the_stop_button_ends_the_compiled_loop() -> None:
+    runner = Runner(_long_run)
+    threads = _start_long_run(runner)
+    assert runner.stop()
+    _wait_ended(threads)
+    assert runner.running() is None and runner.take() is None and runner.dropped == 0

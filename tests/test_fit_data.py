@@ -118,7 +118,7 @@ BAD_DATA = {
     "too few points": (
         "t,w\n0,-5\n0.01,-4.9\n",
         ["--column", "spin=w", "--free", "friction_coefficient,contact_radius,damping"],
-        "more values than the 4 free",  # 3 and the spin's bias
+        "more values than the 6 free",  # 3, the spin's bias and the initial slip's 2
     ),
     "no variation": (
         "t,w\n" + "".join(f"{0.01 * i},-5\n" for i in range(20)),

@@ -147,7 +147,13 @@ def test_the_bias_jacobian_is_exact_and_takes_no_run(kane_levinson: cs.Body) -> 
     record = phone_record(kane_levinson, truth, 0.5, seed=2)
     with pytest.warns(cs.CeltstoneWarning, match="first sample"):
         problem = make_problem(
-            record, kane_levinson, "sliding", ["friction_coefficient"], rtol=1e-8, atol=1e-10
+            record,
+            kane_levinson,
+            "sliding",
+            ["friction_coefficient"],
+            initial_slip=False,
+            rtol=1e-8,
+            atol=1e-10,
         )
     assert problem.names == ("friction_coefficient", "bias_omega1", "bias_omega3")
     x = problem.start + np.array([0.0, 0.003, -0.002])
@@ -349,20 +355,27 @@ def _covered(body: cs.Body, seed: int) -> dict[str, float]:
     )
 
 
+# Of 2 N intervals that each hold the truth with probability 0.95 (the 40 of 20 records),
+# fewer than this share hold it with probability 1.4 % (binomial): the test's false alarm.
+# Intervals 1.5 times too narrow (each holding it with probability 0.81) fall below it with
+# probability 0.80, 1.3 times too narrow with 0.43. The issue's "both numbers within their
+# intervals in 90 % of records" is no sharper a test: two calibrated 95 % intervals hold
+# their truths together in 90.4 % of records (correlation 0.3), so a calibrated fit meets
+# it for 70 % of sets of 20 records.
+COVERED_SHARE = 34 / 40
+
+
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="spin-only records: 5 of 10 covered (misses at 2.0-2.7σ, none over 4σ); "
-    "three-axis 10 of 10; the coverage target of issue 40 is not met yet",
-)
 def test_intervals_cover_the_truth_over_seeded_records(kane_levinson: cs.Body) -> None:
     """Over 20 seeded records (half spin, half three gyroscope axes; bias, jitter, noise,
-    a start after the release), f and ε lie within their 95 % intervals in at least 90 %
-    and none is more than 4 standard errors off."""
+    a start after the release), the 95 % intervals of f and ε hold the truth as often as
+    95 % intervals should (``COVERED_SHARE`` of them at least), and none is more than 4
+    standard errors off."""
     deviations = [_covered(kane_levinson, seed) for seed in COVERAGE_SEEDS]
-    covered = sum(all(abs(d) <= Z_95 for d in row.values()) for row in deviations)
-    assert covered >= 0.9 * len(deviations), deviations
-    assert max(abs(d) for row in deviations for d in row.values()) <= 4.0, deviations
+    intervals = [d for row in deviations for d in row.values()]
+    covered = sum(abs(d) <= Z_95 for d in intervals)
+    assert covered >= COVERED_SHARE * len(intervals), deviations
+    assert max(abs(d) for d in intervals) <= 4.0, deviations
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -531,3 +544,43 @@ def test_a_hertz_contact_s_radius_is_written_as_used(kane_levinson: cs.Body) -> 
     assert low <= held["value"] <= high
     assert held["value"] != pytest.approx(cs.SlidingModel().contact_radius, rel=0.1)
     assert "Hertz" in held["source"]
+
+
+@pytest.mark.slow
+def test_standard_errors_match_the_spread_over_fresh_noise(kane_levinson: cs.Body) -> None:
+    """One spin-only record of the coverage set (truth, jitter and start kept), fitted
+    again under 30 fresh draws of its noise from the truth: the standard deviation of the
+    fitted f and ε matches the mean reported standard error within 3 times the sampling
+    error of a standard deviation of 30 draws (1/sqrt(2 · 29), 13 %)."""
+    from celtstone.fitting.problem import make_problem
+    from celtstone.fitting.runs import Runs
+    from celtstone.fitting.solve import FIT_ATOL, FIT_RTOL, _minimise
+    from celtstone.fitting.uncertainty import uncertainty
+
+    draws = 30
+    truth = _coverage_truth(0)
+    clean = phone_record(kane_levinson, truth, 3.0, seed=0, noise=0.0)
+    rng = np.random.default_rng(99)
+    start = {
+        "friction_coefficient": truth.friction_coefficient,
+        "contact_radius": truth.contact_radius,
+        "release_offset": truth.release_offset,
+    }
+    errors, spreads = [], []
+    for _ in range(draws):
+        noisy = {n: v + rng.normal(0.0, NOISE, v.size) for n, v in clean.series.items()}
+        record = cs.make_record(clean.times, noisy)
+        problem = make_problem(
+            record, kane_levinson, "sliding", list(start), start=start, rtol=FIT_RTOL, atol=FIT_ATOL
+        )
+        with Runs(problem, workers=2) as runs:
+            columns = list(range(len(problem.free)))
+            x, cost, _, _, jacobian, _ = _minimise(runs, problem.start, columns)
+        spread = uncertainty(
+            jacobian, cost, problem.degrees_of_freedom, problem.scale, problem.names
+        )
+        errors.append(x[:2] - problem.start[:2])
+        spreads.append(spread.standard_errors[:2])
+    ratio = np.std(errors, axis=0, ddof=1) / np.mean(spreads, axis=0)
+    tolerance = 3.0 / np.sqrt(2.0 * (draws - 1))
+    assert np.all(np.abs(ratio - 1.0) < tolerance), ratio

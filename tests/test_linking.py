@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 import celtstone as cs
-from celtstone import solvers
 from celtstone.kernels import layout
 from celtstone.simulation import models
 from celtstone.solvers import _linking, batch, driver, phases
 from celtstone.solvers import _structures as structures
+from celtstone.solvers import run as solver_run
 from celtstone.sweep import Sweep
 
 KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
@@ -60,7 +60,7 @@ def test_a_stick_slip_run_with_a_wrong_link_raises(
         slip, stick = real(*args)
         return spoil(slip), spoil(stick)
 
-    monkeypatch.setattr(solvers, "integrate_links", spoiled)
+    monkeypatch.setattr(solver_run, "integrate_links", spoiled)
     body = cs.load_body("kane_levinson_1982")
     with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
         cs.simulate(cs.HybridModel(), body, KL_START, 0.01)
@@ -71,7 +71,7 @@ def test_a_run_with_a_wrong_link_raises(
     monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
 ) -> None:
     real = driver.integrate_link
-    monkeypatch.setattr(solvers, "integrate_link", lambda *args: spoil(real(*args)))
+    monkeypatch.setattr(solver_run, "integrate_link", lambda *args: spoil(real(*args)))
     body = cs.load_body("kane_levinson_1982")
     with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
         cs.simulate(cs.RollingModel(), body, KL_START, 0.01)

@@ -1,8 +1,9 @@
 """Output variables and run statuses are declared once; everything else reads them.
 
 Parametrised over the declarations (``schema.VARIABLES``, ``kernels.system.DERIVED``,
-``solvers.batch.RESULT_FIELDS``, ``solvers.Status``): a new entry is checked here
-without anyone listing it, and an entry that lacks a part fails.
+``simulation.outcome.OUTCOMES`` through ``solvers.batch.RESULT_FIELDS``,
+``solvers.Status``): a new entry is checked here without anyone listing it, and an entry
+that lacks a part fails.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from celtstone.kernels import system
 from celtstone.plotting.maps import plot_field_map
 from celtstone.simulation import trajectory
 from celtstone.simulation.integrate import STATUS_NAMES
+from celtstone.simulation.outcome import OUTCOMES
 from celtstone.simulation.schema import VARIABLES, Variable
 from celtstone.solvers import batch, codes
 from celtstone.sweep import RESULT_FIELDS, Sweep, open_sweep
@@ -142,7 +144,7 @@ def test_result_columns_are_numbered_once() -> None:
 
 @pytest.mark.parametrize("name", FIELD_NAMES)
 def test_every_result_field_is_declared(name: str) -> None:
-    declared = VARIABLES[name]
+    declared = OUTCOMES[name].variable
     assert declared.long_name and declared.label
     assert not declared.source  # a sweep's field, not a run's time series
     assert RESULT_FIELDS[name] == (
@@ -172,14 +174,14 @@ def test_every_result_field_is_in_the_store(store: Path, name: str) -> None:
     field = batch.RESULT_FIELDS[FIELD_NAMES.index(name)]
     array = zarr.open_group(store, mode="r")[name]
     assert isinstance(array, zarr.Array)
-    assert dict(array.attrs) == VARIABLES[name].attributes
+    assert dict(array.attrs) == OUTCOMES[name].variable.attributes
     fill = array.metadata.fill_value
     if isinstance(field.fill, float) and math.isnan(field.fill):
         assert math.isnan(float(fill))
     else:
         assert fill == field.fill
     results = open_sweep(store)
-    assert results[name].attrs == VARIABLES[name].attributes
+    assert results[name].attrs == OUTCOMES[name].variable.attributes
     assert results[name].dims == ("initial_spin",)
     if field.dtype != "str":
         assert results[name].dtype == np.dtype(field.dtype)
@@ -191,7 +193,7 @@ def test_maps_label_each_field_as_declared(store: Path, name: str) -> None:
     results = open_sweep(store)
     figure = plot_field_map(results, name)
     axes = figure.axes[0]
-    declared = VARIABLES[name]
+    declared = OUTCOMES[name].variable
     assert axes.get_ylabel() == declared.axis_label()
     if name != "status":
         drawn = axes.get_lines()[0].get_ydata()
@@ -252,6 +254,7 @@ REACHED_BELOW = {
     solvers.Status.MAX_PHASES: "test_phases.py: simulate does not take max_phases",
     solvers.Status.CONTACT_RANGE: "physics/test_elliptic_contact.py: body checks refuse such "
     "bodies at rest",
+    solvers.Status.STOPPED: "test_stop_request.py: the caller's progress callback raised",
 }
 
 

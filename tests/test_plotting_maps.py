@@ -14,6 +14,7 @@ from matplotlib.collections import PolyCollection, QuadMesh
 import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.plotting.maps import plot_field_map
+from celtstone.simulation.outcome import OUTCOMES
 from celtstone.simulation.schema import VARIABLES
 from celtstone.sweep.plots import (
     DEFAULT_MAPPED_FIELDS,
@@ -42,7 +43,7 @@ def _legend_words(figure) -> list[str]:  # type: ignore[no-untyped-def]
 def test_labels_and_title_are_the_declared_words(grid: xr.Dataset) -> None:
     figure = plot_field_map(grid, "first_reversal_time")
     axes, colorbar = figure.axes
-    declared = VARIABLES["first_reversal_time"]
+    declared = OUTCOMES["first_reversal_time"].variable
     assert axes.get_title().startswith("First reversal time (sliding model")
     assert colorbar.get_ylabel() == declared.axis_label() == "first reversal time [s]"
     assert axes.get_ylabel() == VARIABLES["friction_coefficient"].axis_label()
@@ -53,9 +54,9 @@ def test_labels_and_title_are_the_declared_words(grid: xr.Dataset) -> None:
 
 def test_a_signed_field_is_centred_on_zero(grid: xr.Dataset) -> None:
     """The final spin takes both signs: white at zero, the colours symmetric."""
-    spin = grid["final_spin"].values
+    spin = grid["spin_final"].values
     assert spin.min() < 0.0 < spin.max()  # the premise
-    mesh = _mesh(plot_field_map(grid, "final_spin"))
+    mesh = _mesh(plot_field_map(grid, "spin_final"))
     assert mesh.get_cmap().name == "RdBu_r"
     assert mesh.norm(0.0) == pytest.approx(0.5)
     largest = float(np.abs(spin).max())
@@ -66,10 +67,10 @@ def test_a_signed_field_is_centred_on_zero(grid: xr.Dataset) -> None:
 
 
 def test_a_count_is_drawn_in_whole_steps(grid: xr.Dataset) -> None:
-    figure = plot_field_map(grid, "n_reversals")
+    figure = plot_field_map(grid, "reversal_count")
     ticks = figure.axes[1].get_yticks()
     assert np.array_equal(ticks, np.round(ticks))
-    counts = np.unique(grid["n_reversals"].values)
+    counts = np.unique(grid["reversal_count"].values)
     mesh = _mesh(figure)
     colours = {tuple(mesh.cmap(mesh.norm(c))) for c in counts}
     assert len(colours) == len(counts)  # each count its own colour
@@ -83,26 +84,26 @@ def test_cells_without_a_value_are_hatched_and_named(grid: xr.Dataset) -> None:
     (hatched,) = [c for c in figure.axes[0].collections if isinstance(c, PolyCollection)]
     assert hatched.get_hatch() == "///"
     assert len(hatched.get_paths()) == missing
-    assert _legend_words(figure) == [VARIABLES["first_reversal_time"].missing]
+    assert _legend_words(figure) == [OUTCOMES["first_reversal_time"].variable.missing]
 
 
 def test_a_run_stopped_early_is_named_apart(grid: xr.Dataset) -> None:
     """A NaN of a run that stopped early is not "no reversal": the legend says so."""
     status = grid["status"].values.copy()
-    spin = grid["final_spin"].values.copy()
+    spin = grid["spin_final"].values.copy()
     status[0, 0], spin[0, 0] = "max_steps", np.nan
     broken = grid.assign(status=(grid["status"].dims, status))
-    broken = broken.assign(final_spin=(grid["final_spin"].dims, spin))
-    assert _legend_words(plot_field_map(broken, "final_spin")) == ["stopped early (see the status)"]
+    broken = broken.assign(spin_final=(grid["spin_final"].dims, spin))
+    assert _legend_words(plot_field_map(broken, "spin_final")) == ["stopped early (see the status)"]
     assert "no value" not in _legend_words(plot_field_map(broken, "first_reversal_time"))
 
 
 def test_beyond_two_axes_the_title_says_where() -> None:
-    figure = plot_field_map(cube_sweep(), "final_spin")
+    figure = plot_field_map(cube_sweep(), "spin_final")
     title = figure.axes[0].get_title().replace("\n", " ")
     assert title.endswith(" at initial Euler angle alpha = 0.5 deg")
     drawn = figure.axes[0].collections[0].get_array()
-    expected = cube_sweep()["final_spin"].isel(euler_alpha=0).values
+    expected = cube_sweep()["spin_final"].isel(euler_alpha=0).values
     np.testing.assert_array_equal(np.asarray(drawn).reshape(expected.shape), expected)
 
 
@@ -118,16 +119,16 @@ def test_a_line_marks_its_points_without_a_value() -> None:
 def test_four_maps_by_default_the_others_on_request(grid: xr.Dataset, tmp_path: Path) -> None:
     assert DEFAULT_MAPPED_FIELDS == (
         "first_reversal_time",
-        "n_reversals",
-        "final_spin",
+        "reversal_count",
+        "spin_final",
         "energy_lost",
     )
     written = write_maps(grid, tmp_path / "maps")
     assert sorted(p.name for p in written) == sorted(f"{n}.png" for n in DEFAULT_MAPPED_FIELDS)
     assert check_map_fields("all") == MAPPED_FIELDS
-    assert check_map_fields("status, final_spin") == ("status", "final_spin")
+    assert check_map_fields("status, spin_final") == ("status", "spin_final")
     assert [p.name for p in map_paths(tmp_path / "other", fields=["max_tilt"])] == ["max_tilt.png"]
-    for wrong in ("spin_final", "message", ""):
+    for wrong in ("final_spin", "message", ""):  # final_spin: the name before spin_final
         with pytest.raises(cs.ParameterError, match="map_fields"):
             check_map_fields(wrong)
 
@@ -135,7 +136,7 @@ def test_four_maps_by_default_the_others_on_request(grid: xr.Dataset, tmp_path: 
 def test_cli_maps_the_fields_asked_for(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     argv = ["sweep", "--model", "rolling", "--vary", "initial_spin=-5,5", "--t-end", "0.2"]
     argv += ["--no-progress", "--out", str(tmp_path / "s.zarr")]
-    assert main([*argv, "--map-fields", "spin_final"]) == 2
+    assert main([*argv, "--map-fields", "final_spin"]) == 2
     error = capsys.readouterr().err.strip()
     assert len(error.splitlines()) == 1 and "map_fields" in error and "final_spin" in error
     assert not (tmp_path / "s.zarr").exists()

@@ -10,7 +10,6 @@ import celtstone as cs
 from celtstone import solvers
 from celtstone.kernels import layout, system
 from celtstone.kernels import stick as stick_kernels
-from celtstone.simulation import hybrid
 from celtstone.simulation.models import initial_vector, kernel_parameters
 from celtstone.simulation.reversals import dataset_reversal_times
 from celtstone.solvers import _events, _methods, _structures, codes
@@ -255,7 +254,7 @@ def test_radau_does_not_grow_the_step_right_after_a_rejection() -> None:
     }
     sliding, stick = layout.MODEL_SLIDING, layout.MODEL_STICK
     first = solvers.solve(sliding, "radau5", params, y0, 10.0, **options)
-    captured, _, margin = hybrid.capture(params, first.final_state)
+    captured, _, margin = solvers.capture(params, first.final_state)
     assert first.status == solvers.STATUS_PHASE_CHANGE and margin >= 0.0
     held = solvers.solve(stick, "dop853", params, captured, 10.0, **options)
     assert held.status == solvers.STATUS_PHASE_CHANGE
@@ -311,7 +310,7 @@ def test_phase_events_stop_just_past_the_switch(method: str) -> None:
         assert slip.status == solvers.STATUS_PHASE_CHANGE
         speed = stick_kernels.slip_spin_speed(slip.final_state, params)
         assert 0.0 < capture - speed < 1e-3 * capture
-        captured, _, margin = hybrid.capture(params, slip.final_state)
+        captured, _, margin = solvers.capture(params, slip.final_state)
         y0 = slip.final_state
     stuck = solvers.solve(
         layout.MODEL_STICK,

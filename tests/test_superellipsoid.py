@@ -93,8 +93,8 @@ def test_exponent_two_runs_like_the_ellipsoid(kane_levinson: cs.Body, model: cs.
         assert np.max(np.abs(a - b)) <= 1e-8 * np.max(np.abs(a)), name
     assert superellipsoid.dataset.attrs["body_shape"] == "superellipsoid"
     assert json.loads(superellipsoid.dataset.attrs["body_shape_table"])["exponent"] == 2.0
-    assert superellipsoid.first_sign_change_time == pytest.approx(
-        ellipsoid.first_sign_change_time, rel=1e-8
+    assert superellipsoid.first_spin_crossing_time == pytest.approx(
+        ellipsoid.first_spin_crossing_time, rel=1e-8
     )
     if isinstance(model, cs.RollingModel):
         energy = superellipsoid.dataset["energy"].values

@@ -10,6 +10,7 @@ import xarray as xr
 
 import celtstone as cs
 from celtstone.cli.main import main
+from celtstone.simulation.outcome import SWEPT
 from celtstone.simulation.reversals import dataset_reversal_times
 from celtstone.sweep import Sweep, open_sweep, parse_axis, parse_setting
 from celtstone.sweep.plots import DEFAULT_MAPPED_FIELDS
@@ -114,13 +115,18 @@ def test_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
                 results.sel(friction_coefficient=f, initial_spin=spin), run, spin
             )
     # f = 0.35 from w3 = -5 reverses once near 1.66 s (the paper's Figure 2 case, README)
-    assert results["n_reversals"].sel(friction_coefficient=0.35, initial_spin=-5.0) == 1
+    assert results["reversal_count"].sel(friction_coefficient=0.35, initial_spin=-5.0) == 1
 
 
 def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float) -> None:
-    """The sweep's fields of ``point`` equal what simulate() + reversal_times() +
-    summary() give for the same point, exactly."""
-    summary, ds = run.summary(), run.dataset
+    """The sweep's fields of ``point`` are the single run's outcome record, name for name
+    (one declaration, one reduction); and that record is what NumPy reads from the run's
+    saved samples (the independent check of the compiled reduction)."""
+    outcome = run.outcome()
+    assert set(SWEPT) <= set(point.data_vars) and set(outcome) == set(SWEPT)
+    for name in SWEPT:
+        np.testing.assert_array_equal(point[name].values, outcome[name], err_msg=name)
+    ds = run.dataset
     # the default band: 4 % of the initial |spin| (0.2 and 0.12 rad/s here)
     band = 0.04 * abs(spin)
     reversals = cs.reversal_times(
@@ -128,25 +134,28 @@ def _assert_point_is_the_run(point: xr.Dataset, run: cs.Trajectory, spin: float)
     )
     np.testing.assert_array_equal(reversals, dataset_reversal_times(ds))
     first = reversals[0] if reversals.size else np.nan
-    np.testing.assert_array_equal(point["first_reversal_time"], first)
-    assert point["n_reversals"] == reversals.size
-    assert point["final_spin"] == summary["spin_final"]
-    energy_lost = summary["energy_initial"] - summary["energy_final"]
-    assert point["energy_lost"] == energy_lost
-    assert math.degrees(point["max_tilt"]) == summary["max_tilt_deg"]
-    assert point["min_normal_force"] == summary["min_normal_force"]
-    assert point["status"] == summary["status"]
-    assert point["message"] == summary["message"]
-    # the fields the paper's findings read (reproduce.cases.summarise), from the samples
+    np.testing.assert_array_equal(outcome["first_reversal_time"], first)
+    assert outcome["reversal_count"] == reversals.size
     energy, work, spins = ds["energy"].values, ds["dissipated_work"].values, ds["spin"].values
+    assert run.ok  # the values at t_end below are NaN for a run stopped early
+    assert outcome["spin_final"] == spins[-1]
+    assert outcome["energy_lost"] == energy[0] - energy[-1]
+    assert outcome["max_tilt"] == np.max(ds["tilt"].values)
+    normal = np.fmin(run.min_normal_force, np.nanmin(ds["normal_force"].values))
+    assert outcome["min_normal_force"] == normal
+    assert outcome["status"] == run.status
+    assert outcome["t_stop"] == run.t_stop
     scale = 1e-12 * abs(energy[0])  # the energy's own rounding, sample by sample
-    assert point["energy_initial"] == pytest.approx(energy[0], abs=scale)
-    assert point["peak_reversed_spin"] == np.max(-np.sign(spins[0]) * spins)
-    assert point["raw_sign_changes"] == run.spin_crossings.size
-    budget = np.max(np.abs(energy[0] - energy - work))
-    assert point["max_budget_error"] == pytest.approx(budget, abs=scale)
+    assert outcome["energy_initial"] == pytest.approx(energy[0], abs=scale)
+    assert outcome["energy_final"] == pytest.approx(energy[-1], abs=scale)
+    assert outcome["spin_initial"] == pytest.approx(spins[0], abs=1e-15 * abs(spins[0]))
+    assert outcome["dissipated_work"] == work[-1]
+    assert outcome["peak_reversed_spin"] == np.max(-np.sign(spins[0]) * spins)
+    assert outcome["spin_crossing_count"] == run.spin_crossings.size
+    balance = np.max(np.abs(energy[0] - energy - work))
+    assert outcome["max_energy_balance_error"] == pytest.approx(balance, abs=scale)
     rise = max(float(np.max(np.diff(energy), initial=0.0)), 0.0)
-    assert point["max_energy_rise"] == pytest.approx(rise, abs=scale)
+    assert outcome["max_energy_rise"] == pytest.approx(rise, abs=scale)
 
 
 def test_hybrid_sweep_points_equal_single_runs(kane_levinson: cs.Body) -> None:
@@ -203,7 +212,7 @@ def test_failed_points_are_recorded_and_the_others_carry_on() -> None:
     lifted = results.sel(initial_spin=-40.0)
     assert 0.0 < lifted["t_stop"] < 0.5
     assert lifted["min_normal_force"] == 0.0
-    assert np.isnan(lifted["final_spin"]) and np.isnan(lifted["energy_lost"])
+    assert np.isnan(lifted["spin_final"]) and np.isnan(lifted["energy_lost"])
     assert "lifts off" in str(lifted["message"].values)
     assert results["t_stop"].sel(initial_spin=5.0) == 0.5
 
@@ -224,8 +233,8 @@ def test_mirror_symmetry_of_misalignment_and_spin() -> None:
     flipped = r.isel(misalignment_angle=slice(None, None, -1), initial_spin=slice(None, None, -1))
     for name in ("first_reversal_time", "max_tilt", "min_normal_force", "energy_lost"):
         np.testing.assert_allclose(r[name].values, flipped[name].values, rtol=1e-6, atol=1e-9)
-    np.testing.assert_allclose(r["final_spin"].values, -flipped["final_spin"].values, rtol=1e-6)
-    np.testing.assert_array_equal(r["n_reversals"].values, [[0, 1], [1, 0]])
+    np.testing.assert_allclose(r["spin_final"].values, -flipped["spin_final"].values, rtol=1e-6)
+    np.testing.assert_array_equal(r["reversal_count"].values, [[0, 1], [1, 0]])
 
 
 def test_points_list_and_memory_results_equal_the_store(tmp_path) -> None:  # type: ignore[no-untyped-def]

@@ -126,7 +126,7 @@ def test_stopped_sweep_resumes_to_the_uninterrupted_store(
     partial = open_sweep(store, allow_incomplete=True)
     assert np.all(partial["status"].values[~mask] == "")
     np.testing.assert_array_equal(
-        partial["final_spin"].values[mask], reference["final_spin"].values[mask]
+        partial["spin_final"].values[mask], reference["spin_final"].values[mask]
     )
 
     done_before = int(mask.sum())
@@ -183,4 +183,4 @@ def test_a_store_of_the_raw_spin_reversal_is_not_resumed(tmp_path: Path) -> None
     group.attrs["sweep_spec"] = json.dumps(spec, sort_keys=True)
     with pytest.raises(cs.ParameterError, match="differ from the stored ones: reversal_window"):
         sweep.run(store, resume=True)
-    assert open_sweep(store)["n_reversals"].size == 2
+    assert open_sweep(store)["reversal_count"].size == 2

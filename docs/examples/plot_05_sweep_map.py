@@ -24,7 +24,7 @@ sweep = Sweep(
 )
 print(f"{sweep.size} points, dimensions {sweep.dims}")
 results = sweep.run(workers=1)
-print(results["final_spin"].round(2).to_pandas())
+print(results["spin_final"].round(2).to_pandas())
 
 # %%
-figure = plot_field_map(results, "final_spin")
+figure = plot_field_map(results, "spin_final")

@@ -25,6 +25,7 @@ from celtstone.cli.main import main
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run"]
 WAIT_MS = 120_000  # a bound on waiting for the page, not a speed requirement
+SLOW_T_END = 2000.0  # s of sliding: minutes of computing, a run a student would stop
 
 pytestmark = pytest.mark.skipif(
     not CHROMIUM.exists(),
@@ -93,7 +94,9 @@ def tab(server: str) -> Iterator[Any]:
 
 
 def _verdict(page: Any) -> str:
-    return str(page.locator(".cs-verdict p").inner_text())
+    """The verdict's text; "" before the first run's (an empty verdict has no paragraph)."""
+    shown = page.locator(".cs-verdict p")
+    return str(shown.inner_text()) if shown.count() else ""
 
 
 def _wait_verdict(page: Any, different_from: str) -> str:
@@ -170,6 +173,21 @@ def test_the_explorer_in_chromium(
     download.value.save_as(path)
     assert main(["plot", str(path), "--out", str(tmp_path / "run.png")]) == 0
     capsys.readouterr()
+
+    # a slow run shows how far it has come (t / t_end) and its stop button; stopped, the
+    # page keeps the last finished run
+    _set_friction(page, "0.15")
+    _wait_verdict(page, "")
+    box = page.locator(".cs-t_end input").first
+    box.fill(str(SLOW_T_END))
+    box.press("Enter")
+    page.get_by_text(f"of {SLOW_T_END:g} s").wait_for(timeout=WAIT_MS)
+    stop = page.get_by_role("button", name="stop", exact=True)
+    assert stop.is_visible()
+    kept = _verdict(page)
+    stop.click()
+    page.get_by_text("stopped; the plots show the last finished run").wait_for(timeout=WAIT_MS)
+    assert _verdict(page) == kept and _curves(page, "spin") > 0
     page.screenshot(path=str(tmp_path / "explorer.png"))
     assert page.errors == [] and page.outside == []
 

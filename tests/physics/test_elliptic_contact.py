@@ -225,7 +225,7 @@ def test_a_sweep_takes_the_ellipse(kane_levinson: cs.Body) -> None:
         model = cs.HybridModel(friction_coefficient=friction, **fixed)
         state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
         run = cs.simulate(model, kane_levinson, state, 0.3, rtol=sweep.rtol, atol=sweep.atol)
-        assert results["final_spin"].values[index] == pytest.approx(
+        assert results["spin_final"].values[index] == pytest.approx(
             run.summary()["spin_final"], rel=1e-12
         )
 

@@ -108,8 +108,8 @@ def test_hertz_run_keeps_the_energy_budget_and_matches_the_fixed_radius(
     energy = hertz.dataset["energy"].values
     work = hertz.dataset["dissipated_work"].values
     assert np.max(np.abs(energy[0] - energy - work)) < 1e-6 * energy[0]
-    assert hertz.first_sign_change_time == pytest.approx(
-        fixed.first_sign_change_time, rel=tolerance
+    assert hertz.first_spin_crossing_time == pytest.approx(
+        fixed.first_spin_crossing_time, rel=tolerance
     )
     summary = hertz.summary()
     assert summary["contact_radius_model"] == "hertz"

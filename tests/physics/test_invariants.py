@@ -109,9 +109,9 @@ def test_aligned_axes_prefer_no_direction(kane_levinson: cs.Body, model: cs.Mode
     # no preferred direction means no Celt effect: rolling keeps its sense; sliding
     # friction only brakes the spin, and what crosses zero once it has died is dither
     if isinstance(model, cs.RollingModel):
-        assert run_plus.first_sign_change_time is None
-    elif run_plus.first_sign_change_time is not None:
-        after = run_plus.dataset["time"].values >= run_plus.first_sign_change_time
+        assert run_plus.first_spin_crossing_time is None
+    elif run_plus.first_spin_crossing_time is not None:
+        after = run_plus.dataset["time"].values >= run_plus.first_spin_crossing_time
         assert np.max(np.abs(spin_plus[after])) < 0.02 * 5.0
 
 

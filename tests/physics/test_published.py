@@ -59,10 +59,10 @@ def test_kane_levinson_negative_spin_reverses_first(kane_levinson: cs.Body) -> N
         20.0,
     )
     assert negative.dataset["spin"].values[0] < 0 < positive.dataset["spin"].values[0]
-    assert negative.first_sign_change_time is not None
-    assert negative.first_sign_change_time < 5.0
-    assert positive.first_sign_change_time is None or (
-        positive.first_sign_change_time > 4.0 * negative.first_sign_change_time
+    assert negative.first_spin_crossing_time is not None
+    assert negative.first_spin_crossing_time < 5.0
+    assert positive.first_spin_crossing_time is None or (
+        positive.first_spin_crossing_time > 4.0 * negative.first_spin_crossing_time
     )
 
 

@@ -18,12 +18,12 @@ def test_reversal_time_moves_less_than_a_microsecond(kane_levinson: cs.Body) -> 
     settings = {"friction_coefficient": 0.35, "contact_radius": 1e-3}
     sliding = cs.simulate(cs.SlidingModel(**settings), kane_levinson, state, 2.0)
     hybrid = cs.simulate(cs.HybridModel(**settings), kane_levinson, state, 2.0)
-    assert sliding.first_sign_change_time is not None
-    assert hybrid.first_sign_change_time is not None
-    assert abs(sliding.first_sign_change_time - hybrid.first_sign_change_time) < 1e-6
+    assert sliding.first_spin_crossing_time is not None
+    assert hybrid.first_spin_crossing_time is not None
+    assert abs(sliding.first_spin_crossing_time - hybrid.first_spin_crossing_time) < 1e-6
     old = cs.SlidingModel(regularisation_speed=1e-6, **settings)
-    biased = cs.simulate(old, kane_levinson, state, 2.0).first_sign_change_time
-    assert biased is not None and biased - hybrid.first_sign_change_time > 1e-4
+    biased = cs.simulate(old, kane_levinson, state, 2.0).first_spin_crossing_time
+    assert biased is not None and biased - hybrid.first_spin_crossing_time > 1e-4
 
 
 def test_a_rocking_stone_loses_no_spurious_energy() -> None:

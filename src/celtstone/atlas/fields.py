@@ -44,13 +44,19 @@ from celtstone.files.export import (
     write_json,
 )
 from celtstone.files.ownership import check_replaceable
-from celtstone.reproduce.cases import ENERGY_MONOTONE_TOLERANCE, case_name, summarise
-from celtstone.reproduce.figure2 import figure2_models
-from celtstone.reproduce.findings import FINDINGS, JUDGES
-from celtstone.reproduce.study import Study
-from celtstone.reproduce.threshold import boundary, threshold_numbers
+from celtstone.reproduce import (
+    FINDINGS,
+    JUDGES,
+    Study,
+    boundary,
+    case_name,
+    figure2_models,
+    summarise,
+    threshold_numbers,
+)
 from celtstone.simulation.integrate import simulate
 from celtstone.simulation.models import Model
+from celtstone.simulation.outcome import OUTCOMES, SWEPT, is_energy_monotone, json_number
 from celtstone.sweep import Sweep
 
 if TYPE_CHECKING:
@@ -208,34 +214,33 @@ class _Runner:
         return sweep.run(target, **self.options)
 
 
-def _case(point: xr.Dataset, model: Model, body: Body, initial_spin: float) -> dict[str, Any]:
-    """One sweep point as a case of ``reproduce.cases.summarise`` (the keys the judges
-    read; ``energy_final`` = E(0) − energy lost; ``initial_spin`` ω0·n0 [rad/s])."""
+def _case(point: xr.Dataset, model: Model, body: Body) -> dict[str, Any]:
+    """One sweep point as a case of ``reproduce.cases.summarise``: its outcomes by their
+    names (``simulation.outcome``; NaN as None), the settings the judges read."""
     settings = model.attributes()
     is_sliding = model.name == "sliding"
-    first = float(point["first_reversal_time"])
-    energy_initial = float(point["energy_initial"])
+    outcome = {
+        name: _number(point[name]) if OUTCOMES[name].dtype != "str" else str(point[name].values)
+        for name in SWEPT
+        if name != "message"
+    }
     return {
         "case": case_name(model),
         "model": model.name,
         "friction_coefficient": float(point["friction_coefficient"]) if is_sliding else None,
         "friction_load": settings["friction_load"] if is_sliding else None,
-        "status": str(point["status"].values),
-        "first_reversal_time": first if math.isfinite(first) else None,
-        "n_reversals": int(point["n_reversals"]),
-        "raw_sign_changes": int(point["raw_sign_changes"]),
-        "peak_reversed_spin": float(point["peak_reversed_spin"]),
-        "spin_initial": initial_spin,
-        "spin_final": float(point["final_spin"]),
-        "energy_initial": energy_initial,
-        "energy_final": energy_initial - float(point["energy_lost"]),
+        **outcome,
         "energy_rest": body.mass * body.gravity * body.shape.rest_height,
-        "max_budget_error": float(point["max_budget_error"]),
-        "max_energy_rise": float(point["max_energy_rise"]),
-        "energy_monotone": bool(
-            float(point["max_energy_rise"]) <= ENERGY_MONOTONE_TOLERANCE * abs(energy_initial)
+        "energy_monotone": is_energy_monotone(
+            float(point["max_energy_rise"]), float(point["energy_initial"])
         ),
     }
+
+
+def _number(value: xr.DataArray) -> float | int | None:
+    """A point's number: a count as int, a float as float, NaN as None."""
+    number = value.values.item()
+    return number if isinstance(number, int) else json_number(number)
 
 
 def _group(model: Model) -> str:
@@ -261,7 +266,7 @@ def _figure2(runner: _Runner) -> list[dict[str, Any]]:
         result = runner.run(f"fig2_{group}", chosen[0], designs, frictions, study.fig2_t_end)
         for index, (d, k) in enumerate(points):
             point = result.isel(point=index)
-            case = _case(point, chosen[k], runner.bodies[d], study.initial_spin)
+            case = _case(point, chosen[k], runner.bodies[d])
             cases[d][case["case"]] = case
     return [
         {"cases": [c[case_name(m)] for m in models], "frictions": list(study.frictions)}
@@ -271,7 +276,7 @@ def _figure2(runner: _Runner) -> list[dict[str, Any]]:
 
 def _reverses(result: xr.Dataset) -> list[bool]:
     """Whether each point's spin reverses (``threshold``: a first reversal exists)."""
-    return [bool(n > 0) for n in result["n_reversals"].values]
+    return [bool(n > 0) for n in result["reversal_count"].values]
 
 
 @dataclasses.dataclass
@@ -595,9 +600,9 @@ def atlas_dataset(
             ),
             {"units": "1"},
         ),
-        "long_run_raw_sign_changes": (
+        "long_run_spin_crossing_count": (
             long_dims,
-            per_case("fig3", "raw_sign_changes"),
+            per_case("fig3", "spin_crossing_count"),
             {"units": "1"},
         ),
         "long_run_spin_final": (long_dims, per_case("fig3", "spin_final"), {"units": "rad/s"}),

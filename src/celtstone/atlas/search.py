@@ -256,7 +256,7 @@ def search_dataset(
 ) -> xr.Dataset:
     """The search as a Dataset on dimension ``point``: each design's parameters and
     contact (coordinates), its mass and rocking period, per long run (``long_case``:
-    rolling, sliding) the reversal count, raw sign changes, final spin and reversal times,
+    rolling, sliding) the reversal count, spin crossing count, final spin and reversal times,
     the extreme and mean intervals after the second reversal, and the long-run verdict and words
     of the report's judge."""
     import xarray as xr
@@ -295,7 +295,7 @@ def search_dataset(
             ),
             {"units": "1", "long_name": "held reversals in the 50 s run (decisions §8)"},
         ),
-        "raw_sign_changes": (case_dim, per_case("raw_sign_changes"), {"units": "1"}),
+        "spin_crossing_count": (case_dim, per_case("spin_crossing_count"), {"units": "1"}),
         "spin_final": (case_dim, per_case("spin_final"), {"units": "rad/s"}),
         "reversal_times": (
             ("point", "long_case", "reversal"),
@@ -404,7 +404,9 @@ def search_table(dataset: xr.Dataset) -> pd.DataFrame:
     table["rocking_period"] = dataset["rocking_period"].values
     for case in _LONG_CASES:
         table[f"{case}_reversals"] = dataset["reversals"].sel(long_case=case).values
-        table[f"{case}_raw_sign_changes"] = dataset["raw_sign_changes"].sel(long_case=case).values
+        table[f"{case}_spin_crossing_count"] = (
+            dataset["spin_crossing_count"].sel(long_case=case).values
+        )
     table["rolling_shortest_interval"] = dataset["rolling_shortest_interval"].values
     table["sliding_longest_interval"] = dataset["sliding_longest_interval"].values
     for case in _LONG_CASES:

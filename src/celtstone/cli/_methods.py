@@ -1,8 +1,16 @@
-"""The integrator options that ``run`` and ``sweep`` share: ``--method`` and ``--stick-method``."""
+"""The integrator options that ``run`` and ``sweep`` share: ``--method`` and ``--stick-method``,
+their names and words from the method registry (``solvers.METHOD_ENTRIES``)."""
 
 from __future__ import annotations
 
 import argparse
+
+from celtstone.simulation.integrate import STICK_METHOD, method_words
+from celtstone.simulation.models import RollingModel, SlidingModel
+
+
+def _choices() -> str:
+    return "; ".join(f"{name}: {words}" for name, words in method_words().items())
 
 
 def add_method_args(parser: argparse.ArgumentParser, hybrid_words: str) -> None:
@@ -11,11 +19,12 @@ def add_method_args(parser: argparse.ArgumentParser, hybrid_words: str) -> None:
     parser.add_argument(
         "--method",
         default=None,
-        help="vern9, dop853, radau5 or auto (default: vern9 rolling, auto sliding)",
+        help=f"the integrator ({_choices()}); default: {RollingModel.default_method} "
+        f"rolling, {SlidingModel.default_method} sliding",
     )
     parser.add_argument(
         "--stick-method",
         default=None,
         help=f"the integrator of the stick–slip contact's stick phases{hybrid_words}: "
-        "vern9, dop853, radau5 or auto (default: --method if given, else dop853)",
+        f"{', '.join(method_words())} (default: --method if given, else {STICK_METHOD})",
     )

@@ -42,7 +42,8 @@ EPILOG = (
         f"  {n.name:22s} {n.lower:g}:{n.upper:g} {n.unit}: {n.description}"
         for n in NUISANCES.values()
     )
-    + "\n  (a bias of every rate series is free unless --set or --no-sensor-bias)\n\n"
+    + "\n  (a bias of every rate series is free unless --set or --no-sensor-bias; the initial\n"
+    "  slip_velocity1..2 where the run starts mid-motion, unless --set or --no-initial-slip)\n\n"
     "exit status: 0 the fit converged; 3 it did not (converged: false in the summary: the\n"
     "optimiser stopped at its limit, a parameter is at a bound, or the fitted run stopped),\n"
     "or with --strict any warning; 2 bad input; 1 the output could not be written.\n\n"
@@ -125,6 +126,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "--no-sensor-bias",
         action="store_true",
         help="hold every gyroscope bias at 0 (default: free on each rate series)",
+    )
+    parser.add_argument(
+        "--no-initial-slip",
+        action="store_true",
+        help="hold the contact's initial sliding velocity at 0 (default: free, "
+        "slip_velocity1..2, where the run starts mid-motion: at the first sample with its "
+        "rates read from the record or free)",
     )
     parser.add_argument(
         "--compare-models",
@@ -225,14 +233,17 @@ def _announce_reading(path: str) -> None:
 
 
 def _model_free(model_name: str, free: list[str]) -> list[str]:
-    """The free names a model has: a model setting only where the model takes it."""
+    """The free names a model has: a model setting only where the model takes it, the
+    initial slip only where the contact slides."""
+    from celtstone.fitting.problem import SLIP_NAMES
     from celtstone.simulation.models import MODELS
 
     fields = MODELS[model_name].__dataclass_fields__
     return [
         name
         for name in free
-        if name not in PARAMETERS or PARAMETERS[name].group != "model" or name in fields
+        if (name not in PARAMETERS or PARAMETERS[name].group != "model" or name in fields)
+        and not (model_name == "rolling" and name in SLIP_NAMES)
     ]
 
 
@@ -286,6 +297,7 @@ def handle(args: argparse.Namespace) -> int:
                 fixed={**fixed, **options},
                 sigma=sigma,
                 sensor_bias=not args.no_sensor_bias,
+                initial_slip=not args.no_initial_slip,
                 starts=starts,
                 seed=seed,
                 profile=args.profile,

@@ -204,30 +204,36 @@ def handle(args: argparse.Namespace) -> int:
     return 0
 
 
+def _value(value: float | None, spec: str, unit: str, missing: str = "none (stopped early)") -> str:
+    """``value`` in ``unit``, or ``missing`` for the JSON's null."""
+    return f"{value:{spec}} {unit}" if value is not None else missing
+
+
 def _count(number: int, noun: str) -> str:
     return f"{number} {noun}" + ("" if number == 1 else "s")
 
 
 def _print_text(summary: dict) -> None:
     first = summary["first_reversal_time"]
-    sign_change = summary["first_sign_change_time"]
-    # None when the run has no finite value (the JSON summary's null)
-    normal = summary["min_normal_force"]
-    normal_text = f"{normal:.6g} N" if normal is not None else "unknown"
+    sign_change = summary["first_spin_crossing_time"]
     lines = [
         f"{summary['model']} run of {summary['body']}, t = 0 .. {summary['t_stop']:g} s "
         f"({summary['status']})",
-        f"  spin: {summary['spin_initial']:.6g} -> {summary['spin_final']:.6g} rad/s; "
+        f"  spin: {summary['spin_initial']:.6g} -> "
+        f"{_value(summary['spin_final'], '.6g', 'rad/s')}; "
         + (f"first reversal at {first:.6g} s" if first is not None else "no reversal")
         + f" (band ±{summary['reversal_band']:.3g} rad/s; "
-        + _count(len(summary["reversal_times"]), "reversal")
+        + _count(summary["reversal_count"], "reversal")
         + ")",
-        f"  spin zero crossings: {len(summary['spin_zero_crossings'])}"
+        f"  spin zero crossings: {summary['spin_crossing_count']}"
         + (f", the first at {sign_change:.6g} s" if sign_change is not None else ""),
-        f"  energy: {summary['energy_initial']:.8g} -> {summary['energy_final']:.8g} J, "
+        f"  energy: {summary['energy_initial']:.8g} -> "
+        f"{_value(summary['energy_final'], '.8g', 'J')}, "
         f"dissipated work {summary['dissipated_work']:.6g} J",
-        f"  max tilt {summary['max_tilt_deg']:.4g} deg, min normal force "
-        f"{normal_text}, max slip speed {summary['max_slip_speed']:.3g} m/s",
+        # degrees for people; the JSON's max_tilt is in rad
+        f"  max tilt {math.degrees(summary['max_tilt']):.4g} deg, min normal force "
+        f"{_value(summary['min_normal_force'], '.6g', 'N', 'unknown')}, "
+        f"max slip speed {summary['max_slip_speed']:.3g} m/s",
     ]
     if "phases" in summary:
         lines.append(

@@ -1,4 +1,4 @@
-"""The live explorer: ``celtstone serve`` and :func:`celtstone.explorer`.
+"""The live explorer: ``celtstone serve`` and :func:`celtstone.explore`.
 
 A page of controls (the stone, the start, the contact) that runs the simulation again
 after each change and draws spin, energy and rocking, with a one-line verdict, a pinned
@@ -6,71 +6,12 @@ run to compare with, and downloads. Panel and Bokeh (the ``explore`` extra) are 
 only when an explorer is made.
 """
 
-from __future__ import annotations
-
-from typing import TYPE_CHECKING, Any
-
 from celtstone.explorer.inputs import Inputs as Inputs
 from celtstone.explorer.inputs import command_line as command_line
 from celtstone.explorer.inputs import prepare as prepare
 from celtstone.explorer.inputs import python_snippet as python_snippet
+from celtstone.explorer.launch import EXTRA_HINT as EXTRA_HINT
+from celtstone.explorer.launch import explore as explore
+from celtstone.explorer.launch import require_panel as require_panel
 from celtstone.explorer.runner import Outcome as Outcome
 from celtstone.explorer.runner import Runner as Runner
-
-if TYPE_CHECKING:
-    from celtstone.explorer.app import Explorer
-
-__all__ = [
-    "EXTRA_HINT",
-    "Inputs",
-    "Outcome",
-    "Runner",
-    "command_line",
-    "explore",
-    "prepare",
-    "python_snippet",
-    "require_panel",
-]
-
-EXTRA_HINT = "install the explorer's extra: pip install 'celtstone[explore]'"
-
-
-def require_panel() -> None:
-    """Raise ``ParameterError`` naming the extra to install when Panel is missing."""
-    import importlib.util
-
-    from celtstone.errors import ParameterError
-
-    if importlib.util.find_spec("panel") is None:
-        raise ParameterError("explore", "panel", "Panel installed (it is not)", EXTRA_HINT)
-
-
-def explore(**inputs: Any) -> Explorer:
-    """The live explorer, shown inline when it is a notebook cell's value.
-
-    Parameters
-    ----------
-    **inputs
-        First values of the controls, as :class:`Inputs`' fields (``kind="sliding"``,
-        ``settings={"friction_coefficient": 0.15}``, ``t_end=20.0``, ...).
-
-    Returns
-    -------
-    Explorer
-        Its ``layout`` is the Panel object; ``servable()`` serves it with ``panel serve``.
-
-    Raises
-    ------
-    ParameterError
-        When Panel is not installed (the ``explore`` extra), or for a first input out of
-        range.
-    """
-    require_panel()
-    import panel as pn
-
-    from celtstone.explorer.app import Explorer
-
-    pn.extension()  # a notebook shows Panel objects only once its extension is loaded
-
-    first = Inputs(**inputs)
-    return Explorer(first)

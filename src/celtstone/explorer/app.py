@@ -20,10 +20,16 @@ from typing import Any
 import numpy as np
 import panel as pn
 from bokeh.models import ColumnDataSource, Span  # type: ignore[attr-defined]
-from bokeh.plotting import figure
 
 from celtstone.bodies import Ellipsoid, list_bodies
 from celtstone.errors import CeltstoneError, ParameterError
+from celtstone.explorer.controls import (
+    DESIGN_LABELS,
+    DESIGN_TRAVEL,
+    noted,
+    parameter_label,
+    setting_widget,
+)
 from celtstone.explorer.inputs import (
     DESIGN_FIELDS,
     KINDS,
@@ -34,14 +40,16 @@ from celtstone.explorer.inputs import (
     python_snippet,
 )
 from celtstone.explorer.notes import NOTES
-from celtstone.explorer.runner import Outcome, Runner
+from celtstone.explorer.runner import Outcome, Progress, Runner
 from celtstone.simulation import schema
-from celtstone.simulation.models import SETTINGS, setting_defaults, settings_of
+from celtstone.simulation.models import SETTINGS, settings_of
 
 __all__ = ["POLL_MS", "Explorer", "verdict"]
 
 POLL_MS = 50  # ms between looks for a finished run: well under the targets' 0.5 s
 SLOW_RUN = 1.0  # s; a run still going after this shows its progress bar and why
+PLAYER_FRAMES = 200  # frames the play button steps the time cursor through
+PLAYER_INTERVAL_MS = 100  # ms between them: a run plays in 20 s, whatever its t_end
 
 
 def verdict(outcome: Outcome) -> str:
@@ -57,39 +65,12 @@ def verdict(outcome: Outcome) -> str:
         plural = "s" if count != 1 else ""
         text = f"reverses at {times[0]:.3g} s; {count} reversal{plural} in {t_stop:g} s"
     else:
-        spins = f"{summary['spin_initial']:.3g} -> {summary['spin_final']:.3g} rad/s"
+        last = float(trajectory.samples.values("spin")[-1])  # at the stop (spin_final: t_end)
+        spins = f"{summary['spin_initial']:.3g} -> {last:.3g} rad/s"
         text = f"no reversal in {t_stop:g} s (spin {spins})"
     if not trajectory.ok:
         text += f"; stopped early: {trajectory.message}"
     return text
-
-
-def _label(name: str) -> str:
-    quantity = schema.PARAMETERS[name]
-    unit = f" [{quantity.unit}]" if quantity.unit else ""
-    return f"{quantity.symbol}: {quantity.description}{unit}"
-
-
-def _setting_widget(name: str) -> Any:
-    """A control of model setting ``name``, from its ``models.SETTINGS`` row."""
-    setting = SETTINGS[name]
-    default = next(iter(setting_defaults(name).values()))
-    if setting.choices is not None:
-        return pn.widgets.Select(
-            label=name.replace("_", " "), options=list(setting.choices), value=default
-        )
-    if name == "friction_coefficient":  # the slider of the paper's Figure 2 (f = 0.35, 0.15)
-        return pn.widgets.EditableFloatSlider(
-            label=_label(name),
-            start=0.0,
-            end=1.0,
-            step=0.01,
-            value=default,
-            css_classes=[f"cs-{name}"],
-        )
-    return pn.widgets.FloatInput(
-        label=_label(name), value=default, format="0[.]000000", css_classes=[f"cs-{name}"]
-    )
 
 
 class Explorer:
@@ -126,7 +107,7 @@ class Explorer:
                 self.verdict,
                 pn.Row(self.progress, self.stop_button, self.pin_button, self.unpin_button),
                 self.status,
-                self.time_cursor,
+                pn.Row(self.player, self.time_cursor, sizing_mode="stretch_width"),
                 self.cursor_words,
                 figures,
                 pn.pane.Markdown(NOTES["plots"], styles={"font-size": "0.9em"}),
@@ -155,19 +136,42 @@ class Explorer:
         self.body_file = pn.widgets.FileInput(accept=".toml", multiple=False)
         defaults = {**design_defaults(), **first.design}
         self.design = {
-            name: pn.widgets.FloatInput(label=name, value=defaults[name], format="0[.]00000")
+            name: pn.widgets.EditableFloatSlider(
+                label=DESIGN_LABELS[name],
+                start=DESIGN_TRAVEL[name][0],
+                end=DESIGN_TRAVEL[name][1],
+                step=DESIGN_TRAVEL[name][2],
+                value=defaults[name],
+                format="0[.]0000",
+                css_classes=[f"cs-design-{name}"],
+            )
             for name in DESIGN_FIELDS
         }
         self.body_numbers = pn.pane.Markdown("", styles={"font-size": "0.85em"})
         self.omega = [
-            pn.widgets.FloatInput(label=f"ω{i + 1} [rad/s]", value=first.omega[i], width=110)
+            pn.widgets.FloatInput(
+                label=f"ω{i + 1} [rad/s]",
+                value=first.omega[i],
+                width=110,
+                description=schema.PARAMETERS["omega"].help(),
+            )
             for i in range(3)
         ]
         self.angles = [
-            pn.widgets.FloatInput(label=f"{symbol} [deg]", value=first.euler_angles[i], width=110)
+            pn.widgets.FloatInput(
+                label=f"{symbol} [deg]",
+                value=first.euler_angles[i],
+                width=110,
+                description=schema.PARAMETERS["euler_angles"].help(),
+            )
             for i, symbol in enumerate(("α", "β"))
         ]
-        self.t_end = pn.widgets.FloatInput(label=_label("t_end"), value=first.t_end)
+        self.t_end = pn.widgets.FloatInput(
+            label=parameter_label("t_end"),
+            value=first.t_end,
+            description=schema.PARAMETERS["t_end"].help(),
+            css_classes=["cs-t_end"],
+        )
         self.wrong_way = pn.widgets.Button(label="spin it the wrong way", color="warning")
         self.right_way = pn.widgets.Button(label="spin it the right way", color="success")
         self.wrong_way.on_click(lambda event: self._spin_sense(wrong=True))
@@ -175,9 +179,12 @@ class Explorer:
         self.kind = pn.widgets.RadioButtonGroup(
             label="model", options=list(KINDS), value=first.kind
         )
-        self.settings = {name: _setting_widget(name) for name in SETTINGS}
+        self.settings = {name: setting_widget(name) for name in SETTINGS}
         for name, value in first.settings.items():
             self.settings[name].value = value
+        self._settings_shown = {
+            name: noted(widget, SETTINGS[name].help()) for name, widget in self.settings.items()
+        }
         main = (
             "friction_coefficient",
             "contact_radius",
@@ -210,9 +217,11 @@ class Explorer:
             ),
             pn.Card(
                 self.kind,
-                *(self.settings[name] for name in main),
+                *(self._settings_shown[name] for name in main),
                 pn.Card(
-                    *(self.settings[name] for name in more), title="more settings", collapsed=True
+                    *(self._settings_shown[name] for name in more),
+                    title="more settings",
+                    collapsed=True,
                 ),
                 pn.pane.Markdown(NOTES["contact"]),
                 title="The contact",
@@ -235,7 +244,7 @@ class Explorer:
         """Show only the settings the chosen model has (``models.settings_of``)."""
         own = set(settings_of(self.kind.value))
         for name, widget in self.settings.items():
-            widget.visible = name in own
+            widget.visible = self._settings_shown[name].visible = name in own
         source = self.body_source.value
         self.body.visible = source == "shipped"
         self.body_file.visible = source == "file"
@@ -308,22 +317,12 @@ class Explorer:
     def poll(self) -> None:
         """Draw a finished run, or show the progress of a slow one (session thread)."""
         running = self.runner.running()
-        if running is not None:
-            generation, reached, t_end = running
-            elapsed = self.runner.elapsed()
-            if elapsed > SLOW_RUN:
-                self.progress.visible = True
-                self.stop_button.visible = True
-                self.progress.value = int(100 * min(1.0, reached / t_end))
-                why = (
-                    " (the first run of this model compiles it: up to a minute)"
-                    if reached == 0
-                    else ""
-                )
-                self.status.object = (
-                    f"running (inputs #{generation}): {reached:.3g} of {t_end:g} s{why}"
-                )
-        else:
+        if running is not None and running.seconds > SLOW_RUN:
+            self.progress.visible = True
+            self.stop_button.visible = True
+            self.progress.value = int(100 * min(1.0, running.time_reached / running.t_end))
+            self.status.object = _progress_words(running)
+        elif running is None:
             self.progress.visible = False
             self.stop_button.visible = False
         outcome = self.runner.take()
@@ -338,105 +337,23 @@ class Explorer:
 
     # -- plots ------------------------------------------------------------------------
     def _build_plots(self) -> None:
+        """The plots' data and the time cursor; the figures that show them are made by
+        :meth:`_figures` (in a served page once it is shown: Bokeh's plotting interface
+        takes a while to import)."""
         empty: dict[str, list[float]] = {"time": [], "value": []}
         self.sources = {
             key: ColumnDataSource(data=dict(empty))
             for key in ("spin", "pinned_spin", "energy", "work", "total", "tilt", "pinned_tilt")
         }
         self.reversal_source = ColumnDataSource(data={"time": [], "low": [], "high": []})
-        self.cursor_spans = []
-        options: dict[str, Any] = {
-            "height": 230,
-            "sizing_mode": "stretch_width",
-            "x_axis_label": "time [s]",
-            "tools": "pan,wheel_zoom,box_zoom,reset,save",
-        }
-        spin = figure(y_axis_label="spin ω·n [rad/s]", **options)
-        spin.line(
-            "time",
-            "value",
-            source=self.sources["spin"],
-            line_width=2,
-            legend_label="this run",
-            name="spin",
-        )
-        spin.line(
-            "time",
-            "value",
-            source=self.sources["pinned_spin"],
-            line_width=2,
-            color="gray",
-            line_dash="dashed",
-            legend_label="pinned run",
-            name="pinned_spin",
-        )
-        spin.segment(
-            "time",
-            "low",
-            "time",
-            "high",
-            source=self.reversal_source,
-            color="crimson",
-            line_dash="dotted",
-            line_width=2,
-            legend_label="reversal",
-        )
-        energy = figure(y_axis_label="energy [J]", **options)
-        energy.line(
-            "time", "value", source=self.sources["energy"], line_width=2, legend_label="energy E"
-        )
-        energy.line(
-            "time",
-            "value",
-            source=self.sources["work"],
-            line_width=2,
-            color="orange",
-            legend_label="friction work W",
-        )
-        energy.line(
-            "time",
-            "value",
-            source=self.sources["total"],
-            color="green",
-            line_dash="dashed",
-            legend_label="E + W",
-        )
-        tilt = figure(y_axis_label="tilt of axis 3 [deg]", **options)
-        tilt.line(
-            "time", "value", source=self.sources["tilt"], line_width=2, legend_label="this run"
-        )
-        tilt.line(
-            "time",
-            "value",
-            source=self.sources["pinned_tilt"],
-            color="gray",
-            line_dash="dashed",
-            legend_label="pinned run",
-        )
-        for plot in (spin, energy, tilt):
-            plot.legend.location = "top_right"
-            plot.legend.click_policy = "hide"
-            span = Span(location=0.0, dimension="height", line_color="black", line_alpha=0.5)
-            plot.add_layout(span)
-            self.cursor_spans.append(span)
-        stone = figure(
-            height=300,
-            sizing_mode="stretch_width",
-            match_aspect=True,
-            tools="pan,wheel_zoom,reset",
-            title="the stone at the time cursor (its contact track on the plane)",
-        )
-        stone.axis.visible = False
-        stone.grid.visible = False
         self.stone_source = ColumnDataSource(data={"xs": [], "ys": [], "color": []})
         self.track_source = ColumnDataSource(data={"x": [], "y": []})
-        stone.line("x", "y", source=self.track_source, color="gray", line_width=1)
-        stone.patches("xs", "ys", source=self.stone_source, fill_color="color", line_color="color")
-        self.stone_figure = pn.pane.Bokeh(stone, sizing_mode="stretch_width")
+        self.cursor_spans = [
+            Span(location=0.0, dimension="height", line_color="black", line_alpha=0.5)
+            for _ in range(3)
+        ]
         self._stone_scene: Any = None
-        self.spin_figure = pn.pane.Bokeh(spin, sizing_mode="stretch_width")
-        self.energy_figure = pn.pane.Bokeh(energy, sizing_mode="stretch_width")
-        self.tilt_figure = pn.pane.Bokeh(tilt, sizing_mode="stretch_width")
+        self._figure_column: Any = None
         self.time_cursor = pn.widgets.FloatSlider(
             label="time cursor [s]",
             start=0.0,
@@ -446,15 +363,41 @@ class Explorer:
             sizing_mode="stretch_width",
         )
         self.time_cursor.param.watch(self._move_cursor, "value")
+        # plays the run: steps the time cursor through PLAYER_FRAMES equal steps of it
+        self.player = pn.widgets.Player(
+            label="play the run",
+            start=0,
+            end=PLAYER_FRAMES,
+            value=0,
+            interval=PLAYER_INTERVAL_MS,
+            loop_policy="once",
+            show_loop_controls=False,
+            show_value=False,
+            visible_buttons=["first", "pause", "play"],
+            width=220,
+            css_classes=["cs-player"],
+        )
+        self.player.param.watch(self._play, "value")
 
     def _figures(self) -> Any:
-        return pn.Column(
-            self.stone_figure,
-            self.spin_figure,
-            self.energy_figure,
-            self.tilt_figure,
-            sizing_mode="stretch_width",
-        )
+        """The stone and the three plots, made on the first call."""
+        if self._figure_column is None:
+            from celtstone.explorer.figures import run_figures
+
+            shown = run_figures(
+                self.sources, self.reversal_source, self.stone_source, self.track_source
+            )
+            for plot, span in zip(shown[1:], self.cursor_spans, strict=True):
+                plot.add_layout(span)
+            self._figure_column = pn.Column(
+                *(pn.pane.Bokeh(plot, sizing_mode="stretch_width") for plot in shown),
+                sizing_mode="stretch_width",
+            )
+        return self._figure_column
+
+    def _play(self, event: Any = None) -> None:
+        """The player's frame as the time cursor's time (the stone moves with it)."""
+        self.time_cursor.value = self.time_cursor.end * self.player.value / PLAYER_FRAMES
 
     def _move_cursor(self, event: Any = None) -> None:
         for span in self.cursor_spans:
@@ -480,8 +423,8 @@ class Explorer:
         """Draw ``outcome`` (the newest inputs' run) and its verdict."""
         self.outcome = outcome
         self.status.object = f"run of inputs #{outcome.generation} done in {outcome.seconds:.2f} s"
-        if outcome.concerns:
-            self.status.object += "; " + "; ".join(outcome.concerns)
+        if outcome.concerns or outcome.cautions:
+            self.status.object += "; " + "; ".join((*outcome.concerns, *outcome.cautions))
         self.verdict.object = f"**{verdict(outcome)}**"
         if outcome.trajectory is None:
             return
@@ -625,6 +568,19 @@ class Explorer:
         """Shown inline in a notebook (Jupyter calls this)."""
         self._ensure_polling(anywhere=True)
         return self.layout._repr_mimebundle_(include, exclude)
+
+
+def _progress_words(running: Progress) -> str:
+    """The status line of a slow run: t / t_end, or why its loop has not started."""
+    if not running.looping:
+        return (
+            f"inputs #{running.generation}: preparing the model's compiled code "
+            f"({running.seconds:.0f} s): a model not yet in numba's cache is compiled on "
+            "its first run, up to a minute (`celtstone compile` does it once for all)"
+        )
+    return (
+        f"running (inputs #{running.generation}): {running.time_reached:.3g} of {running.t_end:g} s"
+    )
 
 
 def _served() -> bool:

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.bodies import Body, Design, load_body, load_design
-from celtstone.errors import ParameterError, require_choice
+from celtstone.errors import BodyFileError, ParameterError, require_choice
 from celtstone.simulation import schema
 from celtstone.simulation.models import (
     SETTINGS,
@@ -163,10 +163,13 @@ def _body_from_file(content: bytes, file_name: str) -> Body:
         path.write_bytes(content)
         try:
             return load_body(path)
-        except ParameterError as error:  # name the user's file, not the temporary copy
-            raise ParameterError(
-                "body", file_name, str(error).replace(str(path), file_name).split(": ", 1)[-1]
-            ) from None
+        except ParameterError as error:
+            # the command line's message for this file, naming the user's file instead
+            # of the temporary copy
+            error.args = (str(error).replace(str(path), file_name),)
+            if isinstance(error, BodyFileError):
+                error.file = file_name
+            raise error from None
 
 
 def _body(inputs: Inputs) -> Body:

@@ -2,20 +2,22 @@
 
 Each :meth:`Runner.submit` validates its inputs first (a refused input starts nothing and
 leaves the run in flight, of the last good inputs, alone), numbers them with a new
-*generation*, stops the run in flight and starts the new one on a daemon thread.
-:func:`celtstone.simulate` calls its ``progress`` callback about ten times a second; the
-callback raises :class:`Cancelled` once the run is stopped, which ends ``simulate`` at
-once. A finished run is kept only if its generation is still the newest, so the page
-never draws a figure of inputs it no longer shows.
+*generation*, asks the run in flight to stop and starts the new one on a daemon thread.
+A finished run is kept only if its generation is still the newest, so the page never
+draws a figure of inputs it no longer shows.
 
-A stopped run's computation is not interrupted, because a run is not made of chunks:
-``simulate`` hands the whole of [0, t_end] to one call of the compiled loop
-(``solvers.driver.integrate``, or ``solvers.phases.run_phases`` for stick-slip), which
-``solvers._run`` starts on a thread of its own, and calls ``progress`` from the thread
-that waits for it. Raising there ends the wait, not the loop: the loop reads no stop
-request (it ends at t_end, at ``max_steps``, at a terminal event or on a failure), so it
-finishes in the background and its result is dropped. Stopping it within a run needs a
-stop flag that the compiled loop reads at each step, a change to the compiled solvers.
+A run is stopped inside its compiled loop. :func:`celtstone.simulate` hands the whole of
+[0, t_end] to one call of the compiled loop (``solvers.driver.integrate``, or
+``solvers.phases.run_phases`` for stick-slip) on a thread of its own, and calls its
+``progress`` callback about ten times a second from the thread that waits for it. Once
+a run is stopped or superseded the callback raises :class:`Cancelled`; ``simulate`` then
+asks the loop to stop, the loop returns before its next step, and ``simulate`` waits for
+its thread and raises :class:`Cancelled` again, which ends the run's worker thread with
+nothing kept. A superseded run therefore costs at most one progress interval of
+computing, except while its model is still being compiled (a model not yet in numba's
+cache, on its first run): compiling cannot be interrupted, so the run ends when the
+compiled loop starts, and :meth:`Runner.running` tells that phase apart (no progress
+reported yet) for the page to say why it waits.
 """
 
 from __future__ import annotations
@@ -24,15 +26,17 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from celtstone.errors import CeltstoneError
 from celtstone.explorer.inputs import Inputs, Prepared, prepare
 from celtstone.simulation import plausibility
-from celtstone.simulation.integrate import simulate
 from celtstone.simulation.models import contact_settings
-from celtstone.simulation.trajectory import Trajectory
 
-__all__ = ["Cancelled", "Outcome", "Runner"]
+if TYPE_CHECKING:  # the run's modules are imported by the first run, not by the page
+    from celtstone.simulation.trajectory import Trajectory
+
+__all__ = ["Cancelled", "Outcome", "Progress", "Runner"]
 
 
 class Cancelled(Exception):
@@ -54,8 +58,10 @@ class Outcome:
     error : str
         The one-line message of the error it raised ("" when none).
     concerns : tuple of str
-        What ``celtstone.simulation.plausibility`` finds implausible in the inputs (the warnings
-        ``simulate`` gives before a run).
+        What ``celtstone.simulation.plausibility`` finds implausible in the inputs (the
+        warnings ``simulate`` gives before a run).
+    cautions : tuple of str
+        What ``simulate`` warns of after the run (its friction beyond Coulomb's bound).
     seconds : float
         Wall time from submission to the result [s].
     """
@@ -65,7 +71,35 @@ class Outcome:
     trajectory: Trajectory | None
     error: str = ""
     concerns: tuple[str, ...] = ()
+    cautions: tuple[str, ...] = ()
     seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Progress:
+    """How far the run in flight has come.
+
+    Parameters
+    ----------
+    generation : int
+        The number :meth:`Runner.submit` gave its inputs.
+    time_reached : float
+        Simulated time of the last sample the compiled loop wrote [s].
+    t_end : float
+        The time the run goes to [s].
+    looping : bool
+        Whether the compiled loop has started (it has reported progress). Before that,
+        the run is loading its model's compiled code, or compiling it on the first run
+        of a model not yet in numba's cache.
+    seconds : float
+        Wall time since the inputs were submitted [s].
+    """
+
+    generation: int
+    time_reached: float
+    t_end: float
+    looping: bool
+    seconds: float
 
 
 @dataclass
@@ -76,6 +110,7 @@ class _Job:
     started: float
     stop: threading.Event = field(default_factory=threading.Event)
     time_reached: float = 0.0
+    looping: bool = False
 
 
 class Runner:
@@ -137,17 +172,18 @@ class Runner:
         job.stop.set()
         return True
 
-    def running(self) -> tuple[int, float, float] | None:
-        """(generation, simulated time reached [s], its t_end [s]) of the run in flight."""
+    def running(self) -> Progress | None:
+        """How far the run in flight has come; None when none is."""
         job = self._job
         if job is None:
             return None
-        return job.generation, job.time_reached, job.prepared.t_end
-
-    def elapsed(self) -> float:
-        """Wall time since the run in flight was submitted [s]; 0 when none."""
-        job = self._job
-        return 0.0 if job is None else time.perf_counter() - job.started
+        return Progress(
+            generation=job.generation,
+            time_reached=job.time_reached,
+            t_end=job.prepared.t_end,
+            looping=job.looping,
+            seconds=time.perf_counter() - job.started,
+        )
 
     def take(self) -> Outcome | None:
         """The newest finished outcome not taken yet, or None."""
@@ -172,9 +208,12 @@ class Runner:
     def _work(self, job: _Job) -> None:
         def progress(time_reached: float) -> None:
             job.time_reached = time_reached
+            job.looping = True
             if job.stop.is_set():
                 raise Cancelled
 
+        if job.stop.is_set():  # superseded before it started (a slider dragged on)
+            return
         trajectory: Trajectory | None = None
         error = ""
         try:  # warnings go where the process sends them: catch_warnings is not thread-safe
@@ -191,6 +230,7 @@ class Runner:
             trajectory=trajectory,
             error=error,
             concerns=tuple(str(c) for c in concerns(job.prepared)),
+            cautions=cautions(trajectory),
             seconds=time.perf_counter() - job.started,
         )
         with self._lock:
@@ -206,7 +246,20 @@ def concerns(prepared: Prepared) -> list[plausibility.Concern]:
     return plausibility.concerns(prepared.body, contact_settings(prepared.model))
 
 
+def cautions(trajectory: Trajectory | None) -> tuple[str, ...]:
+    """What ``simulate`` warned of after running ``trajectory`` (none for no run)."""
+    from celtstone.simulation.integrate import friction_bound_warning
+
+    if trajectory is None:
+        return ()
+    warning = friction_bound_warning(trajectory)
+    return () if warning is None else (str(warning),)
+
+
 def _simulate(prepared: Prepared, progress: Callable[[float], None]) -> Trajectory:
+    # imported by the first run, once a served page is shown: not on the way to it
+    from celtstone.simulation.integrate import simulate
+
     return simulate(
         prepared.model,
         prepared.body,

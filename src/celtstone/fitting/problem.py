@@ -43,6 +43,7 @@ from celtstone.sweep.spec import (
 __all__ = [
     "DEFAULT_BOUNDS",
     "FAILED_RESIDUAL",
+    "SLIP_NAMES",
     "FreeParameter",
     "Problem",
     "current_values",
@@ -62,13 +63,21 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "damping": (0.0, 1e-3),  # N m s
     "euler_alpha": (-10.0, 10.0),  # deg
     "euler_beta": (-10.0, 10.0),  # deg
+    # m/s; a stone's contact slides at centimetres per second
+    "slip_velocity1": (-1.0, 1.0),
+    "slip_velocity2": (-1.0, 1.0),
 }
+# the initial sliding velocity of the contact (body axes 1, 2): free by default where the
+# run starts mid-motion (the first sample's state read from the record or fitted), zero at
+# a release or a state the user gives
+SLIP_NAMES = ("slip_velocity1", "slip_velocity2")
 # the initial rates [rad/s] are free within this distance of their start by default
 DEFAULT_RATE_SPAN = 10.0
 _RATES = ("omega1", "omega2", "omega3", "initial_spin")
 # the schema entry that checks a bound of each free name (model settings: their own name)
 _SCHEMA_NAMES = {**dict.fromkeys(_RATES, "omega"), "euler_alpha": "euler_angles"}
 _SCHEMA_NAMES["euler_beta"] = "euler_angles"
+_SCHEMA_NAMES.update(dict.fromkeys(SLIP_NAMES, "slip_velocity"))
 # the MAD of a normal sample is 0.6745 σ
 _MAD_TO_SIGMA = 1.0 / 0.6744897501960817
 NOISE_ORDER = 6  # order of the divided differences that estimate the noise
@@ -188,6 +197,12 @@ def noise_scale(times: np.ndarray, values: np.ndarray) -> float:
     )
     sigma = float(np.median(normalised)) * _MAD_TO_SIGMA
     return sigma if sigma > 0.0 else 1e-6 * float(np.ptp(values)) or 1e-6
+
+
+def _starts_mid_motion(read: Mapping[str, float], free: Sequence[str]) -> bool:
+    """Whether the run starts at a state of the motion rather than at a release: its rates
+    read from the record's first sample or fitted (then the contact may already slide)."""
+    return bool(read) or any(name in free for name in _RATES)
 
 
 def _initial_values(record: Record, given: Mapping[str, float]) -> dict[str, float]:
@@ -356,6 +371,7 @@ def make_problem(
     fixed: Mapping[str, float | str] | None = None,
     sigma: Mapping[str, float] | None = None,
     sensor_bias: bool = True,
+    initial_slip: bool = True,
     rtol: float,
     atol: float,
     method: str | None = None,
@@ -376,6 +392,14 @@ def make_problem(
         _check_free_name(name, "set")
         if name in names:
             raise ParameterError("set", name, "a parameter that is not free", "it is in --free")
+    if model_name == "rolling":
+        for name in [n for n in SLIP_NAMES if n in names or numbers.get(n, 0.0) != 0.0]:
+            raise ParameterError(
+                "free" if name in names else "set",
+                name,
+                "a number of the rolling model: its contact cannot slip",
+                "fit the model 'sliding' to a record that starts sliding",
+            )
     for name in [*names, *numbers]:
         series = biased_series(name)
         if series is not None and series not in record.series:
@@ -394,16 +418,18 @@ def make_problem(
             for s in record.series
             if SERIES[s].is_gyroscope_rate and bias_name(s) not in {*names, *numbers}
         ]
+    released = RELEASE_OFFSET in names or RELEASE_OFFSET in numbers
+    # the record's first samples set the initial state unless given or released earlier;
+    # they start a free one
+    read = {} if released else _initial_values(record, numbers)
+    if initial_slip and model_name != "rolling" and _starts_mid_motion(read, names):
+        names += [n for n in SLIP_NAMES if n not in {*names, *numbers}]
     if not names:
         raise ParameterError("free", "", "at least one parameter name")
     for option, given in (("bounds", bounds), ("start", start)):
         for name in given:
             if name not in names:
                 raise ParameterError(option, name, "a free parameter: " + ", ".join(names))
-    released = RELEASE_OFFSET in names or RELEASE_OFFSET in numbers
-    # the record's first samples set the initial state unless given or released earlier;
-    # they start a free one
-    read = {} if released else _initial_values(record, numbers)
     configured = {**read, **numbers}
     base = Problem(record, body, model_name, choices, configured, (), {}, rtol, atol, method)
     model, configured_body, state = base.configuration(np.array([]))  # the fixed part, checked
@@ -493,6 +519,7 @@ def current_values(model: Model, body: Body, state: InitialState) -> dict[str, f
     values.update(zip(("omega1", "omega2", "omega3"), state.omega, strict=True))
     values.update(euler_alpha=state.euler_angles[0], euler_beta=state.euler_angles[1])
     values["initial_spin"] = float(np.dot(state.omega, state.vertical))
+    values.update(zip(SLIP_NAMES, state.slip_velocity, strict=True))
     values.update(mass=body.mass, gravity=body.gravity)
     return values
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from celtstone.fitting.nuisance import RELEASE_OFFSET, bias_name
-from celtstone.fitting.problem import Problem
+from celtstone.fitting.problem import SLIP_NAMES, Problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.series import SERIES
 
@@ -42,9 +42,16 @@ REFINE_PER_PARAMETER = 15
 SCAN_STEP = 1e-3
 
 
+def _kept_at_start(problem: Problem) -> list[int]:
+    """Columns every drawn start takes from the problem's start: the initial slip (it
+    decays within milliseconds; a drawn one of metres per second is no start)."""
+    return [j for j, name in enumerate(problem.names) if name in SLIP_NAMES]
+
+
 def draw_starts(problem: Problem, count: int, seed: int | None) -> list[np.ndarray]:
     """The problem's start and ``count − 1`` more from a seeded Latin hypercube in the
-    bounds, log-uniform for a parameter whose positive bounds span a decade or more."""
+    bounds, log-uniform for a parameter whose positive bounds span a decade or more; the
+    initial slip at the problem's start (``_kept_at_start``)."""
     starts = [problem.start]
     if count <= 1:
         return starts
@@ -60,6 +67,8 @@ def draw_starts(problem: Problem, count: int, seed: int | None) -> list[np.ndarr
                 start[j] = p.lower * (p.upper / p.lower) ** row[j]
             else:
                 start[j] = p.lower + (p.upper - p.lower) * row[j]
+        kept = _kept_at_start(problem)
+        start[kept] = problem.start[kept]
         starts.append(start)
     return starts
 
@@ -207,7 +216,8 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
     problem = runs.problem
     linear = problem.bias_columns
     slid = RELEASE_OFFSET in problem.names
-    drawn = [j for j in range(len(problem.free)) if j not in linear]
+    kept_at_start = _kept_at_start(problem)
+    drawn = [j for j in range(len(problem.free)) if j not in linear and j not in kept_at_start]
     others = [j for j in drawn if problem.names[j] != RELEASE_OFFSET]
     if not drawn:
         return [problem.start]

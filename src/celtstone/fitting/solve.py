@@ -45,7 +45,7 @@ from celtstone.fitting.intervals import (
     quadratic_misfits,
 )
 from celtstone.fitting.nuisance import is_nuisance
-from celtstone.fitting.problem import Problem, make_problem
+from celtstone.fitting.problem import SLIP_NAMES, Problem, make_problem
 from celtstone.fitting.profile import profile_likelihood
 from celtstone.fitting.record import Record
 from celtstone.fitting.result import FitResult, StartOutcome
@@ -185,6 +185,7 @@ def fit(
     fixed: Mapping[str, float | str] | None = None,
     sigma: Mapping[str, float] | None = None,
     sensor_bias: bool = True,
+    initial_slip: bool = True,
     starts: int | None = None,
     seed: int | None = 0,
     profile: str | None = None,
@@ -208,9 +209,10 @@ def fit(
         Names to fit: model settings (``friction_coefficient`` f [1], ``contact_radius``
         ε [m], ``rolling_resistance`` λ [m], ``damping`` σ [N m s], ...), the initial
         state (``omega1..3`` [rad/s], ``initial_spin`` [rad/s], ``euler_alpha``,
-        ``euler_beta`` [deg]), body numbers (``celtstone sweep`` names) or the
-        record's own numbers (``fitting.nuisance``: ``release_offset`` [s], the time from
-        the release state to the first sample; ``bias_<series>`` [rad/s]).
+        ``euler_beta`` [deg], ``slip_velocity1..2`` [m/s]), body numbers (``celtstone
+        sweep`` names) or the record's own numbers (``fitting.nuisance``:
+        ``release_offset`` [s], the time from the release state to the first sample;
+        ``bias_<series>`` [rad/s]).
     bounds : mapping of str to (float, float), optional
         Name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS`` and
         ``fitting.nuisance.NUISANCES``.
@@ -227,6 +229,11 @@ def fit(
     sensor_bias : bool
         Free a constant bias on every gyroscope rate series (spin, omega1..3) not held
         by ``fixed``.
+    initial_slip : bool
+        Free the contact's initial sliding velocity (``slip_velocity1``, ``slip_velocity2``
+        [m/s], body axes 1 and 2) where the run starts mid-motion: at the record's first
+        sample with the initial rates read from it or free (not at a release, nor a state
+        given in ``fixed``); a sliding model only. Held at 0 otherwise.
     starts : int or None
         Local fits from this many starts, the first being ``start``, the others drawn
         (1 to 1000); None: the global search, a screening of the bounds (``start``
@@ -266,6 +273,7 @@ def fit(
         fixed=fixed,
         sigma=sigma,
         sensor_bias=sensor_bias,
+        initial_slip=initial_slip,
         rtol=rtol,
         atol=atol,
         method=method,
@@ -346,7 +354,13 @@ def _checked(
     moves the optimum there (fitted again, at most ``MAX_REFITS`` times)."""
     problem = runs.problem
     columns = list(range(len(problem.free)))
-    physical = [j for j, name in enumerate(problem.names) if not is_nuisance(name)]
+    # the initial slip decays within milliseconds: like the sensor's numbers, its interval
+    # is the curvature's (profiles of two more numbers would double a fit's runs)
+    physical = [
+        j
+        for j, name in enumerate(problem.names)
+        if not is_nuisance(name) and name not in SLIP_NAMES
+    ]
     spread, white = _spread(problem, optimum.jacobian, optimum.residuals, optimum.cost)
     intervals: list[ProfiledInterval] = []
 

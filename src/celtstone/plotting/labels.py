@@ -5,7 +5,8 @@ from __future__ import annotations
 import textwrap
 from typing import TYPE_CHECKING
 
-from celtstone.simulation.schema import VARIABLES, current_attributes
+from celtstone.simulation.outcome import variable
+from celtstone.simulation.schema import current_attributes
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -15,8 +16,9 @@ __all__ = ["axis_label", "run_label", "run_title", "title_characters", "wrapped_
 
 
 def axis_label(name: str) -> str:
-    """``"spin ω·n [rad/s]"`` for a variable name (``schema.VARIABLES``)."""
-    return VARIABLES[name].axis_label()
+    """``"spin ω·n [rad/s]"`` for a time series (``schema.VARIABLES``) or an outcome
+    (``outcome.OUTCOMES``)."""
+    return variable(name).axis_label()
 
 
 def run_label(dataset: xr.Dataset) -> str:

@@ -19,6 +19,7 @@ import numpy as np
 
 from celtstone.plotting.labels import wrapped_title
 from celtstone.plotting.legible import make_legible
+from celtstone.simulation.outcome import variable as declaration
 from celtstone.simulation.schema import VARIABLES
 
 if TYPE_CHECKING:
@@ -73,7 +74,7 @@ def _at(dataset: xr.Dataset, names: list[str]) -> str:
 
 
 def _title(dataset: xr.Dataset, name: str, at: str) -> str:
-    label = VARIABLES[name].label or VARIABLES[name].long_name
+    label = declaration(name).label or declaration(name).long_name
     attrs = dataset.attrs
     context = [f"{attrs['model']} model" if "model" in attrs else ""]
     context.append(str(attrs.get("body", "")))
@@ -111,7 +112,7 @@ def _missing_kinds(
         return {}
     stopped = np.zeros_like(missing) if status is None else (status != "success")
     kinds = {_STOPPED: missing & stopped}
-    kinds[VARIABLES[name].missing or "no value"] = missing & ~stopped
+    kinds[declaration(name).missing or "no value"] = missing & ~stopped
     return {label: cells for label, cells in kinds.items() if cells.any()}
 
 
@@ -130,7 +131,7 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
     dataset : xarray.Dataset
         A sweep's results (``Sweep.run``, ``open_sweep``).
     name : str
-        A result field (``schema.VARIABLES``).
+        A result field (``outcome.OUTCOMES``).
 
     Returns
     -------
@@ -141,7 +142,7 @@ def plot_field_map(dataset: xr.Dataset, name: str) -> Figure:
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    declared = VARIABLES[name]
+    declared = declaration(name)
     variable = dataset[name]
     at = ""
     ticks: list[str] | None = None

@@ -19,7 +19,10 @@ celtstone version, targets), which the report shows.
 # figure or table is made), so the names are imported eagerly: a lazy ``figure2`` would be
 # replaced by the submodule of that name as soon as the submodule is imported
 from celtstone.reproduce.atlas_report import PARAMETER_WORDS as PARAMETER_WORDS
+from celtstone.reproduce.cases import case_name as case_name
+from celtstone.reproduce.cases import summarise as summarise
 from celtstone.reproduce.figure2 import figure2 as figure2
+from celtstone.reproduce.figure2 import figure2_models as figure2_models
 from celtstone.reproduce.figure3 import figure3 as figure3
 from celtstone.reproduce.findings import FINDINGS as FINDINGS
 from celtstone.reproduce.findings import JUDGES as JUDGES
@@ -35,7 +38,9 @@ from celtstone.reproduce.study import reduced as reduced
 from celtstone.reproduce.study import study_for as study_for
 from celtstone.reproduce.targets import reproduce as reproduce
 from celtstone.reproduce.targets import run_identity as run_identity
+from celtstone.reproduce.threshold import boundary as boundary
 from celtstone.reproduce.threshold import threshold as threshold
+from celtstone.reproduce.threshold import threshold_numbers as threshold_numbers
 
 __all__ = [
     "FINDINGS",
@@ -46,7 +51,10 @@ __all__ = [
     "TARGETS",
     "Progress",
     "Study",
+    "boundary",
+    "case_name",
     "figure2",
+    "figure2_models",
     "figure3",
     "realistic_study_for",
     "reduced",
@@ -54,6 +62,8 @@ __all__ = [
     "reproduce",
     "run_identity",
     "study_for",
+    "summarise",
     "threshold",
+    "threshold_numbers",
     "write_report",
 ]

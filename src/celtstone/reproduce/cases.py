@@ -2,24 +2,22 @@
 
 from __future__ import annotations
 
-import math
+import functools
 import warnings
-from collections.abc import Iterator
+from collections.abc import Hashable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from celtstone.bodies import Body
 from celtstone.errors import FrictionBoundWarning
 from celtstone.files.export import write, write_json, write_table
-from celtstone.reproduce.parallel import map_in_threads
+from celtstone.reproduce.parallel import map_in_threads, shared_run
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.simulation.integrate import simulate, version
 from celtstone.simulation.models import Model
-from celtstone.simulation.reversals import dataset_reversal_times
+from celtstone.simulation.outcome import json_number
 from celtstone.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -27,18 +25,15 @@ if TYPE_CHECKING:
 
 
 __all__ = [
-    "ENERGY_MONOTONE_TOLERANCE",
+    "case_key",
     "case_name",
+    "compute_case",
     "provenance",
     "run_cases",
     "save_results",
     "study_identity",
     "summarise",
 ]
-
-ENERGY_MONOTONE_TOLERANCE = 1e-9
-"""Largest rise of the sampled energy between samples, relative to E(0), still
-counted as monotone decrease (the integrator's tolerance, not physics)."""
 
 
 def case_name(model: Model) -> str:
@@ -128,8 +123,23 @@ def run_cases(
     return datasets, cases
 
 
+def case_key(study: Study, model: Model, t_end: float) -> Hashable:
+    """What decides a run of :func:`simulate_case`: two with the same key are the same
+    run (the body, by its name or file, is one per name in a reproduction)."""
+    return (study.body, study.initial_state, model, t_end, study.rtol, study.atol)
+
+
 def simulate_case(study: Study, body: Body, model: Model, t_end: float) -> Trajectory:
-    """One run of :func:`run_cases`, without its warning filters (safe on several threads)."""
+    """One run of :func:`run_cases`, without its warning filters (safe on several threads):
+    the one computed ahead if the reproduction planned it (``parallel.sharing_runs``)."""
+    return shared_run(
+        case_key(study, model, t_end),
+        functools.partial(compute_case, study, body, model, t_end),
+    )
+
+
+def compute_case(study: Study, body: Body, model: Model, t_end: float) -> Trajectory:
+    """Compute one run of :func:`simulate_case`, never shared (what a planned run does)."""
     return simulate(
         model,
         body,
@@ -146,47 +156,36 @@ def _keep_signals_live(time: float) -> None:
     main thread free to take signals while the compiled loop runs."""
 
 
-def _float_or_none(value: float) -> float | None:
-    return float(value) if math.isfinite(value) else None
-
-
 def summarise(trajectory: Trajectory, body: Body, band: float) -> dict[str, Any]:
-    """JSON-safe numbers of a run used by figures and the report (SI units)."""
-    dataset: xr.Dataset = trajectory.dataset
-    spin = dataset["spin"].values
-    energy = dataset["energy"].values
-    work = dataset["dissipated_work"].values
-    reversals = dataset_reversal_times(dataset, band)
-    attrs = dataset.attrs
-    sense = -np.sign(spin[0])
-    energy_rest = body.mass * body.gravity * body.shape.rest_height
-    rises = np.diff(energy)
+    """JSON-safe numbers of a run used by figures and the report: the run's outcome record
+    (``simulation.outcome``) with the study's hysteresis ``band`` [rad/s], the outcomes
+    read from its samples, and the settings the report names (SI units; NaN as None)."""
+    attrs = trajectory.samples.attrs
+    is_sliding = attrs["model"] == "sliding"
+    outcome = trajectory.outcome(band)
+    summary = trajectory.summary()
     return {
         "model": attrs["model"],
-        "friction_coefficient": attrs.get("friction_coefficient")
-        if attrs["model"] == "sliding"
-        else None,
-        "friction_load": attrs.get("friction_load") if attrs["model"] == "sliding" else None,
-        "status": trajectory.status,
-        "t_stop": float(trajectory.t_stop),
-        "reversal_times": [float(t) for t in reversals],
-        "first_reversal_time": float(reversals[0]) if reversals.size else None,
-        "raw_sign_changes": int(trajectory.spin_crossings.size),
-        "first_raw_sign_change": trajectory.first_sign_change_time,
-        "max_friction_bound_ratio": trajectory.max_friction_bound_ratio,
-        "peak_reversed_spin": float(np.max(sense * spin)),
-        "spin_initial": float(spin[0]),
-        "spin_final": float(spin[-1]),
-        "energy_initial": float(energy[0]),
-        "energy_final": float(energy[-1]),
-        "energy_rest": float(energy_rest),
-        "dissipated_work": float(work[-1]),
-        "max_budget_error": float(np.max(np.abs(energy[0] - energy - work))),
-        "max_energy_rise": float(max(float(np.max(rises, initial=0.0)), 0.0)),
-        "energy_monotone": bool(np.all(rises <= ENERGY_MONOTONE_TOLERANCE * abs(energy[0]))),
-        "min_normal_force": _float_or_none(trajectory.min_normal_force),
-        "max_slip_speed": float(np.max(dataset["slip_speed"].values)),
+        "friction_coefficient": attrs.get("friction_coefficient") if is_sliding else None,
+        "friction_load": attrs.get("friction_load") if is_sliding else None,
+        **{
+            name: json_number(value) if isinstance(value, float) else value
+            for name, value in outcome.items()
+            if name != "message"
+        },
+        "reversal_times": [float(t) for t in trajectory.reversal_times(band)],
+        **{name: summary[name] for name in _FROM_SAMPLES},
+        "energy_rest": float(body.mass * body.gravity * body.shape.rest_height),
     }
+
+
+# the outcomes of a case read from the run's whole samples (``Trajectory.summary``)
+_FROM_SAMPLES = (
+    "first_spin_crossing_time",
+    "max_friction_bound_ratio",
+    "max_slip_speed",
+    "energy_monotone",
+)
 
 
 def save_results(

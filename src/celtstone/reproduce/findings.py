@@ -67,6 +67,13 @@ def _static_cases(fig2: dict[str, Any], load: str = "static") -> list[dict[str, 
     return sorted(cases, key=lambda c: -c["friction_coefficient"])
 
 
+def _at_end(case: dict[str, Any], name: str) -> float:
+    """A case's value at t_end (``energy_final``, ``spin_final``): NaN where the run
+    stopped early (None in its numbers), which no ordering judges as falling."""
+    value = case[name]
+    return float("nan") if value is None else float(value)
+
+
 def _time(value: float | None) -> str:
     return "none" if value is None else f"{value:.3g} s"
 
@@ -97,7 +104,7 @@ def judge_energy_order(fig2: dict[str, Any], load: str = "static") -> Verdict:
     than ``ORDER_RESOLUTION`` of E(0) and of |spin(0)| from one f to the next);
     partly: one of them does; no: neither."""
     cases = _static_cases(fig2, load)
-    energies = [c["energy_final"] - c["energy_rest"] for c in cases]
+    energies = [_at_end(c, "energy_final") - c["energy_rest"] for c in cases]
     spins = [c["peak_reversed_spin"] for c in cases]
     ours = "; ".join(
         f"f = {c['friction_coefficient']:g}: E − m g l = {e:.3g} J, peak reversed spin "
@@ -122,11 +129,11 @@ def judge_energy_decrease(results: Sequence[dict[str, Any]]) -> Verdict:
     cases = [c for r in results for c in r["cases"] if c["model"] == "sliding"]
     if not cases:
         return Verdict("no sliding run", "no")
-    worst = max(c["max_budget_error"] / abs(c["energy_initial"]) for c in cases)
+    worst = max(c["max_energy_balance_error"] / abs(c["energy_initial"]) for c in cases)
     monotone = all(c["energy_monotone"] for c in cases)
     lost = ", ".join(
         f"f = {c['friction_coefficient']:g} ({c['friction_load']}): "
-        f"{c['energy_initial'] - c['energy_final']:.3g} J"
+        f"{c['energy_initial'] - _at_end(c, 'energy_final'):.3g} J"
         for c in cases
     )
     ours = (
@@ -187,8 +194,8 @@ def judge_long_run(fig3: dict[str, Any]) -> Verdict:
         f"rolling: {len(r_times)} reversals ({', '.join(f'{t:.3g}' for t in r_times)} s); "
         f"sliding f = {fig3['friction']:g}: {len(s_times)} reversals"
         + (f" ({', '.join(f'{t:.3g}' for t in s_times)} s)" if s_times else "")
-        + f", {sliding['raw_sign_changes']} raw sign changes, final spin "
-        f"{sliding['spin_final']:.2g} rad/s (band {fig3['band']:.2g} rad/s)"
+        + f", {sliding['spin_crossing_count']} raw sign changes, final spin "
+        f"{_at_end(sliding, 'spin_final'):.2g} rad/s (band {fig3['band']:.2g} rad/s)"
     )
     if len(r_times) < 3:
         return Verdict(ours, "no", "the rolling run has fewer than three reversals: run longer")
@@ -199,7 +206,7 @@ def judge_long_run(fig3: dict[str, Any]) -> Verdict:
             "yes" if faster else "no",
             "" if faster else "sliding reversals are not more frequent",
         )
-    if s_times and sliding["raw_sign_changes"] > rolling["raw_sign_changes"]:
+    if s_times and sliding["spin_crossing_count"] > rolling["spin_crossing_count"]:
         return Verdict(
             ours,
             "partly",

@@ -15,6 +15,7 @@ from typing import Any
 
 from celtstone.errors import CeltstoneWarning
 from celtstone.reproduce.study import TARGETS
+from celtstone.simulation.outcome import current_outcomes
 
 __all__ = ["RESULT_TARGETS", "read_result"]
 
@@ -44,7 +45,8 @@ def _why_not_a_result(result: Any) -> str | None:
 
 def read_result(path: Path) -> dict[str, Any] | None:
     """The result in ``path``, or None (with a :class:`CeltstoneWarning`) if the file is
-    not one a target wrote."""
+    not one a target wrote; its cases' outcomes under their names now
+    (``outcome.RENAMED_OUTCOMES``)."""
     try:
         result = json.loads(path.read_text(encoding="utf-8"))
         why = _why_not_a_result(result)
@@ -53,4 +55,8 @@ def read_result(path: Path) -> dict[str, Any] | None:
     if why is not None:
         warnings.warn(f"{path} is left out of the report: {why}", CeltstoneWarning, stacklevel=2)
         return None
+    if "cases" in result:  # a result written before the outcomes' renames: the names now
+        result["cases"] = [
+            c if not isinstance(c, dict) else current_outcomes(c) for c in result["cases"]
+        ]
     return result

@@ -31,17 +31,19 @@ from celtstone.reproduce.study import Study
 
 __all__ = ["bisection_steps", "boundary", "threshold", "threshold_numbers"]
 
+# the table's columns: the grid or bisection point, then outcomes and settings of its run
+# by their names (``simulation.outcome``)
+_POINT_COLUMNS = ("source", "reverses")
 _COLUMNS = (
     "friction_coefficient",
-    "source",
-    "reverses",
+    *_POINT_COLUMNS,
     "first_reversal_time",
     "reversal_count",
     "peak_reversed_spin",
     "energy_final",
     "energy_rest",
     "dissipated_work",
-    "max_budget_error",
+    "max_energy_balance_error",
     "status",
 )
 _LOAD_WORDS = {"static": "static (N = m g)", "dynamic": "dynamic (the consistent N)"}
@@ -58,19 +60,14 @@ def _point(study: Study, body: Body, friction: float, source: str) -> dict[str, 
     trajectory = simulate_case(study, body, study.sliding(friction), study.threshold_t_end)
     case = summarise(trajectory, body, study.band)
     first = case["first_reversal_time"]
-    return {
+    point = {
         "friction_coefficient": float(friction),
         "source": source,
         "reverses": first is not None,
-        "first_reversal_time": first if first is not None else math.nan,
-        "reversal_count": len(case["reversal_times"]),
-        "peak_reversed_spin": case["peak_reversed_spin"],
-        "energy_final": case["energy_final"],
-        "energy_rest": case["energy_rest"],
-        "dissipated_work": case["dissipated_work"],
-        "max_budget_error": case["max_budget_error"],
-        "status": case["status"],
     }
+    row = {name: point[name] if name in point else case[name] for name in _COLUMNS}
+    # a table's missing number is NaN (the JSON's null)
+    return {name: math.nan if value is None else value for name, value in row.items()}
 
 
 def _bisect(
@@ -210,7 +207,10 @@ def threshold(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
             ]
             for r in grid_rows
         ],
-        "energy_final_by_f": [[r["friction_coefficient"], r["energy_final"]] for r in grid_rows],
+        "energy_final_by_f": [
+            [r["friction_coefficient"], None if np.isnan(r["energy_final"]) else r["energy_final"]]
+            for r in grid_rows
+        ],
         "figures": figures,
         "table": f"{stem}.csv",
     }

@@ -18,7 +18,7 @@ from celtstone.errors import (
     require_choice,
 )
 from celtstone.kernels import layout
-from celtstone.simulation import hybrid, plausibility, schema
+from celtstone.simulation import plausibility, schema
 from celtstone.simulation.models import (
     HybridModel,
     Model,
@@ -29,7 +29,7 @@ from celtstone.simulation.models import (
     kernel_parameters,
 )
 from celtstone.simulation.models import InitialState as InitialState
-from celtstone.simulation.trajectory import Trajectory, sample_run
+from celtstone.simulation.trajectory import RunEnding, Trajectory, sample_run
 
 __all__ = [
     "DEFAULT_ATOL",
@@ -77,6 +77,12 @@ def method_names(
 
 
 STICK_METHOD = "dop853"  # the stick phases' default: rolling without sliding is not stiff
+
+
+def method_words() -> dict[str, str]:
+    """The integrators a run may name, with their words for help texts, read from the
+    method registry (``solvers.METHOD_ENTRIES``) when asked."""
+    return {name: method.words for name, method in solvers.METHOD_ENTRIES.items()}
 
 
 def _sample_times(t_end: float, n_samples: int | None, sample_times: object) -> np.ndarray:
@@ -202,6 +208,13 @@ def simulate(
         ``raise_for_status()`` to turn that into an exception.
     """
     _check_run_objects(model, body, initial_state)
+    if isinstance(model, RollingModel) and initial_state.is_sliding:
+        raise ParameterError(
+            "slip_velocity",
+            initial_state.slip_velocity,
+            "(0, 0) with the rolling model: its contact cannot slip",
+            "use the model 'sliding' for a record that starts sliding",
+        )
     t_end = schema.check("t_end", t_end)
     rtol = schema.check("rtol", rtol)
     atol = schema.check("atol", atol)
@@ -221,7 +234,7 @@ def simulate(
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
         stick_name = str(stick_method_name)  # a stick–slip run always has one
-        solution = hybrid.solve_phases(
+        solution = solvers.solve_phases(
             params,
             y0,
             t_end,
@@ -239,21 +252,12 @@ def simulate(
         attrs["rejected_captures"] = solution.rejected_captures
         phase_data = {
             "phase": solution.sample_phase,
-            "phase_kind": np.array(
-                [hybrid.STICK if p.kind == "stick" else hybrid.SLIP for p in solution.phases],
-                dtype=np.int8,
-            ),
-            "phase_start": np.array([p.t_start for p in solution.phases]),
-            "phase_end": np.array([p.t_end for p in solution.phases]),
-            "phase_energy_jump": np.array([p.energy_jump for p in solution.phases]),
+            "phase_kind": solution.phase_kind.astype(np.int8),
+            "phase_start": solution.phase_start,
+            "phase_end": solution.phase_end,
+            "phase_energy_jump": solution.phase_energy_jump,
         }
-        code, t_stop, min_normal = solution.status, solution.t_stop, solution.min_normal_force
-        sample_times_out, samples, crossings = (
-            solution.sample_times,
-            solution.samples,
-            solution.crossings,
-        )
-        statistics = dict(solution.statistics)
+        raw: solvers.RawSolution = solution
     else:
         raw = solvers.solve(
             model.code,
@@ -268,9 +272,10 @@ def simulate(
             max_steps=max_steps,
             progress=progress,
         )
-        code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
-        sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
-        statistics = {key: int(getattr(raw, key)) for key in solvers.STATISTICS}
+    code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
+    n_crossings = raw.n_crossings_total
+    sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
+    statistics = {key: int(getattr(raw, key)) for key in solvers.STATISTICS}
     status = STATUS_NAMES.get(code, "failed")
     final_n = (samples if len(samples) else y0[None, :])[-1, layout.Y_N : layout.Y_N + 3]
     message = _status_message(status, code, t_stop, final_n)
@@ -287,6 +292,7 @@ def simulate(
         message=message,
         t_stop=t_stop,
         min_normal_force=min_normal,
+        ending=RunEnding(model.code, params, y0, samples, int(code), int(n_crossings)),
         statistics=statistics,
     )
     _warn_friction_bound(trajectory)
@@ -317,6 +323,7 @@ def _run_attributes(
         **body.shape.attributes(),  # kind, numbers, and the table that rebuilds it
         "initial_omega": str(list(initial_state.omega)),
         "initial_euler_angles_deg": str(list(initial_state.euler_angles)),
+        "initial_slip_velocity": str(list(initial_state.slip_velocity)),
         "t_end": t_end,
         "method": method_name,
         "rtol": rtol,
@@ -326,18 +333,28 @@ def _run_attributes(
     }
 
 
-def _warn_friction_bound(trajectory: Trajectory) -> None:
-    """One ``FrictionBoundWarning`` when a static-load run's friction exceeded f N for the
-    true N (issue 13 item 6; ``Trajectory.max_friction_bound_ratio``)."""
+def friction_bound_warning(trajectory: Trajectory) -> FrictionBoundWarning | None:
+    """The ``FrictionBoundWarning`` of a static-load run whose friction exceeded f N for
+    the true N (issue 13 item 6; ``Trajectory.max_friction_bound_ratio``), or None; its
+    ``command_line`` attribute words the fix as a CLI option."""
     ratio = trajectory.max_friction_bound_ratio
-    if trajectory.samples.attrs.get("friction_load") == "static" and ratio is not None:
-        if ratio > 1.0:
-            text = (
-                f"the friction force reached {ratio:.3g} f N for the true normal force N, "
-                f"{100.0 * (ratio - 1.0):.3g} % above Coulomb's bound: the friction law is "
-                "loaded with m g (the paper's first approximation); use {} for the "
-                "consistent load"
-            )
-            warning = FrictionBoundWarning(text.format('friction_load="dynamic"'))
-            warning.command_line = text.format("--friction-load dynamic")
-            warnings.warn(warning, stacklevel=3)
+    if trajectory.samples.attrs.get("friction_load") != "static" or ratio is None:
+        return None
+    if not ratio > 1.0:
+        return None
+    text = (
+        f"the friction force reached {ratio:.3g} f N for the true normal force N, "
+        f"{100.0 * (ratio - 1.0):.3g} % above Coulomb's bound: the friction law is "
+        "loaded with m g (the paper's first approximation); use {} for the "
+        "consistent load"
+    )
+    warning = FrictionBoundWarning(text.format('friction_load="dynamic"'))
+    warning.command_line = text.format("--friction-load dynamic")
+    return warning
+
+
+def _warn_friction_bound(trajectory: Trajectory) -> None:
+    """Warn :func:`friction_bound_warning`'s warning, if any, from :func:`simulate`."""
+    warning = friction_bound_warning(trajectory)
+    if warning is not None:
+        warnings.warn(warning, stacklevel=3)

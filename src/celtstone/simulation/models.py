@@ -395,7 +395,7 @@ class HybridModel(SlidingModel):
 
     The sliding model while the contact slides or pivots; rolling without sliding and
     without pivoting while the friction that needs lies inside the Coulomb–Contensou
-    limit set. Phase changes are located as events (``celtstone.simulation.hybrid``).
+    limit set. Phase changes are located as events (``celtstone.solvers.phases``).
 
     Parameters
     ----------
@@ -516,7 +516,7 @@ def model_from_name(name: str, **settings: float | str | None) -> Model:
 
 @dataclass(frozen=True)
 class InitialState:
-    """Initial attitude and angular velocity; the contact starts without slip.
+    """Initial attitude, angular velocity and sliding velocity of the contact.
 
     Parameters
     ----------
@@ -525,6 +525,12 @@ class InitialState:
     euler_angles : tuple of 2 float
         (α, β), Euler angles [deg]: the vertical in body axes is
         n0 = (−cos α sin β, sin α, cos α cos β) (Kane & Levinson's convention).
+    slip_velocity : tuple of 2 float
+        (V1, V2), the contact point's sliding velocity along body axes 1 and 2 [m/s]
+        (keyword only). Its axis-3 part V3 = −(V1 n1 + V2 n2) / n3 keeps it in the table
+        plane (V · n0 = 0). Default 0: the contact starts without slip (a release); a
+        record that starts mid-motion may start sliding. Only the sliding models
+        (sliding, stick-slip) have it: a rolling contact cannot slip.
     tilt : None
         The old name of ``euler_angles``, refused (``tilt`` is the output angle [rad]).
     """
@@ -532,6 +538,7 @@ class InitialState:
     omega: tuple[float, float, float] = (0.0, 0.0, -5.0)
     euler_angles: tuple[float, float] = (0.5, 0.5)
     _: KW_ONLY
+    slip_velocity: tuple[float, float] = (0.0, 0.0)
     tilt: InitVar[tuple[float, float] | None] = None
 
     def __post_init__(self, tilt: tuple[float, float] | None) -> None:
@@ -541,8 +548,24 @@ class InitialState:
         angles = schema.check_components(
             "euler_angles", self.euler_angles, 2, "two numbers ALPHA,BETA in deg"
         )
+        slip = schema.check_components(
+            "slip_velocity", self.slip_velocity, 2, "two numbers V1,V2 in m/s"
+        )
         object.__setattr__(self, "omega", omega)
         object.__setattr__(self, "euler_angles", angles)
+        object.__setattr__(self, "slip_velocity", slip)
+
+    @property
+    def is_sliding(self) -> bool:
+        """Whether the contact point starts sliding (a slip velocity other than 0)."""
+        return any(v != 0.0 for v in self.slip_velocity)
+
+    @property
+    def slip(self) -> tuple[float, float, float]:
+        """The initial sliding velocity V in body axes [m/s], in the table plane."""
+        n = self.vertical
+        v1, v2 = self.slip_velocity
+        return (v1, v2, -(v1 * n[0] + v2 * n[1]) / n[2])
 
     @property
     def vertical(self) -> tuple[float, float, float]:
@@ -564,7 +587,10 @@ class InitialState:
         """
         w1, w2, w3 = self.omega
         alpha, beta = self.euler_angles
-        return InitialState(omega=(-w1, w2, -w3), euler_angles=(-alpha, beta))
+        v1, v2 = self.slip_velocity  # a velocity (polar): its axis-2 part flips
+        return InitialState(
+            omega=(-w1, w2, -w3), euler_angles=(-alpha, beta), slip_velocity=(v1, -v2)
+        )
 
 
 def kernel_parameters(model: Model, body: Body) -> np.record:
@@ -602,7 +628,8 @@ def contact_settings(model: Model) -> plausibility.ContactSettings:
 
 
 def initial_vector(state: InitialState) -> np.ndarray:
-    """Flat state array at t = 0: n0, ω0, V1 = 0, attitude, position 0, work 0.
+    """Flat state array at t = 0: n0, ω0, V1 (``InitialState.slip``), attitude, position 0,
+    work 0.
 
     The attitude quaternion is the smallest rotation taking n0 to the space
     vertical e_z (heading 0).
@@ -611,6 +638,7 @@ def initial_vector(state: InitialState) -> np.ndarray:
     n = np.array(state.vertical)
     y[layout.Y_N : layout.Y_N + 3] = n
     y[layout.Y_OMEGA : layout.Y_OMEGA + 3] = state.omega
+    y[layout.Y_SLIP : layout.Y_SLIP + 3] = state.slip
     axis = np.cross(n, [0.0, 0.0, 1.0])
     sine = float(np.linalg.norm(axis))
     angle = math.atan2(sine, float(n[2]))

@@ -100,6 +100,8 @@ MAX_SAMPLES = 1_000_000  # output samples of one run (about 0.3 GB with derived 
 MAX_T_END = 1e6  # s; a rolling K&L run takes ~360 steps/s, so 1e6 s is 3.6e8 steps
 MAX_ATOL = 1e-3  # an absolute error above this lets |n| = 1 drift visibly in one step
 MAX_ANGULAR_SPEED = 1e4  # rad/s (95 000 rpm); spun faster, every stone lifts off at once
+# m/s; a contact point sliding faster than a thrown stone moves is no rattleback's
+MAX_SLIP_SPEED = 10.0
 # m; a rolling-friction length is a fraction of the contact size (Cross 2016: ~1e-6 to
 # 1e-3 m for balls on hard to soft floors); 1 cm is past any rattleback's contact
 MAX_ROLLING_RESISTANCE = 1e-2
@@ -211,6 +213,15 @@ PARAMETERS: dict[str, Quantity] = {
             lower=-89.0,
             upper=89.0,
         ),
+        _q(
+            "slip_velocity",
+            "V0",
+            "m/s",
+            "initial sliding velocity of the contact point along body axes 1 and 2 (its "
+            "axis-3 part keeps it in the table plane)",
+            lower=-MAX_SLIP_SPEED,
+            upper=MAX_SLIP_SPEED,
+        ),
         _count("max_steps", "largest number of integrator steps", lower=1),
         _count("n_samples", "number of output samples", lower=2, upper=MAX_SAMPLES),
         _count("max_crossings", "largest number of spin zero crossings stored", 1, MAX_CROSSINGS),
@@ -281,9 +292,9 @@ class Variable:
     columns a to b, ``"state:block"`` a block of the state (``kernels.system.STATE_BLOCKS``).
     ``axis`` names the second dimension of a vector (after ``time``). Without a source
     a variable is filled where it is made: the time coordinate, the spin crossings and
-    phases of a run, the result fields of a sweep (``solvers.batch.RESULT_FIELDS``),
-    or a parameter drawn on an axis. ``missing`` says in words what a NaN of a finished
-    run means (a map's legend names such cells).
+    phases of a run, or a parameter drawn on an axis (a run's outcomes, what a sweep
+    stores per point, are declared in ``simulation.outcome``). ``missing`` says in words
+    what a NaN of a finished run means (a map's legend names such cells).
     """
 
     unit: str
@@ -397,52 +408,6 @@ VARIABLES: dict[str, Variable] = {
     "phase_end": Variable("s", "end time of each contact phase"),
     "phase_energy_jump": Variable(
         "J", "kinetic energy change of the capture impulse opening each phase"
-    ),
-    # a sweep's result fields (solvers.batch.RESULT_FIELDS), in the store's order
-    "first_reversal_time": Variable(
-        "s",
-        "first reversal of the sense of spin (hysteresis band), NaN if none",
-        "first reversal time",
-        missing="no reversal in the run",
-    ),
-    "n_reversals": Variable(
-        "1", "number of spin reversals (hysteresis band)", "number of spin reversals"
-    ),
-    "final_spin": Variable(
-        "rad/s", "spin omega . n at t_end, NaN if stopped early", r"final spin $\omega\cdot n$"
-    ),
-    "energy_lost": Variable(
-        "J", "E(0) - E(t_end), NaN if stopped early", r"energy lost $E(0)-E(t_\mathrm{end})$"
-    ),
-    "max_tilt": Variable(
-        "rad",
-        "largest angle between the vertical and axis 3",
-        "largest tilt of body axis 3",
-        plot_unit="deg",
-        plot_scale=_DEG,
-    ),
-    "min_normal_force": Variable(
-        "N", "smallest normal force (0 at lift-off)", "smallest normal force $N$"
-    ),
-    "t_stop": Variable("s", "time the run stopped", "stop time"),
-    "status": Variable("", "success, or why the run stopped early", "status"),
-    "message": Variable("", "what happened and what to change", "message"),
-    "energy_initial": Variable("J", "energy E(0) at the start", "initial energy $E(0)$"),
-    "peak_reversed_spin": Variable(
-        "rad/s",
-        "largest spin against the initial sense, -sign(spin(0)) spin, over the samples",
-        "peak reversed spin",
-    ),
-    "raw_sign_changes": Variable(
-        "1", "zero crossings of the raw spin omega . n (no band)", "raw spin sign changes"
-    ),
-    "max_budget_error": Variable(
-        "J",
-        "largest |E(0) - E - W| over the samples, W the dissipated work",
-        "energy budget residual",
-    ),
-    "max_energy_rise": Variable(
-        "J", "largest rise of the energy between two samples (0: never rises)", "energy rise"
     ),
     # axis labels of plots
     "contact_x": Variable("m", "contact point x, space axes", "contact point $x$"),

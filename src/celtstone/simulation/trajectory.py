@@ -1,14 +1,14 @@
-"""Trajectory: the sampled run as an ``xarray.Dataset`` plus its summary.
+"""Trajectory: the sampled run as an ``xarray.Dataset`` plus its outcome and summary.
 
 The samples are kept as NumPy arrays (:class:`RunSamples`); the dataset is built on first
 use, so that a run asked only for its summary (``celtstone run --json``) never imports
-xarray.
+xarray. The outcome is the record declared in ``simulation.outcome``, reduced from the
+sampled states by the sweep's own compiled reduction (``solvers.batch.reduce_run``).
 """
 
 from __future__ import annotations
 
 import html
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -24,56 +24,16 @@ from celtstone.errors import (
 )
 from celtstone.kernels import layout
 from celtstone.kernels import system as kernel_system
+from celtstone.simulation.outcome import SETTINGS, is_energy_monotone, json_number, units
 from celtstone.simulation.reversals import reversal_bands, reversal_times
 from celtstone.simulation.schema import VARIABLES, Variable
-from celtstone.solvers.codes import Status
+from celtstone.solvers.codes import PhaseKind, Status
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["SUMMARY_KEYS", "RunSamples", "Trajectory", "sample_run"]
-
-SUMMARY_KEYS = (
-    "model",
-    "body",
-    "t_end",
-    "first_reversal_time",
-    "reversal_times",
-    "reversal_band",
-    "reversal_window",
-    "first_sign_change_time",
-    "spin_zero_crossings",
-    "spin_initial",
-    "spin_final",
-    "energy_initial",
-    "energy_final",
-    "dissipated_work",
-    "max_relative_energy_drift",
-    "max_tilt_deg",
-    "min_normal_force",
-    "max_slip_speed",
-    "max_friction_bound_ratio",
-    "status",
-    "message",
-)
-
-# model settings copied from the attributes into the summary when the model has them
-MODEL_OPTION_KEYS = (
-    "damping",
-    "rolling_resistance",
-    "rolling_resistance_rate",
-    "friction_coefficient",
-    "contact_radius",
-    "friction_load",
-    "regularisation_speed",
-    "contact_pressure",
-    "contact_shape",
-    "contact_radius_model",
-    "elastic_modulus",
-    "poisson_ratio",
-    "effective_modulus",
-)
+__all__ = ["RunEnding", "RunSamples", "Trajectory", "sample_run"]
 
 # the exception of a status label; any other stop raises IntegrationError
 _ERRORS: dict[str, type[CeltstoneError]] = {
@@ -159,15 +119,15 @@ def sample_run(
 ) -> RunSamples:
     """Samples of a run from its sampled states (rows of the kernel state layout).
 
-    A hybrid-contact run also gives ``phase`` (per sample: 0 slip, 1 stick; stick
+    A hybrid-contact run also gives ``phase`` (per sample, a ``PhaseKind`` code; stick
     rows get the stick diagnostics) and its table of phases ``phase_kind``,
     ``phase_start``, ``phase_end``, ``phase_energy_jump`` (dimension ``contact_phase``).
     """
     derived = np.empty((states.shape[0], kernel_system.N_DIAGNOSTICS))
     if states.shape[0]:
         kernel_system.diagnostics_series(model_code, states, params, derived)
-    if phase is not None and np.any(phase == 1):
-        stick = np.flatnonzero(phase == 1)
+    if phase is not None and np.any(phase == PhaseKind.STICK):
+        stick = np.flatnonzero(phase == PhaseKind.STICK)
         stick_derived = np.empty((stick.size, kernel_system.N_DIAGNOSTICS))
         kernel_system.diagnostics_series(
             layout.ModelCode.STICK.value, np.ascontiguousarray(states[stick]), params, stick_derived
@@ -187,12 +147,35 @@ def sample_run(
     return RunSamples(variables, attrs)
 
 
+@dataclass(frozen=True)
+class RunEnding:
+    """What the outcome's reduction reads of a run besides its samples and stop.
+
+    Parameters
+    ----------
+    model_code : kernel model code (``kernels.layout``); the sliding model's for the
+        stick–slip contact
+    params : the run's kernel parameter record
+    initial_state : the state at t = 0, shape (N_STATE,)
+    states : the sampled states (rows of the kernel state layout), shape (s, N_STATE)
+    status_code : how the run ended (``solvers.Status``)
+    n_crossings : spin zero crossings found (more than stored if the buffer was full)
+    """
+
+    model_code: int
+    params: np.record
+    initial_state: np.ndarray
+    states: np.ndarray
+    status_code: int
+    n_crossings: int
+
+
 def _phase_summary(ds: RunSamples) -> dict[str, Any]:
     """Stick and slip phases of a hybrid-contact run, and its options, for the summary."""
     kinds = ds.values("phase_kind")
     phases = [
         {
-            "kind": "stick" if kind == 1 else "slip",
+            "kind": PhaseKind(int(kind)).label,
             "t_start": float(start),
             "t_end": float(end),
             "energy_jump": float(jump),
@@ -207,8 +190,8 @@ def _phase_summary(ds: RunSamples) -> dict[str, Any]:
     ]
     jumps = ds.values("phase_energy_jump")
     return {
-        "stick_phases": int(np.sum(kinds == 1)),
-        "slip_phases": int(np.sum(kinds == 0)),
+        "stick_phases": int(np.sum(kinds == PhaseKind.STICK)),
+        "slip_phases": int(np.sum(kinds == PhaseKind.SLIP)),
         "phases": phases,
         "max_capture_energy_jump": float(np.max(np.abs(jumps))) if jumps.size else 0.0,
         "rejected_captures": int(ds.attrs["rejected_captures"]),
@@ -216,10 +199,6 @@ def _phase_summary(ds: RunSamples) -> dict[str, Any]:
         "regularisation_speed": float(ds.attrs["regularisation_speed"]),
         "stick_method": ds.attrs["stick_method"],
     }
-
-
-def _finite_or_none(value: float) -> float | None:
-    return float(value) if math.isfinite(value) else None
 
 
 @dataclass(frozen=True)
@@ -241,7 +220,9 @@ class Trajectory:
     t_stop : float
         Time the run reached [s].
     min_normal_force : float
-        Smallest normal force N over the run [N].
+        Smallest normal force N at the integrator's steps [N].
+    ending : RunEnding
+        What the outcome's reduction reads besides the samples.
     statistics : dict of str to int
         Solver counts (``solvers.STATISTICS``): ``nfev``, ``njev``, ``nlu``,
         ``n_accepted``, ``n_rejected``, ``n_switches`` (between DOP853 and Radau, method
@@ -253,6 +234,7 @@ class Trajectory:
     message: str
     t_stop: float
     min_normal_force: float
+    ending: RunEnding
     statistics: dict[str, int] = field(default_factory=dict)
 
     @cached_property
@@ -286,7 +268,7 @@ class Trajectory:
         return np.asarray(self.samples.values("spin_crossings"))
 
     @property
-    def first_sign_change_time(self) -> float | None:
+    def first_spin_crossing_time(self) -> float | None:
         """First sign change of the spin ω · n [s], None if it never changes.
 
         Raw: around a reversal the spin can cross zero several times, and a dying spin
@@ -346,8 +328,48 @@ class Trajectory:
 
         With the default hysteresis band: the reversal of sweeps and the report.
         """
-        times = self.reversal_times()
-        return float(times[0]) if times.size else None
+        return json_number(self.outcome()["first_reversal_time"])
+
+    def outcome(self, band: float | None = None) -> dict[str, Any]:
+        """The run's outcome record: each swept outcome of ``simulation.outcome.OUTCOMES``
+        by name, in its unit, as a sweep stores it for the same point (NaN where the
+        declaration says; counts as int, ``status`` and ``message`` as text).
+
+        Parameters
+        ----------
+        band : float, optional
+            Half-width of the spin's hysteresis band of the reversals [rad/s]; default
+            :attr:`reversal_band`.
+        """
+        return dict(self._outcome) if band is None else self._reduce(band)
+
+    @cached_property
+    def _outcome(self) -> dict[str, Any]:
+        return self._reduce(self.reversal_band)
+
+    def _reduce(self, band: float) -> dict[str, Any]:
+        """The outcome record by the sweep's compiled reduction (``batch.reduce_run``)."""
+        from celtstone.solvers import batch
+
+        ending = self.ending
+        raw = batch.reduce_run(
+            ending.model_code,
+            ending.params,
+            ending.initial_state,
+            (ending.status_code, self.t_stop, self.min_normal_force, ending.n_crossings),
+            self.samples.values("time"),
+            ending.states,
+            self.spin_crossings,
+            band,
+            self.reversal_window,
+        )
+        text = {"status": self.status, "message": self.message}
+        return {
+            f.name: text[f.name]
+            if f.column is None or f.dtype == "str"
+            else (int(raw[f.column]) if f.dtype == "int32" else float(raw[f.column]))
+            for f in batch.RESULT_FIELDS
+        }
 
     @property
     def max_friction_bound_ratio(self) -> float | None:
@@ -367,7 +389,7 @@ class Trajectory:
             return None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # f N may underflow
             ratios = ds.values("friction_force")[loaded] / (coefficient * normal[loaded])
-        return _finite_or_none(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
+        return json_number(float(np.nanmax(ratios))) if np.any(np.isfinite(ratios)) else None
 
     def plot(self) -> Figure:
         """Draw the run (``celtstone.plotting.plot_run``).
@@ -415,51 +437,52 @@ class Trajectory:
         Returns
         -------
         dict of str to object
-            Keys ``SUMMARY_KEYS`` (SI units), plus solver statistics.
+            The outcomes (``simulation.outcome.OUTCOMES``, the stick–slip ones for that
+            contact only) and the settings the run was run with (``SETTINGS``), JSON-safe
+            (a NaN as None), and ``units``: each key's unit.
         """
         ds = self.samples
         attrs = ds.attrs
-        energy = ds.values("energy")
-        energy0 = float(energy[0])
-        drift = None
-        if attrs["model"] == "rolling" and attrs["damping"] == 0.0:
-            drift = float(np.max(np.abs(energy - energy0)) / abs(energy0))
-        balance = float(np.max(np.abs(energy + ds.values("dissipated_work") - energy0)))
-        reversals = [float(t) for t in self.reversal_times()]  # averaged once
-        summary = {
+        outcome = self.outcome()
+        summary: dict[str, Any] = {
             "model": attrs["model"],
+            "contact": attrs.get("contact", attrs["model"]),
             "body": attrs["body"],
             "body_shape": attrs.get("body_shape", ""),
             "t_end": float(attrs["t_end"]),
-            "t_stop": float(self.t_stop),
-            "first_reversal_time": reversals[0] if reversals else None,
-            "reversal_times": reversals,
-            "reversal_band": self.reversal_band,
-            "reversal_window": self.reversal_window,
-            "first_sign_change_time": self.first_sign_change_time,
-            "spin_zero_crossings": [float(t) for t in self.spin_crossings],
-            "spin_initial": float(ds.values("spin")[0]),
-            "spin_final": float(ds.values("spin")[-1]),
-            "energy_initial": energy0,
-            "energy_final": float(energy[-1]),
-            "dissipated_work": float(ds.values("dissipated_work")[-1]),
-            "max_relative_energy_drift": drift,
-            "max_energy_balance_error": balance,
-            "max_tilt_deg": float(np.degrees(np.max(ds.values("tilt")))),
-            "min_normal_force": _finite_or_none(
-                float(np.fmin(self.min_normal_force, np.nanmin(ds.values("normal_force"))))
-            ),
-            "max_slip_speed": float(np.max(ds.values("slip_speed"))),
-            "max_friction_bound_ratio": self.max_friction_bound_ratio,
-            "status": self.status,
-            "message": self.message,
         }
-        summary.update({k: attrs[k] for k in ("friction_law", "method", "rtol", "atol")})
-        for key in MODEL_OPTION_KEYS:  # the model's options, "none" (not set) as null
-            if key in attrs:
-                summary[key] = None if str(attrs[key]) == "none" else attrs[key]
-        summary["contact"] = attrs.get("contact", attrs["model"])
+        for name, value in outcome.items():
+            summary[name] = json_number(value) if isinstance(value, float) else value
+        summary.update(self._sample_outcomes(outcome))
         if "phase_start" in ds:
             summary.update(_phase_summary(ds))
+        summary["reversal_band"] = self.reversal_band
+        summary["reversal_window"] = self.reversal_window
+        summary.update({key: attrs[key] for key in ("method", "rtol", "atol", "friction_law")})
+        for key in SETTINGS:  # the other settings the run records; "none" (not set): null
+            if key in attrs and key not in summary:
+                summary[key] = None if str(attrs[key]) == "none" else attrs[key]
         summary["statistics"] = dict(self.statistics)
+        summary["units"] = units(summary)
         return summary
+
+    def _sample_outcomes(self, outcome: Mapping[str, Any]) -> dict[str, Any]:
+        """The outcomes that are not swept, read from the whole samples (reversal and
+        crossing times, energy drift, slip speed, friction bound) or from the swept
+        ``outcome`` (whether the energy is monotone)."""
+        ds = self.samples
+        energy = ds.values("energy")
+        drift = None
+        if ds.attrs["model"] == "rolling" and ds.attrs["damping"] == 0.0:
+            drift = float(np.max(np.abs(energy - energy[0])) / abs(energy[0]))
+        return {
+            "reversal_times": [float(t) for t in self.reversal_times()],
+            "spin_crossings": [float(t) for t in self.spin_crossings],
+            "first_spin_crossing_time": self.first_spin_crossing_time,
+            "max_slip_speed": float(np.max(ds.values("slip_speed"))),
+            "max_friction_bound_ratio": self.max_friction_bound_ratio,
+            "max_relative_energy_drift": drift,
+            "energy_monotone": is_energy_monotone(
+                outcome["max_energy_rise"], outcome["energy_initial"]
+            ),
+        }

@@ -1,30 +1,30 @@
 """Compiled batch driver for sweeps: many runs in one call, reduced on the fly.
 
 ``run_batch`` integrates each point with the shared loop ``driver.integrate`` and
-keeps only the sweep's result fields, so a batch never holds trajectories: one
+keeps only the run's outcome record, so a batch never holds trajectories: one
 sample buffer and one crossing buffer per call are reused point after point. The
 compiled function releases the GIL (``nogil``), so threads of one process run
 batches in parallel without Python per step.
 
-The result fields are declared once, in ``RESULT_FIELDS`` (name, stored type, fill
-value, column); their units and long names are ``schema.VARIABLES`` rows. ``_reduce``
-computes every column. The reduction is the one of ``simulate(...).summary()`` and
-``reversals.reversal_times(time, spin, band, crossings, window)`` on the same sample
-times (the same compiled ``kernels.reversal``), with each point's own band and rocking
-window; the sweep tests check the two agree point for point.
+The outcomes are declared once, in ``simulation.outcome`` (name, unit, meaning, stored
+type, fill value); ``RESULT_FIELDS`` numbers the swept ones into the columns that
+``_reduce`` writes. ``_reduce`` is the one reduction of a run's samples: every sweep
+point here, and every single run through :func:`reduce_run` (``simulate``), so a sweep
+point equals the single run on the same sample times by construction.
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ModelCode
 from celtstone.kernels.reversal import count_reversals, rocking_average
 from celtstone.kernels.system import energy, spin_and_normal_force
+from celtstone.simulation.outcome import OUTCOMES, SWEPT
 from celtstone.solvers._events import event_table
 from celtstone.solvers._linking import NO_LINK, address_call, link_to
 from celtstone.solvers._structures import (
@@ -32,6 +32,7 @@ from celtstone.solvers._structures import (
     HybridSettings,
     Output,
     PhaseLog,
+    RunEnd,
     new_output,
     new_phase_log,
 )
@@ -41,17 +42,17 @@ from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_links, run_ph
 
 call_run_phases = address_call(run_phases)  # neither loop linked in: see ``solvers._linking``
 
-__all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "run_batch"]
+__all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "reduce_run", "run_batch"]
 
 
 class ResultField(NamedTuple):
-    """A result field of a sweep, declared once. Its unit, long name and plot label are
-    the ``schema.VARIABLES`` row of the same name; the store's arrays, the in-memory
-    results and the runner's conversion of the result array read this row.
+    """A swept outcome (``simulation.outcome.OUTCOMES``) and its column: the store's
+    arrays, the in-memory results and the runner's conversion of the result array read
+    this row.
 
     Parameters
     ----------
-    name : the field's name in the store and the Dataset
+    name : the outcome's name in the store and the Dataset
     dtype : the stored type: "float64", "int32" (the column's value, converted) or
         "str" (text that the runner makes from the status code, see ``sweep.runner``)
     fill : the value of a point not computed yet
@@ -65,23 +66,20 @@ class ResultField(NamedTuple):
     column: int | None
 
 
-RESULT_FIELDS: tuple[ResultField, ...] = (
-    ResultField("first_reversal_time", "float64", math.nan, 0),  # NaN if none
-    ResultField("n_reversals", "int32", -1, 1),
-    ResultField("final_spin", "float64", math.nan, 2),  # NaN if the run stopped early
-    ResultField("energy_lost", "float64", math.nan, 3),  # NaN if the run stopped early
-    ResultField("max_tilt", "float64", math.nan, 4),  # over the samples
-    ResultField("min_normal_force", "float64", math.nan, 5),  # steps and samples
-    ResultField("t_stop", "float64", math.nan, 6),
-    ResultField("status", "str", "", 7),  # the code (``codes.Status``), stored as its label
-    ResultField("message", "str", "", None),  # ``codes.stop_message`` of status and t_stop
-    # what ``reproduce.cases.summarise`` reads besides, for the paper's findings as fields
-    ResultField("energy_initial", "float64", math.nan, 8),
-    ResultField("peak_reversed_spin", "float64", math.nan, 9),  # over the samples
-    ResultField("raw_sign_changes", "int32", -1, 10),  # every zero crossing of the spin
-    ResultField("max_budget_error", "float64", math.nan, 11),  # max |E(0) - E - W|, samples
-    ResultField("max_energy_rise", "float64", math.nan, 12),  # between samples, >= 0
-)
+# made by the runner from the status code and t_stop (``codes.stop_message``): no column
+_TEXT_ONLY = ("message",)
+
+
+def _result_fields() -> tuple[ResultField, ...]:
+    """The swept outcomes in the store's order, numbered into columns."""
+    fields: list[ResultField] = []
+    for name in SWEPT:
+        column = None if name in _TEXT_ONLY else len([f for f in fields if f.column is not None])
+        fields.append(ResultField(name, OUTCOMES[name].dtype, OUTCOMES[name].fill, column))
+    return tuple(fields)
+
+
+RESULT_FIELDS: tuple[ResultField, ...] = _result_fields()
 
 _COLUMNS = {f.name: f.column for f in RESULT_FIELDS if f.column is not None}
 # the names of the result array's columns, in column order (numbered 0, 1, ...)
@@ -89,25 +87,29 @@ FIELDS = tuple(sorted(_COLUMNS, key=_COLUMNS.__getitem__))
 N_FIELDS = len(FIELDS)
 
 
-# the column indices ``_reduce`` writes (numba folds each global to its integer)
-F_FIRST_REVERSAL = _COLUMNS["first_reversal_time"]  # first reversal time [s]
-F_REVERSALS = _COLUMNS["n_reversals"]  # number of reversals [1]
-F_FINAL_SPIN = _COLUMNS["final_spin"]  # spin ω·n at t_end [rad/s]
-F_ENERGY_LOST = _COLUMNS["energy_lost"]  # E(0) - E(t_end) [J]
-F_MAX_TILT = _COLUMNS["max_tilt"]  # largest angle between n and body axis 3 [rad]
-F_MIN_NORMAL_FORCE = _COLUMNS["min_normal_force"]  # smallest normal force [N], 0 at lift-off
-F_T_STOP = _COLUMNS["t_stop"]  # time the run stopped [s]
-F_STATUS = _COLUMNS["status"]  # solver status code (``codes.Status``)
-F_ENERGY_INITIAL = _COLUMNS["energy_initial"]  # E(0) [J]
-F_PEAK_REVERSED_SPIN = _COLUMNS["peak_reversed_spin"]  # largest spin against ω(0)·n(0) [rad/s]
-F_SIGN_CHANGES = _COLUMNS["raw_sign_changes"]  # zero crossings of the raw spin [1]
-F_BUDGET_ERROR = _COLUMNS["max_budget_error"]  # max |E(0) - E - W| over the samples [J]
-F_ENERGY_RISE = _COLUMNS["max_energy_rise"]  # largest rise of E between samples [J], >= 0
+# the column of each outcome ``_reduce`` writes (numba folds each global to its
+# integer); the outcome's unit and meaning are its ``OUTCOMES`` row
+F_FIRST_REVERSAL = _COLUMNS["first_reversal_time"]
+F_REVERSALS = _COLUMNS["reversal_count"]
+F_SPIN_FINAL = _COLUMNS["spin_final"]
+F_ENERGY_LOST = _COLUMNS["energy_lost"]
+F_MAX_TILT = _COLUMNS["max_tilt"]
+F_MIN_NORMAL_FORCE = _COLUMNS["min_normal_force"]
+F_T_STOP = _COLUMNS["t_stop"]
+F_STATUS = _COLUMNS["status"]  # the code (``codes.Status``), stored as its label
+F_ENERGY_INITIAL = _COLUMNS["energy_initial"]
+F_PEAK_REVERSED_SPIN = _COLUMNS["peak_reversed_spin"]
+F_SPIN_CROSSINGS = _COLUMNS["spin_crossing_count"]
+F_BALANCE_ERROR = _COLUMNS["max_energy_balance_error"]
+F_ENERGY_RISE = _COLUMNS["max_energy_rise"]
+F_SPIN_INITIAL = _COLUMNS["spin_initial"]
+F_ENERGY_FINAL = _COLUMNS["energy_final"]
+F_DISSIPATED_WORK = _COLUMNS["dissipated_work"]
 
 
 @kernel
 def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
-    """The result fields of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
+    """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
     ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
     the first reversal time) (``kernels.reversal``)."""
     n_samples = end.n_samples
@@ -118,7 +120,7 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     spin_initial = (
         y0[Y_OMEGA] * y0[Y_N] + y0[Y_OMEGA + 1] * y0[Y_N + 1] + y0[Y_OMEGA + 2] * y0[Y_N + 2]
     )
-    sense = -np.sign(spin_initial)  # as ``reproduce.cases.summarise``: against the start
+    sense = -np.sign(spin_initial)  # against the start
     peak_reversed = -np.inf
     budget_error = 0.0
     energy_rise = 0.0
@@ -146,24 +148,118 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
         sample_times, averaged, n_samples, band, crossings, exact, first_time
     )
     first = first_time[0]
-    final_spin = np.nan
-    energy_lost = np.nan
-    if end.status == STATUS_SUCCESS and n_samples > 0:
-        final_spin = spins[n_samples - 1]
-        energy_lost = energy(model, y0, params) - energy(model, samples[n_samples - 1], params)
+    spin_final = np.nan
+    energy_final = np.nan
+    if end.status == STATUS_SUCCESS and n_samples > 0:  # at t_end: the run finished
+        spin_final = spins[n_samples - 1]
+        energy_final = energy(model, samples[n_samples - 1], params)
     out[F_FIRST_REVERSAL] = first
     out[F_REVERSALS] = n_reversals
-    out[F_FINAL_SPIN] = final_spin
-    out[F_ENERGY_LOST] = energy_lost
+    out[F_SPIN_FINAL] = spin_final
+    out[F_ENERGY_LOST] = energy_initial - energy_final
     out[F_MAX_TILT] = max_tilt if n_samples > 0 else np.nan
     out[F_MIN_NORMAL_FORCE] = min_normal
     out[F_T_STOP] = end.t_stop
     out[F_STATUS] = end.status
     out[F_ENERGY_INITIAL] = energy_initial
     out[F_PEAK_REVERSED_SPIN] = peak_reversed if n_samples > 0 else np.nan
-    out[F_SIGN_CHANGES] = end.n_crossings
-    out[F_BUDGET_ERROR] = budget_error if n_samples > 0 else np.nan
+    out[F_SPIN_CROSSINGS] = end.n_crossings
+    out[F_BALANCE_ERROR] = budget_error if n_samples > 0 else np.nan
     out[F_ENERGY_RISE] = energy_rise if n_samples > 0 else np.nan
+    out[F_SPIN_INITIAL] = spin_initial
+    out[F_ENERGY_FINAL] = energy_final
+    out[F_DISSIPATED_WORK] = samples[n_samples - 1][Y_WORK] if n_samples > 0 else np.nan
+
+
+def _reduce_of(model_code: int) -> Any:
+    """``_reduce`` compiled for one model: the code a constant, so that a single run's
+    reduction compiles no other model's branch (``kernels._pruning``)."""
+
+    @kernel
+    def reduce_model(params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
+        _reduce(
+            model_code,
+            params,
+            y0,
+            end,
+            sample_times,
+            samples,
+            crossings,
+            reversal,
+            spins,
+            work,
+            out,
+        )
+
+    return reduce_model
+
+
+_REDUCE_BY_MODEL = {int(code): _reduce_of(int(code)) for code in ModelCode}
+
+
+def reduce_run(
+    model: int,
+    params: np.record,
+    y0: np.ndarray,
+    ending: tuple[int, float, float, int],
+    sample_times: np.ndarray,
+    samples: np.ndarray,
+    crossings: np.ndarray,
+    reversal_band: float,
+    reversal_window: float,
+) -> np.ndarray:
+    """The outcome record of one finished run, by the reduction of every sweep point.
+
+    Parameters
+    ----------
+    model : kernel model code (``kernels.layout``); the sliding model for the hybrid
+        contact, as in :func:`run_batch`
+    params : the run's kernel parameter record
+    y0 : the initial state, shape (N_STATE,)
+    ending : how the run ended: (status code (``codes.Status``), stop time [s], smallest
+        normal force at the steps [N], spin zero crossings found)
+    sample_times : the sample times [s], shape (s,)
+    samples : the sampled states, shape (s, N_STATE)
+    crossings : the stored times of the spin's zero crossings [s]
+    reversal_band : half-width of the spin's hysteresis band [rad/s]
+    reversal_window : width of the spin's rocking average [s]; 0: the raw spin
+
+    Returns
+    -------
+    numpy.ndarray
+        The outcomes, columns in the order of ``FIELDS``, shape (len(FIELDS),)
+    """
+    status, t_stop, min_normal_force, n_crossings = ending
+    samples = np.ascontiguousarray(samples, dtype=np.float64)
+    times = np.ascontiguousarray(sample_times, dtype=np.float64)
+    end = RunEnd(
+        int(status),
+        int(samples.shape[0]),
+        int(n_crossings),
+        float(t_stop),
+        float(min_normal_force),
+        math.nan,
+    )
+    spins, averaged, first_time = np.zeros(times.shape[0]), np.zeros(times.shape[0]), np.zeros(1)
+    out = np.empty(N_FIELDS)
+    arguments = (
+        params,
+        np.ascontiguousarray(y0, dtype=np.float64),
+        end,
+        times,
+        samples,
+        np.ascontiguousarray(crossings, dtype=np.float64),
+        (float(reversal_band), float(reversal_window), averaged, first_time),
+        spins,
+        np.zeros(N_STATE),
+        out,
+    )
+    reduce_model = _REDUCE_BY_MODEL.get(int(model))
+    if reduce_model is None:  # an unknown code: every branch (NaN, ``evaluate``'s status)
+        _reduce(int(model), *arguments)
+    else:
+        reduce_model(*arguments)
+    return out
 
 
 class Points(NamedTuple):

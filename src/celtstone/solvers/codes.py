@@ -3,19 +3,32 @@
 from __future__ import annotations
 
 import enum
+from dataclasses import dataclass
 
 METHOD_DOP853 = 0
 METHOD_RADAU5 = 1
 METHOD_AUTO = 2  # DOP853 and Radau by turns, switched on stiffness (``solvers._auto``)
 METHOD_VERN9 = 3  # Verner's 9(8) pair (``solvers._vern9``)
 
-# the methods registry: name -> code; each code has its module (``solvers._methods``)
-METHODS = {
-    "dop853": METHOD_DOP853,
-    "radau5": METHOD_RADAU5,
-    "auto": METHOD_AUTO,
-    "vern9": METHOD_VERN9,
+
+@dataclass(frozen=True)
+class Method:
+    """An integration method of the registry :data:`METHOD_ENTRIES`: its code (the
+    ``METHOD_<NAME>`` the compiled loops branch on, ``solvers._methods``) and the words
+    that help texts show."""
+
+    code: int
+    words: str
+
+
+# the methods registry, one entry per method: name -> code and words
+METHOD_ENTRIES = {
+    "dop853": Method(METHOD_DOP853, "Dormand–Prince 8(5,3), explicit"),
+    "radau5": Method(METHOD_RADAU5, "Radau IIA of order 5, implicit, for stiff contacts"),
+    "auto": Method(METHOD_AUTO, "DOP853 and Radau IIA by turns, switched on stiffness"),
+    "vern9": Method(METHOD_VERN9, "Verner's 9(8) pair, explicit"),
 }
+METHODS = {name: method.code for name, method in METHOD_ENTRIES.items()}  # name -> code
 
 # slots of the integrator's int64 statistics array (9 long); the compiled loop adds to
 # them, so one array sums the phases of a hybrid run
@@ -33,6 +46,20 @@ STAT_STOP_REQUESTED = 8
 N_STATS = 9
 
 DEFAULT_MAX_PHASES = 100_000  # capacity of a hybrid run's phase log (solvers.phases)
+
+
+class PhaseKind(enum.IntEnum):
+    """A phase of the stick–slip contact, declared once: the code the compiled phase loop
+    writes into its log and each sample's ``phase`` (``solvers.phases``), kept as that
+    integer in a run's Dataset; its ``label`` is what the summary and the CLI print."""
+
+    SLIP = 0  # sliding (paper eq. 6–12) until the slip–spin speed falls below v_c
+    STICK = 1  # rolling without sliding or pivoting until the stick margin falls below 0
+
+    @property
+    def label(self) -> str:
+        """``"slip"`` or ``"stick"``."""
+        return self.name.lower()
 
 
 class Status(enum.IntEnum):
@@ -109,7 +136,7 @@ class Status(enum.IntEnum):
         "max_phases",
         "more stick-slip phases than the phase log holds (max_phases, "
         f"{DEFAULT_MAX_PHASES} unless given): shorten t_end, or raise max_phases "
-        "(hybrid.solve_phases, solvers.batch.run_batch)",
+        "(solvers.solve_phases, solvers.batch.run_batch)",
     )
     CONTACT_RANGE = (
         11,

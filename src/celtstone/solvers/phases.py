@@ -40,11 +40,13 @@ from celtstone.solvers.codes import (
     STATUS_MAX_STEPS,
     STATUS_PHASE_CHANGE,
     STATUS_SUCCESS,
+    PhaseKind,
 )
 from celtstone.solvers.driver import call_integrate, integrate_link
 
-SLIP = 0
-STICK = 1
+# the compiled loop reads plain ints (a global folds to its integer)
+SLIP = int(PhaseKind.SLIP)
+STICK = int(PhaseKind.STICK)
 
 
 def integrate_links(

@@ -29,7 +29,7 @@ __all__ = ["DEFAULT_MAPPED_FIELDS", "MAPPED_FIELDS", "check_map_fields", "map_pa
 
 # every result field but the free-text message can be drawn
 MAPPED_FIELDS = tuple(name for name in RESULT_FIELDS if name != "message")
-DEFAULT_MAPPED_FIELDS = ("first_reversal_time", "n_reversals", "final_spin", "energy_lost")
+DEFAULT_MAPPED_FIELDS = ("first_reversal_time", "reversal_count", "spin_final", "energy_lost")
 """The maps written unless others are asked for."""
 ALL_FIELDS = "all"
 

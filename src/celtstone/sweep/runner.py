@@ -28,6 +28,7 @@ from celtstone.kernels.layout import Y_N, Y_OMEGA
 from celtstone.simulation import schema
 from celtstone.simulation.integrate import STICK_METHOD, method_names, version
 from celtstone.simulation.models import MODELS, HybridModel
+from celtstone.simulation.outcome import OUTCOMES
 from celtstone.simulation.reversals import (
     REVERSAL_BAND_FLOOR,
     REVERSAL_BAND_FRACTION,
@@ -580,7 +581,7 @@ class Sweep:
             values = memory[name].reshape(layout.shape)
             if dtype == "str":
                 values = values.astype(str)
-            attributes = schema.VARIABLES[name].attributes
+            attributes = OUTCOMES[name].variable.attributes
             variables[name] = xr.Variable(layout.dims, values, attrs=attributes)
         coords = {
             name: xr.Variable(dims, values, attrs=a)

@@ -131,6 +131,8 @@ PARAMETERS: dict[str, SweepParameter] = {
         _p("omega3", STATE, "omega", "initial angular velocity, body axis 3"),
         _p("euler_alpha", STATE, "euler_angles", "initial Euler angle alpha"),
         _p("euler_beta", STATE, "euler_angles", "initial Euler angle beta"),
+        _p("slip_velocity1", STATE, "slip_velocity", "initial sliding velocity, body axis 1"),
+        _p("slip_velocity2", STATE, "slip_velocity", "initial sliding velocity, body axis 2"),
     ]
 }
 """Every name a sweep can vary (body, model and initial-state numbers) -> its group, unit
@@ -362,8 +364,19 @@ def _refuse_without_effect(
 ) -> None:
     """A number that no point of the sweep uses is refused, not swept in vain: a fixed
     contact_radius where the contact's size is Hertz's (``elastic_modulus`` given, as the
-    elliptic contact needs)."""
-    if model_name == "rolling" or "contact_radius" not in values:
+    elliptic contact needs); an initial slip with the rolling model (its contact cannot
+    slip)."""
+    if model_name == "rolling":
+        for name in ("slip_velocity1", "slip_velocity2"):
+            if name in values:
+                given = values[name]
+                if isinstance(given, np.ndarray):  # varied: say what, not every value
+                    given = f"{given.size} values from {given.min():g} to {given.max():g} m/s"
+                raise ParameterError(
+                    name, given, "no value with the rolling model: its contact cannot slip"
+                )
+        return
+    if "contact_radius" not in values:
         return
     if "elastic_modulus" in values or choices.get("contact_shape") == "ellipse":
         why = (
@@ -428,8 +441,9 @@ def build_model(model_name: str, choices: Mapping[str, str], values: Mapping[str
 
 
 def build_state(values: Mapping[str, float]) -> InitialState:
-    """The initial state from omega1..3, euler_alpha, euler_beta and initial_spin (defaults:
-    ``InitialState()``, Kane & Levinson's ω = (0, 0, -5) rad/s, α = β = 0.5°)."""
+    """The initial state from omega1..3, euler_alpha, euler_beta, initial_spin and
+    slip_velocity1..2 (defaults: ``InitialState()``, Kane & Levinson's ω = (0, 0, -5) rad/s,
+    α = β = 0.5°, no slip)."""
     default = InitialState()
     omega = [values.get(f"omega{k + 1}", default.omega[k]) for k in range(3)]
     angles = (
@@ -440,7 +454,13 @@ def build_state(values: Mapping[str, float]) -> InitialState:
         spin = schema.check("omega", values["initial_spin"])
         n = InitialState(omega=(0.0, 0.0, 0.0), euler_angles=angles).vertical
         omega[2] = (spin - omega[0] * n[0] - omega[1] * n[1]) / n[2]
-    return InitialState(omega=(omega[0], omega[1], omega[2]), euler_angles=angles)
+    slip = (
+        values.get("slip_velocity1", default.slip_velocity[0]),
+        values.get("slip_velocity2", default.slip_velocity[1]),
+    )
+    return InitialState(
+        omega=(omega[0], omega[1], omega[2]), euler_angles=angles, slip_velocity=slip
+    )
 
 
 class PointBuilder:

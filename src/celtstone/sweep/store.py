@@ -48,7 +48,7 @@ from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.files.export import output_error, replace_directory, temporary_directory
 from celtstone.files.ownership import WriterLock, check_replaceable
 from celtstone.files.path_names import check_path_name
-from celtstone.simulation.schema import VARIABLES
+from celtstone.simulation.outcome import OUTCOMES, RENAMED_OUTCOMES
 from celtstone.solvers import batch
 
 if TYPE_CHECKING:
@@ -65,14 +65,14 @@ __all__ = [
     "open_sweep",
 ]
 
-# name: (dtype, fill value, unit, long name), from the one declaration of each field
-# (``solvers.batch.RESULT_FIELDS``) and its ``schema.VARIABLES`` row
+# name: (dtype, fill value, unit, long name), from the one declaration of each outcome
+# (``simulation.outcome.OUTCOMES``), in the order of ``solvers.batch.RESULT_FIELDS``
 RESULT_FIELDS: dict[str, tuple[str, Any, str, str]] = {
     field.name: (
         field.dtype,
         field.fill,
-        VARIABLES[field.name].unit,
-        VARIABLES[field.name].long_name,
+        OUTCOMES[field.name].unit,
+        OUTCOMES[field.name].variable.long_name,
     )
     for field in batch.RESULT_FIELDS
 }
@@ -239,7 +239,7 @@ def _build(
         )
         array[...] = values
     for name, (dtype, fill, _, _) in RESULT_FIELDS.items():
-        attributes: dict[str, Any] = dict(VARIABLES[name].attributes)  # units, long name
+        attributes: dict[str, Any] = dict(OUTCOMES[name].variable.attributes)  # units, long name
         group.create_array(
             name,
             shape=layout.shape,
@@ -381,6 +381,16 @@ class SweepStore:
                 "the store of the same sweep",
                 "these settings differ from the stored ones: " + ", ".join(differ),
             )
+        # a store written before an outcome was renamed or added reads (``open_sweep``), but
+        # a resume could not write its new points
+        missing = [name for name in RESULT_FIELDS if name not in group]
+        if expected_spec is not None and missing:
+            raise ParameterError(
+                "resume",
+                str(path),
+                "a store with every result field of this version",
+                f"it has no {', '.join(missing)}; start the sweep anew with --overwrite",
+            )
         shape = tuple(int(n) for n in mask.shape)
         chunks = tuple(int(c) for c in mask.chunks)
         dims = tuple(str(d) for d in getattr(mask.metadata, "dimension_names", None) or ())
@@ -432,7 +442,9 @@ def open_sweep(path: str | Path, *, allow_incomplete: bool = False) -> xr.Datase
     Returns
     -------
     xarray.Dataset
-        The result fields on the sweep dimensions, with provenance attributes.
+        The result fields on the sweep dimensions, with provenance attributes; a store
+        written before the outcomes were renamed (``outcome.RENAMED_OUTCOMES``) reads
+        with the names now.
 
     Raises
     ------
@@ -451,8 +463,11 @@ def open_sweep(path: str | Path, *, allow_incomplete: bool = False) -> xr.Datase
         )
     with xr.open_zarr(path, consolidated=False, chunks=None) as dataset:
         loaded = dataset.load()
+    # a store written before the outcomes' renames reads with their names now
+    old = {o: n for o, n in RENAMED_OUTCOMES.items() if o in loaded and n not in loaded}
+    loaded = loaded.rename(old)
     for name, (dtype, _, _, _) in RESULT_FIELDS.items():
-        if dtype == "str":  # numpy's StringDType as plain unicode, as in memory
+        if dtype == "str" and name in loaded:  # numpy's StringDType as plain unicode, as in memory
             text = [str(v) for v in np.ravel(loaded[name].values)]
             loaded[name] = loaded[name].copy(
                 data=np.array(text, dtype=str).reshape(loaded[name].shape)
