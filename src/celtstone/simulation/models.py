@@ -563,6 +563,8 @@ class InitialState:
     @property
     def slip(self) -> tuple[float, float, float]:
         """The initial sliding velocity V in body axes [m/s], in the table plane."""
+        if not self.is_sliding:
+            return (0.0, 0.0, 0.0)  # a release: +0.0, as runs were started before the slip
         n = self.vertical
         v1, v2 = self.slip_velocity
         return (v1, v2, -(v1 * n[0] + v2 * n[1]) / n[2])
