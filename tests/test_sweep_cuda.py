@@ -117,3 +117,45 @@ def test_cuda_names_what_the_gpu_cannot_run(settings: dict[str, str], reason: st
 def test_unknown_device_lists_the_devices() -> None:
     with pytest.raises(ParameterError, match="expected one of: cpu, cuda, auto"):
         Sweep({"initial_spin": [-5.0]}, model="rolling", device="gpu")
+
+
+BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_sweep.py"
+
+
+def _benchmark(*arguments: str, simulator: bool = False) -> subprocess.CompletedProcess[str]:
+    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    if simulator:
+        environment["NUMBA_ENABLE_CUDASIM"] = "1"
+    return subprocess.run(
+        [sys.executable, str(BENCHMARK), *arguments],
+        env=environment,
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_benchmark_stages_run_and_agree_in_the_simulator(tmp_path: Path) -> None:
+    """The GPU benchmark's three stages, its GPU stage in the simulator: what a lent GPU
+    runs in one call works, and its report compares the fields it should."""
+    small = ("--grid", "2", "--large", "2", "--copies", "1")
+    prepared = _benchmark("--prepare", str(tmp_path), *small)
+    assert prepared.returncode == 0, prepared.stderr
+    if not _gpu_here():  # without a GPU the stage says so and writes nothing
+        refused = _benchmark("--gpu", str(tmp_path))
+        assert refused.returncode != 0
+        assert "--gpu needs a CUDA GPU: no CUDA GPU or driver found" in refused.stderr
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["inputs.npz"]
+    ran = _benchmark("--gpu", str(tmp_path), *small, simulator=True)
+    if ran.returncode != 0 and "--gpu needs a CUDA GPU" in ran.stderr:
+        pytest.skip(f"numba's CUDA simulator is unavailable: {ran.stderr.strip()}")
+    assert ran.returncode == 0, ran.stderr
+    again = _benchmark("--gpu", str(tmp_path), simulator=True)
+    assert again.returncode != 0 and "pass --force" in again.stderr
+    reported = _benchmark("--report", str(tmp_path))
+    assert reported.returncode == 0, reported.stderr
+    summary = json.loads(reported.stdout)
+    assert summary["points"] == 4
+    for count in ("status_agrees", "n_reversals_agree", "raw_sign_changes_agree"):
+        assert summary[count] == 4, count
+    assert summary["differences"]["final_spin"]["max"] == 0.0  # the simulator: the CPU's code
+    assert summary["gpu"]["device"] == "numba's CUDA simulator"

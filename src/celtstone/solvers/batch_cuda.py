@@ -460,7 +460,7 @@ def cuda_unavailable_reason() -> str | None:
             return None
     except Exception as error:  # a driver that fails to load
         return f"the CUDA driver failed: {error}"
-    return "no CUDA GPU or driver found (numba.cuda.is_available() is False)"
+    return "no CUDA GPU or driver found: numba.cuda.is_available() is False"
 
 
 def device_name() -> str:
