@@ -409,8 +409,8 @@ def declare_for_cuda() -> None:
     """What numba's CUDA targets lack for celtstone's kernels, for the CUDA target only:
     min/max of two numbers (numba 0.68's built-in target types the builtins' overloads
     for iterables and fails on ``max(a, b)``), ``np.nextafter(t, np.inf)`` for t >= 0
-    (the step floor of ``_step_control.smallest_step``), from ``math.frexp``, and
-    ``np.sign`` of a number. A target with its own keeps its own."""
+    (the step floor of ``_step_control.smallest_step``), from ``math.frexp``. A target
+    with its own keeps its own."""
     from numba import types
     from numba.core.extending import overload
 
