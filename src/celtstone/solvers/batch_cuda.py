@@ -98,6 +98,9 @@ MAX_EVENT_ROWS = 3  # lift-off, phase change, spin crossing (``_events.event_tab
 MAX_STAGES = max(_vern9.N_STAGES_EXTENDED, _dop853.N_STAGES_EXTENDED)
 MAX_DENSE_ROWS = max(_vern9.DENSE_ROWS, _dop853.DENSE_ROWS)
 
+# NumPy's name that numba-cuda 0.30 still overloads (by name: ruff's NumPy 2 rule rewrites it)
+REMOVED_ALIAS = "row_stack"
+
 _PACKAGE = Path(__file__).resolve().parents[1]
 
 
@@ -410,9 +413,13 @@ def declare_for_cuda() -> None:
     min/max of two numbers (numba 0.68's built-in target types the builtins' overloads
     for iterables and fails on ``max(a, b)``), ``np.nextafter(t, np.inf)`` for t >= 0
     (the step floor of ``_step_control.smallest_step``), from ``math.frexp``. A target
-    with its own keeps its own."""
+    with its own keeps its own. numba-cuda 0.30 overloads NumPy's ``row_stack``, which
+    NumPy 2.5 removed, when it first compiles: the alias is given back then."""
     from numba import types
     from numba.core.extending import overload
+
+    if not hasattr(np, REMOVED_ALIAS):
+        setattr(np, REMOVED_ALIAS, np.vstack)
 
     def next_above(value, direction):
         if isinstance(value, types.Float) and isinstance(direction, types.Float):
