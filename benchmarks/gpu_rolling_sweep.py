@@ -54,8 +54,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from numba import cuda, float64, int64, types
-from numba.core.extending import overload
+from numba import cuda, float64, int64
 
 from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
 from celtstone.kernels.system import rhs
@@ -86,39 +85,11 @@ REMOVED_ALIAS = "row_stack"
 
 
 def _cuda_declarations() -> None:
-    """What numba's CUDA targets lack for celtstone's kernels: min/max of two numbers
-    (numba 0.68.1's built-in target types the builtins' overloads for iterables and fails
-    on ``max(a, b)``) and ``np.nextafter(t, np.inf)`` for t >= 0 (the step floor of
-    ``_step_control.smallest_step``), from ``math.frexp``; harmless where the target has
-    its own."""
+    """What numba's CUDA targets lack for celtstone's kernels (min/max of two numbers,
+    ``np.nextafter``): the sweep backend's declarations (``solvers.batch_cuda``)."""
+    from celtstone.solvers.batch_cuda import declare_for_cuda
 
-    def next_above(value, direction):
-        if isinstance(value, types.Float) and isinstance(direction, types.Float):
-
-            def implementation(value, direction):
-                if value == 0.0:
-                    return 5e-324
-                _, exponent = math.frexp(value)
-                return value + math.ldexp(1.0, exponent - 53)  # one ulp, for value > 0
-
-            return implementation
-        return None
-
-    def larger(a, b):
-        if isinstance(a, types.Number) and isinstance(b, types.Number):
-            return lambda a, b: a if a >= b else b
-        return None
-
-    def smaller(a, b):
-        if isinstance(a, types.Number) and isinstance(b, types.Number):
-            return lambda a, b: a if a <= b else b
-        return None
-
-    for function, implementation in ((max, larger), (min, smaller), (np.nextafter, next_above)):
-        try:
-            overload(function, target="cuda")(implementation)
-        except Exception as error:  # another numba's CUDA target: its own serves
-            print(f"note: {function.__name__} not declared for CUDA ({error})", file=sys.stderr)
+    declare_for_cuda()
 
 
 def point_loop(method: str) -> Any:

@@ -30,6 +30,7 @@ from celtstone.sweep.budget import (
     POINT_LIMIT,
     STORE_LIMIT_BYTES,
 )
+from celtstone.sweep.devices import DEVICES
 from celtstone.sweep.plots import DEFAULT_MAPPED_FIELDS, map_paths, write_maps
 from celtstone.sweep.points import read_points
 from celtstone.sweep.runner import (
@@ -108,6 +109,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         help=f"local threads, 1 to {MAX_WORKERS} (default: every core; not with --scheduler)",
+    )
+    parser.add_argument(
+        "--device",
+        default="cpu",
+        metavar="|".join(DEVICES),
+        help="where the points run: cpu (default), cuda (a CUDA GPU, one thread per point: "
+        "the rolling model with vern9 or dop853 so far; an error where it cannot run) or "
+        "auto (the GPU where it can, else the CPU)",
     )
     parser.add_argument(
         "--chunk-points",
@@ -198,6 +207,7 @@ def _sweep(args: argparse.Namespace) -> tuple[Sweep, int]:
         method=args.method,
         stick_method=args.stick_method,
         force=args.force,
+        device=args.device,
         progress=_validation_progress(not args.no_progress),
         **settings,  # type: ignore[arg-type]
     )
@@ -214,7 +224,8 @@ def handle(args: argparse.Namespace) -> int:
         check_path_name(maps, "maps")
         map_paths(maps, overwrite=replace_maps, fields=args.map_fields)  # before the sweep
     sweep, threads = _sweep(args)
-    if sweep.estimate.wall_seconds(threads) > LONG_SWEEP_SECONDS:
+    # the estimate is the CPU's; a GPU sweep says what it runs on as it starts
+    if sweep.device == "cpu" and sweep.estimate.wall_seconds(threads) > LONG_SWEEP_SECONDS:
         print(f"celtstone: sweep of {sweep.estimate.describe(threads or None)}", file=sys.stderr)
     progress_bar = None
     counts = {"done": 0, "failed": 0, "total": sweep.size, "started": 0}

@@ -20,7 +20,7 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 
-__all__ = ["count_reversals", "last_zero_before", "rocking_average"]
+__all__ = ["count_reversals", "last_zero_before", "rocking_average", "rocking_average_into"]
 
 
 @kernel
@@ -45,11 +45,18 @@ def rocking_average(times, spins, n, window, averaged):
     and last half-window are averaged over a shorter, one-sided window). Times need not
     be uniform. ``window`` <= 0 copies the spin.
     """
+    rocking_average_into(times, spins, n, window, averaged, np.empty(n))
+
+
+@kernel
+def rocking_average_into(times, spins, n, window, averaged, cumulative):
+    """``rocking_average`` with the spin's running integral [rad] kept in ``cumulative``
+    (at least n long), a buffer the caller provides: code that cannot allocate (a CUDA
+    thread) passes its own."""
     if window <= 0.0 or n < 2:
         for k in range(n):
             averaged[k] = spins[k]
         return
-    cumulative = np.empty(n)
     cumulative[0] = 0.0
     for k in range(1, n):
         cumulative[k] = cumulative[k - 1] + 0.5 * (spins[k] + spins[k - 1]) * (

@@ -22,7 +22,7 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ModelCode
-from celtstone.kernels.reversal import count_reversals, rocking_average
+from celtstone.kernels.reversal import count_reversals, rocking_average_into
 from celtstone.kernels.system import energy, spin_and_normal_force
 from celtstone.simulation.outcome import OUTCOMES, SWEPT
 from celtstone.solvers._events import event_table
@@ -111,7 +111,8 @@ F_DISSIPATED_WORK = _COLUMNS["dissipated_work"]
 def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
     """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
     ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
-    the first reversal time) (``kernels.reversal``)."""
+    the first reversal time, buffer of the spin's running integral) (``kernels.reversal``);
+    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too."""
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
@@ -120,7 +121,9 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     spin_initial = (
         y0[Y_OMEGA] * y0[Y_N] + y0[Y_OMEGA + 1] * y0[Y_N + 1] + y0[Y_OMEGA + 2] * y0[Y_N + 2]
     )
-    sense = -np.sign(spin_initial)  # against the start
+    # against the start, as ``reproduce.cases.summarise``: -np.sign(spin_initial) as numba
+    # computes it (a zero keeps its sign, NaN stays NaN), which CUDA code has not
+    sense = -(1.0 if spin_initial > 0.0 else (-1.0 if spin_initial < 0.0 else spin_initial))
     peak_reversed = -np.inf
     budget_error = 0.0
     energy_rise = 0.0
@@ -140,8 +143,8 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
         _, normal_force, _ = spin_and_normal_force(model, y, params, work)
         if normal_force < min_normal:  # fmin: a NaN sample does not win
             min_normal = normal_force
-    band, window, averaged, first_time = reversal
-    rocking_average(sample_times, spins, n_samples, window, averaged)
+    band, window, averaged, first_time, cumulative = reversal
+    rocking_average_into(sample_times, spins, n_samples, window, averaged, cumulative)
     exact = n_stored if window <= 0.0 else 0  # the raw spin's crossings time a raw reversal
     first_time[0] = np.nan
     n_reversals = count_reversals(
@@ -241,6 +244,7 @@ def reduce_run(
         math.nan,
     )
     spins, averaged, first_time = np.zeros(times.shape[0]), np.zeros(times.shape[0]), np.zeros(1)
+    cumulative = np.zeros(times.shape[0])
     out = np.empty(N_FIELDS)
     arguments = (
         params,
@@ -249,7 +253,7 @@ def reduce_run(
         times,
         samples,
         np.ascontiguousarray(crossings, dtype=np.float64),
-        (float(reversal_band), float(reversal_window), averaged, first_time),
+        (float(reversal_band), float(reversal_window), averaged, first_time, cumulative),
         spins,
         np.zeros(N_STATE),
         out,
@@ -283,6 +287,7 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
     to_integrate, phases_link, phase_links = links
     spins = np.zeros(output.sample_times.shape[0])
     averaged = np.zeros(output.sample_times.shape[0])
+    cumulative = np.zeros(output.sample_times.shape[0])
     first_time = np.zeros(1)
     work = np.zeros(N_STATE)
     table = event_table(model, 0.0)
@@ -299,7 +304,13 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
             arguments = (model, methods[0], p, y0, t_end, controls, table, output)
             end = call_integrate(to_integrate, arguments)
             times = output.sample_times
-        reversal = (points.reversal_bands[i], points.reversal_windows[i], averaged, first_time)
+        reversal = (
+            points.reversal_bands[i],
+            points.reversal_windows[i],
+            averaged,
+            first_time,
+            cumulative,
+        )
         _reduce(
             model,
             p,

@@ -36,6 +36,7 @@ from celtstone.simulation.reversals import (
 )
 from celtstone.solvers import batch
 from celtstone.sweep import budget
+from celtstone.sweep.devices import CudaPool, describe_gpu, resolve_device
 from celtstone.sweep.spec import PARAMETERS, Axis, AxisSpec, PointBuilder, parse_axis_spec
 from celtstone.sweep.store import FORMAT, RESULT_FIELDS, Layout, SweepStore, open_sweep
 
@@ -184,6 +185,11 @@ class Sweep:
         ``budget.STORE_LIMIT_BYTES`` (never beyond ``budget.HARD_POINT_LIMIT``).
     progress : callable, optional
         Called with (objects built, objects to build) while the points are validated.
+    device : {"cpu", "cuda", "auto"}, optional
+        Where the points run: the CPU's threads (or ``run``'s scheduler), a CUDA GPU
+        (one thread per point; the rolling model with vern9 or dop853 so far), or the GPU
+        where it can run the sweep, else the CPU. "cuda" where it cannot is an error,
+        never a quiet run on the CPU.
     """
 
     def __init__(
@@ -204,6 +210,7 @@ class Sweep:
         max_steps: int = 20_000_000,
         force: bool = False,
         progress: Callable[[int, int], None] | None = None,
+        device: str = "cpu",
     ) -> None:
         # settings first, then the size from the counts alone, then the points
         if model not in MODELS:
@@ -253,6 +260,7 @@ class Sweep:
         self.method, stick = method_names(self.builder.model, method, stick_method)
         self.is_hybrid = isinstance(self.builder.model, HybridModel)
         self.stick_method = stick if stick is not None else STICK_METHOD
+        self.device = resolve_device(device, model, self.method, self.is_hybrid)
         count = max(2, round(self.t_end * self.samples_per_second) + 1)
         self.sample_times = np.linspace(0.0, self.t_end, count)
 
@@ -405,6 +413,7 @@ class Sweep:
             "reversal_window_rule": "the spin's running mean over each point's "
             "Body.rocking_period [s] (celtstone.simulation.reversals)",
             "sweep_spec": self.spec(chunk_points),
+            **({"device": describe_gpu()} if self.device == "cuda" else {}),
         }
 
     # ----------------------------------------------------------------- running
@@ -475,6 +484,9 @@ class Sweep:
         # every option is checked, and a cluster connected, before a store is created
         chunk_points, threads = check_run_options(scheduler, workers, chunk_points)
         task_points = _whole("task_points", task_points, MAX_CHUNK_POINTS)
+        if self.device == "cuda":
+            _check_gpu_options(scheduler, workers)
+            task_points = chunk_points  # a task is a block; a launch gathers many
         if resume and out is None:
             raise ParameterError("resume", True, "a store to resume (out)")
         layout = Layout.for_shape(self.dims, self.shape, chunk_points)
@@ -483,7 +495,13 @@ class Sweep:
         store: SweepStore | None = None
         if target is not None and resume and target.exists():
             store = SweepStore.open(target, expected_spec=attrs["sweep_spec"], lock=True)
-        pool: _Pool = _DaskPool(scheduler) if scheduler is not None else _ThreadPool(threads)
+        pool: _Pool | CudaPool
+        if self.device == "cuda":
+            pool = CudaPool(len(self.sample_times), task_points)
+        elif scheduler is not None:
+            pool = _DaskPool(scheduler)
+        else:
+            pool = _ThreadPool(threads)
         try:
             if target is not None and store is None:
                 store = SweepStore.create(
@@ -520,7 +538,7 @@ class Sweep:
         self,
         blocks: list[tuple[int, int, tuple[slice, ...]]],
         task_points: int,
-        pool: _Pool,
+        pool: _Pool | CudaPool,
         write: Callable[[int, int, tuple[slice, ...], np.ndarray], None],
     ) -> None:
         tasks = [
@@ -616,6 +634,18 @@ def check_run_options(
         ``chunk_points`` outside 1..``MAX_CHUNK_POINTS``.
     """
     return _whole("chunk_points", chunk_points, MAX_CHUNK_POINTS), _threads(scheduler, workers)
+
+
+def _check_gpu_options(scheduler: str | None, workers: int | None) -> None:
+    """A sweep on the GPU takes neither a scheduler nor local threads."""
+    if scheduler is not None:
+        raise ParameterError(
+            "scheduler", scheduler, "no value with device cuda", "the GPU runs every point"
+        )
+    if workers is not None:
+        raise ParameterError(
+            "workers", workers, "no value with device cuda", "the GPU runs every point"
+        )
 
 
 def _threads(scheduler: str | None, workers: int | None) -> int:

@@ -1,0 +1,570 @@
+"""The batch driver on a CUDA GPU: one thread per point, the CPU driver's steps and fields.
+
+``run_batch_cuda`` takes what ``batch.run_batch`` takes and returns the same result
+array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the rolling model with
+an explicit method (``CUDA_METHODS``). Each thread integrates one point with celtstone's
+own kernels and method, compiled by numba for CUDA from the same Python source as the
+CPU code, so no equation or method is written twice:
+
+* the method's ``attempt`` and ``dense`` (``_vern9``, ``_dop853``), ``kernels.system.rhs``
+  and the first step of ``driver.first_step``;
+* the events of ``_events`` (``event_table``, ``all_decided_by_ends``,
+  ``locate_events``): spin zero crossings are located inside each step on the method's
+  interpolant as on the CPU, pairs of crossings inside one step included, so the
+  reversal counts agree exactly;
+* the samples, filled from the same interpolant at the sweep's sample times, and the
+  reduction ``batch._reduce`` (reversals with their band and rocking window, final spin,
+  energy lost, tilt, normal force, energy budget).
+
+The thread's loop, ``_integrate_point``, repeats ``driver.integrate``'s: a CUDA thread
+cannot allocate, so its arrays are the thread's local arrays and slices of global arrays
+the launch provides (each point's samples, averaged spin and crossings), and slice
+assignments are loops (numba's CUDA lowering has none).
+
+numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, no GPU) runs the thread's Python
+with the kernels as their compiled CPU code: there the fields equal the CPU sweep's to the
+last bit (``tests/test_sweep_cuda.py``). It hands a kernel's tuple arguments over as
+they are, so the launch passes its arrays in tuples (``Run``, ``Buffers``), which a GPU
+launch copies to the device as numba does any array argument.
+
+The kernel of a model and method is compiled once per machine: ``cuda.jit(cache=True)``
+keeps it in numba's cache, keyed on a hash of the sources it is built from
+(``SOURCE_KEY``), since numba's cache looks only at the kernel's own file.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import math
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+try:  # numba's CUDA target: its own (numba-cuda) or the one built into numba
+    from numba import cuda, float64, int64
+except ImportError:  # pragma: no cover - a numba without one
+    cuda = None  # type: ignore[assignment]
+
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
+from celtstone.kernels.system import rhs, spin_and_normal_force
+from celtstone.solvers import _dop853, _vern9
+from celtstone.solvers import _events as events
+from celtstone.solvers import _methods as methods
+from celtstone.solvers._compile import inlined
+from celtstone.solvers._structures import Controls, RunEnd
+from celtstone.solvers.batch import N_FIELDS, _reduce
+from celtstone.solvers.codes import (
+    METHOD_DOP853,
+    METHOD_VERN9,
+    METHODS,
+    N_STATS,
+    STATUS_LIFT_OFF,
+    STATUS_MAX_STEPS,
+    STATUS_NOT_FINITE,
+    STATUS_SUCCESS,
+    STATUS_UNKNOWN_CODE,
+)
+from celtstone.solvers.driver import all_finite, first_step, rhs_failure, sample_inside
+
+__all__ = [
+    "CUDA_METHODS",
+    "CUDA_MODELS",
+    "KEPT_CROSSINGS",
+    "THREADS_PER_BLOCK",
+    "Buffers",
+    "Run",
+    "bytes_per_point",
+    "cuda_unavailable_reason",
+    "device_name",
+    "in_simulator",
+    "launch_points",
+    "run_batch_cuda",
+]
+
+CUDA_MODELS = (int(ModelCode.ROLLING),)
+"""Model codes a GPU thread runs (the sliding model's tables are frozen constants yet)."""
+CUDA_METHODS = {"vern9": METHOD_VERN9, "dop853": METHOD_DOP853}
+"""Methods a GPU thread runs, by name: the explicit ones, whose workspaces are small."""
+MAX_LAUNCH_POINTS = 262_144  # threads of one launch: more than fill a GPU (§44: 65 536 do)
+SIMULATOR_LAUNCH_POINTS = 64  # numba's simulator runs a Python thread per GPU thread
+MEMORY_FRACTION = 0.5  # of the GPU's free memory, for one launch's arrays
+THREADS_PER_BLOCK = 64  # 32 to 256 made no difference (docs/decisions.md §44)
+KEPT_CROSSINGS = 100_000  # crossing times a point keeps where they time reversals, as on the CPU
+MAX_EVENT_ROWS = 3  # lift-off, phase change, spin crossing (``_events.event_table``)
+# the thread's workspace arrays, sized for the larger of the two methods
+MAX_STAGES = max(_vern9.N_STAGES_EXTENDED, _dop853.N_STAGES_EXTENDED)
+MAX_DENSE_ROWS = max(_vern9.DENSE_ROWS, _dop853.DENSE_ROWS)
+
+# NumPy's name that numba-cuda 0.30 still overloads (by name: ruff's NumPy 2 rule rewrites it)
+REMOVED_ALIAS = "row_stack"
+
+_PACKAGE = Path(__file__).resolve().parents[1]
+
+
+def _source_key() -> int:
+    """A hash of every source the kernel is compiled from (``kernels`` and ``solvers``):
+    numba's cache checks only the kernel's own file, and would load a kernel built from
+    older kernels after an upgrade."""
+    digest = hashlib.sha256()
+    for folder in ("kernels", "solvers"):
+        for path in sorted((_PACKAGE / folder).glob("*")):
+            if path.suffix in (".py", ".json"):
+                digest.update(path.name.encode())
+                digest.update(path.read_bytes())
+    return int(digest.hexdigest()[:15], 16)
+
+
+SOURCE_KEY = _source_key()
+
+
+class Run(NamedTuple):
+    """What every thread of a launch shares: the duration [s], the tolerances and the
+    step limit."""
+
+    t_end: float
+    rtol: float
+    atol: float
+    max_steps: int
+
+
+class Buffers(NamedTuple):
+    """A launch's arrays, k points (on the GPU: device arrays).
+
+    Parameters
+    ----------
+    params : kernel parameter records, shape (k,)
+    initial_states : shape (k, N_STATE)
+    reversal_bands : each point's hysteresis half-width [rad/s], shape (k,)
+    reversal_windows : each point's rocking window [s], shape (k,)
+    table : the run's events (``_events.event_table``)
+    sample_times : [s], shape (m,)
+    samples : each point's states at the sample times, shape (k, m, N_STATE)
+    spins, averaged, cumulative : each point's ``_reduce`` buffers, shape (k, m)
+    crossings : each point's spin zero crossing times [s], shape (k, capacity)
+    results : each point's result fields (``batch.FIELDS``), shape (k, N_FIELDS)
+    """
+
+    params: Any
+    initial_states: Any
+    reversal_bands: Any
+    reversal_windows: Any
+    table: Any
+    sample_times: Any
+    samples: Any
+    spins: Any
+    averaged: Any
+    cumulative: Any
+    crossings: Any
+    results: Any
+
+
+@inlined
+def _first_check(model, params, y, f, sample_times, samples):
+    """``driver.first_check`` without its ``Output``: f(0, y), the samples at times <= 0,
+    and why the run cannot start; (status, samples written, normal force [N])."""
+    code, normal_force = rhs(model, 0.0, y, params, f)
+    n_samples = 0
+    while n_samples < sample_times.shape[0] and sample_times[n_samples] <= 0.0:
+        for j in range(y.shape[0]):
+            samples[n_samples, j] = y[j]
+        n_samples += 1
+    status = STATUS_SUCCESS
+    if not (all_finite(y) and all_finite(f)):
+        status = STATUS_NOT_FINITE
+    if code != RHS_OK:
+        status = rhs_failure(code)
+    elif normal_force < 0.0:
+        status = STATUS_LIFT_OFF
+    return status, n_samples, normal_force
+
+
+@inlined
+def _fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
+    """``driver.fill_samples`` with loops for its row copies: the samples at times in
+    (t_old, t_limit] from the step's interpolant, ``y_end`` at the step's end."""
+    while n_samples < sample_times.shape[0] and sample_times[n_samples] <= t_limit:
+        time = sample_times[n_samples]
+        row = samples[n_samples]
+        if time == step.t_old + step.h:
+            for j in range(y_end.shape[0]):
+                row[j] = y_end[j]
+        else:
+            x = (time - step.t_old) / step.h
+            methods.interpolate(step.method, step.dense, step.y_old, x, row)
+        n_samples += 1
+    return n_samples
+
+
+@inlined
+def _stop_at(event, model, params, step, x_limit, normal, t_limit, y_end, state, work):
+    """``driver.stop_at`` for a sweep, which keeps no final state: the smallest normal
+    force [N] and its time [s] including the state where the terminal ``event`` stops the
+    run (``state`` receives it), ``normal`` those before; ``work`` is scratch."""
+    min_normal, t_min_normal = normal
+    if event.value == events.VALUE_NORMAL_FORCE:
+        return min(min_normal, 0.0), t_limit
+    if x_limit >= 1.0:
+        for j in range(y_end.shape[0]):
+            state[j] = y_end[j]
+    else:
+        methods.interpolate(step.method, step.dense, step.y_old, x_limit, state)
+    normal_force = spin_and_normal_force(model, state, params, work)[1]
+    if normal_force < min_normal:
+        return normal_force, t_limit
+    return min_normal, t_min_normal
+
+
+class ThreadWorkspace(NamedTuple):
+    """The workspace of either explicit method (the fields of ``_vern9.Workspace`` and
+    ``_dop853.Workspace``, which read theirs by name), so that one compiled loop takes
+    both."""
+
+    stages: Any  # (MAX_STAGES, N_STATE)
+    dense: Any  # (MAX_DENSE_ROWS, N_STATE)
+    scratch: Any  # (N_STATE,)
+    error_term: Any  # (N_STATE,): Verner's
+    error_terms: Any  # (2, N_STATE): DOP853's
+
+
+@kernel
+def _integrate_point(model, method, params, y, t_end, controls, table, sample_times, samples,
+                     crossings, local):  # fmt: skip
+    """``driver.integrate`` from ``y`` (overwritten) to ``t_end`` [s], for a sweep: samples
+    into ``samples``, crossing times into ``crossings``; ``local`` holds the thread's
+    arrays, ``work`` among them a ``ThreadWorkspace``. Returns the ``RunEnd``."""
+    f, y_new, f_new, point, scratch, values, stats, work = local
+    status, n_samples, normal_old = _first_check(model, params, y, f, sample_times, samples)
+    if status != STATUS_SUCCESS:
+        return RunEnd(status, n_samples, 0, 0.0, normal_old, 0.0)
+    min_normal = normal_old
+    t_min_normal = 0.0
+    events.start_values(table, model, params, y, values, scratch)
+    rate = events.spin_rate(y, f)
+    h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
+    n_crossings = 0
+    t = 0.0
+    steps = 0
+    while t < t_end:
+        if steps >= controls.max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        steps += 1
+        if method == METHOD_VERN9:
+            status, h_taken, h_next, code, normal_new = _vern9.attempt(
+                model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+            )
+        elif method == METHOD_DOP853:
+            status, h_taken, h_next, code, normal_new = _dop853.attempt(
+                model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+            )
+        else:
+            status, h_taken, h_next, code, normal_new = STATUS_UNKNOWN_CODE, h, h, RHS_OK, 0.0
+        if status != STATUS_SUCCESS:
+            break
+        if not all_finite(y_new):
+            status = STATUS_NOT_FINITE
+            break
+        t_new = t_end if h_taken == t_end - t else t + h_taken
+        spin_new = events.spin_of(y_new)
+        rate_new = events.spin_rate(y_new, f_new)
+        if code != RHS_OK:
+            status = rhs_failure(code)
+            break
+        step = events.Step(method, work.dense, y, t, h_taken)
+        all_decided = events.all_decided_by_ends(
+            table, values, spin_new, normal_new, rate, rate_new, h_taken
+        )
+        # the interpolant only where a sample or an event reads it, as on the CPU
+        if not all_decided or sample_inside(step, t_new, sample_times, n_samples):
+            if method == METHOD_VERN9:
+                _vern9.dense(model, params, t, y, y_new, h_taken, work, stats)
+            elif method == METHOD_DOP853:
+                _dop853.dense(model, params, t, y, y_new, h_taken, work, stats)
+        stop_row, x_limit, t_limit, n_crossings = events.locate_events(
+            table,
+            values,
+            spin_new,
+            normal_new,
+            model,
+            params,
+            step,
+            t_new,
+            all_decided,
+            crossings,
+            n_crossings,
+            point,
+            scratch,
+        )
+        n_samples = _fill_samples(step, t_limit, sample_times, samples, n_samples, y_new)
+        if stop_row >= 0:
+            status = table[stop_row].status
+            min_normal, t_min_normal = _stop_at(
+                table[stop_row],
+                model,
+                params,
+                step,
+                x_limit,
+                (min_normal, t_min_normal),
+                t_limit,
+                y_new,
+                point,
+                scratch,
+            )
+            t = t_limit
+            break
+        if normal_new < min_normal:
+            min_normal = normal_new
+            t_min_normal = t_new
+        for j in range(y.shape[0]):
+            y[j] = y_new[j]
+            f[j] = f_new[j]
+        rate = rate_new
+        t = t_new
+        h = h_next
+    return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
+
+
+def _thread(model, method, point, run, buffers):
+    """Integrate and reduce point ``point`` of the launch into ``buffers.results[point]``
+    (a CUDA device function; ``model`` and ``method`` are compile-time constants, so
+    only their branches are compiled)."""
+    y = cuda.local.array(N_STATE, float64)
+    f = cuda.local.array(N_STATE, float64)
+    y_new = cuda.local.array(N_STATE, float64)
+    f_new = cuda.local.array(N_STATE, float64)
+    state = cuda.local.array(N_STATE, float64)
+    scratch = cuda.local.array(N_STATE, float64)
+    stages = cuda.local.array((MAX_STAGES, N_STATE), float64)
+    dense = cuda.local.array((MAX_DENSE_ROWS, N_STATE), float64)
+    errors = cuda.local.array((2, N_STATE), float64)
+    values = cuda.local.array(MAX_EVENT_ROWS, float64)
+    stats = cuda.local.array(N_STATS, int64)
+    first_time = cuda.local.array(1, float64)
+    for j in range(N_STATS):
+        stats[j] = 0
+    y0 = buffers.initial_states[point]
+    for j in range(N_STATE):
+        y[j] = y0[j]
+    params = buffers.params[point]
+    controls = Controls(run.rtol, run.atol, 0.0, 0.0, run.max_steps, True)
+    samples = buffers.samples[point]
+    crossings = buffers.crossings[point]
+    work = ThreadWorkspace(stages, dense, scratch, errors[0], errors)
+    local = (f, y_new, f_new, state, scratch, values, stats, work)
+    end = _integrate_point(
+        model, method, params, y, run.t_end, controls, buffers.table, buffers.sample_times,
+        samples, crossings, local,
+    )  # fmt: skip
+    reversal = (
+        buffers.reversal_bands[point],
+        buffers.reversal_windows[point],
+        buffers.averaged[point],
+        first_time,
+        buffers.cumulative[point],
+    )
+    _reduce(
+        model,
+        params,
+        y0,
+        end,
+        buffers.sample_times,
+        samples,
+        crossings,
+        reversal,
+        buffers.spins[point],
+        scratch,
+        buffers.results[point],
+    )
+
+
+def _ensemble_source(model, method, key):  # pragma: no cover - the kernel's template
+    """The kernel of ``model`` and ``method`` as a Python closure over three integers
+    (numba's cache keys a closure on its cells, which must pickle the same in every
+    process: ``key`` is ``SOURCE_KEY``)."""
+
+    def ensemble(run, buffers):
+        point: int = cuda.grid(1)  # type: ignore[call-arg]
+        if key >= 0 and point < buffers.initial_states.shape[0]:
+            _thread_device(model, method, point, run, buffers)
+
+    return ensemble
+
+
+_thread_device: Any = None  # ``_thread`` as a CUDA device function, made by ``_kernel``
+
+
+@functools.cache
+def _kernel(model: int, method: int) -> Any:
+    """The CUDA kernel of ``model`` and ``method``, compiled at its first launch or loaded
+    from numba's cache."""
+    global _thread_device
+    declare_for_cuda()
+    if _thread_device is None:
+        _thread_device = cuda.jit(device=True)(_thread)
+    return cuda.jit(cache=True)(_ensemble_source(model, method, SOURCE_KEY))
+
+
+@functools.cache
+def declare_for_cuda() -> None:
+    """What numba's CUDA targets lack for celtstone's kernels, for the CUDA target only:
+    min/max of two numbers (numba 0.68's built-in target types the builtins' overloads
+    for iterables and fails on ``max(a, b)``), ``np.nextafter(t, np.inf)`` for t >= 0
+    (the step floor of ``_step_control.smallest_step``), from ``math.frexp``. A target
+    with its own keeps its own. numba-cuda 0.30 overloads NumPy's ``row_stack``, which
+    NumPy 2.5 removed, when it first compiles: the alias is given back then."""
+    from numba import types
+    from numba.core.extending import overload
+
+    if not hasattr(np, REMOVED_ALIAS):
+        setattr(np, REMOVED_ALIAS, np.vstack)
+
+    def next_above(value, direction):
+        if isinstance(value, types.Float) and isinstance(direction, types.Float):
+
+            def implementation(value, direction):
+                if value == 0.0:
+                    return 5e-324
+                _, exponent = math.frexp(value)
+                return value + math.ldexp(1.0, exponent - 53)  # one ulp, for value > 0
+
+            return implementation
+        return None
+
+    def larger(a, b):
+        if isinstance(a, types.Number) and isinstance(b, types.Number):
+            return lambda a, b: a if a >= b else b
+        return None
+
+    def smaller(a, b):
+        if isinstance(a, types.Number) and isinstance(b, types.Number):
+            return lambda a, b: a if a <= b else b
+        return None
+
+    for function, implementation in ((max, larger), (min, smaller), (np.nextafter, next_above)):
+        try:
+            overload(function, target="cuda")(implementation)
+        except Exception:  # another numba's CUDA target: its own serves
+            pass
+
+
+def in_simulator() -> bool:
+    """Whether numba's CUDA simulator stands in for a GPU (``NUMBA_ENABLE_CUDASIM=1``)."""
+    from numba import config
+
+    return bool(getattr(config, "ENABLE_CUDASIM", False))
+
+
+def cuda_unavailable_reason() -> str | None:
+    """Why no CUDA GPU can run a sweep here, or None if one can (numba's CUDA simulator,
+    ``NUMBA_ENABLE_CUDASIM=1``, counts as one)."""
+    if cuda is None:
+        return "this numba has no CUDA target (install numba-cuda)"
+    try:
+        if cuda.is_available():
+            return None
+    except Exception as error:  # a driver that fails to load
+        return f"the CUDA driver failed: {error}"
+    return "no CUDA GPU or driver found: numba.cuda.is_available() is False"
+
+
+def device_name() -> str:
+    """The GPU's name ("NVIDIA H200"), or "numba's CUDA simulator"."""
+    if in_simulator():
+        return "numba's CUDA simulator"
+    name = cuda.get_current_device().name
+    return name.decode() if isinstance(name, bytes) else str(name)
+
+
+def launch_points(n_samples: int, crossing_capacity: int) -> int:
+    """Points in one launch: what ``MEMORY_FRACTION`` of the GPU's free memory holds
+    (``bytes_per_point``), at most ``MAX_LAUNCH_POINTS`` (``SIMULATOR_LAUNCH_POINTS`` in
+    the simulator)."""
+    if in_simulator():
+        return SIMULATOR_LAUNCH_POINTS
+    free, _ = cuda.current_context().get_memory_info()
+    fitting = int(MEMORY_FRACTION * free) // bytes_per_point(n_samples, crossing_capacity)
+    return max(1, min(MAX_LAUNCH_POINTS, fitting))
+
+
+def bytes_per_point(n_samples: int, crossing_capacity: int) -> int:
+    """GPU memory [bytes] a point of a launch takes: its samples, its ``_reduce``
+    buffers, its crossings, its inputs and its results."""
+    floats = n_samples * (N_STATE + 3) + crossing_capacity + N_STATE + 2 + N_FIELDS
+    return 8 * floats + 1024  # and its parameter record, at most 1 kB
+
+
+def run_batch_cuda(
+    model: int,
+    method_name: str,
+    params: np.ndarray,
+    y0: np.ndarray,
+    t_end: float,
+    *,
+    rtol: float,
+    atol: float,
+    sample_times: np.ndarray,
+    reversal_bands: np.ndarray,
+    reversal_windows: np.ndarray | float = 0.0,
+    max_steps: int = 20_000_000,
+    max_crossings: int = KEPT_CROSSINGS,
+    capture_speeds: np.ndarray | None = None,
+    stick_method_name: str = "dop853",
+    max_phases: int = 0,
+) -> np.ndarray:
+    """``batch.run_batch`` on the GPU, one thread per point: the same arguments and the same
+    result array.
+
+    ``model`` must be one of ``CUDA_MODELS`` and ``method_name`` a key of
+    ``CUDA_METHODS``; ``capture_speeds`` (the stick–slip contact), ``stick_method_name``
+    and ``max_phases`` are refused or unused. Each point keeps ``max_crossings`` crossing
+    times only where its rocking window is 0 (the raw spin's reversals are timed by
+    them); elsewhere the count alone is kept, as the CPU reduction reads no more.
+    The caller sizes a launch by ``bytes_per_point``.
+    """
+    if model not in CUDA_MODELS or method_name not in CUDA_METHODS:
+        raise ValueError(f"no CUDA thread for model {model} with {method_name}")
+    if capture_speeds is not None:
+        raise ValueError("the stick-slip contact has no CUDA thread")
+    method = CUDA_METHODS[method_name]
+    assert METHODS[method_name] == method
+    k = len(params)
+    windows = np.ascontiguousarray(np.broadcast_to(reversal_windows, (k,)), dtype=np.float64)
+    bands = np.ascontiguousarray(np.broadcast_to(reversal_bands, (k,)), dtype=np.float64)
+    times = np.ascontiguousarray(sample_times, dtype=np.float64)
+    capacity = max(1, int(max_crossings)) if np.any(windows <= 0.0) else 1
+    m = times.shape[0]
+    inputs = {
+        "params": np.ascontiguousarray(params),
+        "initial_states": np.ascontiguousarray(y0, dtype=np.float64),
+        "reversal_bands": bands,
+        "reversal_windows": windows,
+        "table": events.event_table(model, 0.0),
+        "sample_times": times,
+    }
+    shapes = {
+        "samples": (k, m, N_STATE),
+        "spins": (k, m),
+        "averaged": (k, m),
+        "cumulative": (k, m),
+        "crossings": (k, capacity),
+        "results": (k, N_FIELDS),
+    }
+    run = Run(float(t_end), float(rtol), float(atol), int(max_steps))
+    kernel = _kernel(model, method)
+    blocks = (k + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+    if k == 0:
+        return np.empty((0, N_FIELDS))
+    if in_simulator():  # the simulator takes host arrays in a tuple as they are
+        buffers = Buffers(**inputs, **{name: np.zeros(s) for name, s in shapes.items()})
+        kernel[blocks, min(THREADS_PER_BLOCK, k)](run, buffers)
+        return np.asarray(buffers.results)
+    device = Buffers(
+        **{name: cuda.to_device(values) for name, values in inputs.items()},
+        **{name: cuda.device_array(s) for name, s in shapes.items()},
+    )
+    kernel[blocks, THREADS_PER_BLOCK](run, device)
+    cuda.synchronize()
+    return device.results.copy_to_host()

@@ -1,0 +1,162 @@
+"""Where a sweep computes: the CPU (threads or a Dask cluster) or a CUDA GPU.
+
+``resolve_device`` turns the user's ``device`` ("cpu", "cuda" or "auto") into the one
+that runs, and refuses "cuda" in one line where the GPU cannot run the sweep: no CUDA
+GPU here, or a model or method that has no GPU thread yet. A sweep asked to run on the
+GPU never falls back to the CPU; "auto" takes the GPU where it can and says nothing.
+
+``CudaPool`` gathers the runner's tasks (blocks of points) into launches of
+``solvers.batch_cuda.run_batch_cuda``, one thread per point, as many points at a time
+as the GPU's memory holds (``batch_cuda.launch_points``), and hands each
+task its rows back: the store, its blocks, resuming and the fields are the CPU
+sweep's.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections import deque
+from typing import Any
+
+import numpy as np
+
+from celtstone.errors import ParameterError
+
+__all__ = ["DEVICES", "CudaPool", "describe_gpu", "resolve_device"]
+
+DEVICES = ("cpu", "cuda", "auto")
+"""The values of ``Sweep(device=...)`` and ``celtstone sweep --device``."""
+
+
+def _gpu_refusal(model: str, method: str, is_hybrid: bool) -> str | None:
+    """Why the GPU cannot run this sweep, or None."""
+    from celtstone.solvers import batch_cuda
+
+    if is_hybrid or model != "rolling":
+        return (
+            f"the GPU runs the rolling model so far; the {model} model"
+            + (" with the stick-slip contact" if is_hybrid else "")
+            + " runs on the cpu"
+        )
+    if method not in batch_cuda.CUDA_METHODS:
+        return f"the GPU runs {' or '.join(batch_cuda.CUDA_METHODS)}, not {method}"
+    return batch_cuda.cuda_unavailable_reason()
+
+
+def resolve_device(device: object, model: str, method: str, is_hybrid: bool) -> str:
+    """The device that runs a sweep of ``model`` with ``method``: "cpu" or "cuda".
+
+    Raises
+    ------
+    ParameterError
+        for a ``device`` not in ``DEVICES``, and for "cuda" where the GPU cannot run the
+        sweep (the reason as the hint).
+    """
+    if device not in DEVICES:
+        raise ParameterError("device", device, "one of: " + ", ".join(DEVICES))
+    if device == "cpu":
+        return "cpu"
+    refusal = _gpu_refusal(model, method, is_hybrid)
+    if refusal is None:
+        return "cuda"
+    if device == "auto":
+        return "cpu"
+    raise ParameterError(
+        "device", device, "cpu, or auto to use a GPU where one can run it", refusal
+    )
+
+
+def describe_gpu() -> str:
+    """The GPU's name ("NVIDIA H200"), or "numba's CUDA simulator"."""
+    from celtstone.solvers.batch_cuda import device_name
+
+    return device_name()
+
+
+class CudaPool:
+    """The runner's pool on the GPU: tasks submitted are gathered, and launched together
+    when the runner asks for the next result (``slots`` sets how many it submits first).
+
+    Parameters
+    ----------
+    n_samples : samples per point (the launch's memory)
+    task_points : points per task (the runner's block)
+    """
+
+    def __init__(self, n_samples: int, task_points: int) -> None:
+        from celtstone.solvers.batch_cuda import launch_points
+
+        self.n_samples = n_samples
+        self.points_per_launch = launch_points(n_samples, 1)
+        self.slots = max(1, self.points_per_launch // (4 * task_points))
+        self._waiting: list[tuple[int, tuple[Any, ...], dict[str, Any]]] = []
+        self._done: deque[tuple[int, np.ndarray]] = deque()
+        self._announced = False
+
+    def submit(self, key: int, *args: Any, **kwargs: Any) -> None:
+        self._waiting.append((key, args, kwargs))
+
+    def next_done(self) -> tuple[int, np.ndarray]:
+        if not self._done:
+            self._launch()
+        return self._done.popleft()
+
+    def close(self) -> None:
+        self._waiting.clear()
+        self._done.clear()
+
+    def _launch(self) -> None:
+        """One launch of every waiting task's points; their rows to ``_done``."""
+        from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points, run_batch_cuda
+
+        tasks, self._waiting = self._waiting, []
+        if not tasks:
+            raise RuntimeError("the runner asked for a result with no task submitted")
+        model, method, _, _, t_end = tasks[0][1]
+        settings = dict(tasks[0][2])
+        counts = [len(args[2]) for _, args, _ in tasks]
+        per_point = {
+            name: np.concatenate(
+                [
+                    np.broadcast_to(kw[name], (n,))
+                    for (_, _, kw), n in zip(tasks, counts, strict=True)
+                ]
+            )
+            for name in ("reversal_bands", "reversal_windows")
+        }
+        params = np.concatenate([args[2] for _, args, _ in tasks])
+        states = np.concatenate([args[3] for _, args, _ in tasks])
+        if not self._announced:
+            self._announce()
+        # as many as fit at once; points whose rocking window is 0 keep their crossing
+        # times, and fewer of them fit
+        kept = bool(np.any(per_point["reversal_windows"] <= 0.0))
+        size = launch_points(self.n_samples, KEPT_CROSSINGS if kept else 1)
+        parts = []
+        for start in range(0, len(params), size):
+            part = slice(start, start + size)
+            settings.update({name: values[part] for name, values in per_point.items()})
+            parts.append(
+                run_batch_cuda(model, method, params[part], states[part], t_end, **settings)
+            )
+        results = np.concatenate(parts)
+        first = 0
+        for (key, _, _), n in zip(tasks, counts, strict=True):
+            self._done.append((key, results[first : first + n]))
+            first += n
+
+    def _announce(self) -> None:
+        """Say on a terminal that the first launch may compile the kernel (numba's cache
+        serves later processes)."""
+        self._announced = True
+        try:
+            terminal = sys.stderr is not None and sys.stderr.isatty()
+        except (ValueError, OSError):
+            terminal = False
+        if terminal:
+            print(
+                f"celtstone: sweeping on {describe_gpu()}; the first sweep of a model and "
+                "method on this machine compiles its CUDA kernel (tens of seconds, once)",
+                file=sys.stderr,
+                flush=True,
+            )

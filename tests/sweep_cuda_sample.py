@@ -1,0 +1,74 @@
+"""A small rolling sweep on the CPU and in numba's CUDA simulator, for tests/test_sweep_cuda.py.
+
+Run as ``NUMBA_ENABLE_CUDASIM=1 python tests/sweep_cuda_sample.py DIR METHOD`` (the
+variable must be set before numba is imported, hence a process of its own). Writes to
+DIR: ``cpu.zarr``, the CPU sweep; ``cuda.zarr``, the same sweep on the (simulated) GPU,
+stopped by Ctrl-C after its first block and resumed; ``report.json``, what the test
+checks besides the stores. Exits 77 where the simulator is unavailable, saying why.
+
+The points are five initial states of the Kane & Levinson body over 3 s that cover
+what the loop and the reduction read: runs that reverse and runs that do not, raw spin
+sign changes from 2 to 6, and a run that lifts off (a terminal event) at once.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+
+POINTS = {
+    "initial_spin": [-6.0, -4.0, -2.0, 0.0, -20.0],
+    "euler_alpha": [5.0, 0.1, 5.0, 5.0, 20.0],
+}
+T_END = 3.0  # s
+CHUNK_POINTS = 2  # three blocks: the interruption falls after the first
+
+
+def main() -> int:
+    directory, method = Path(sys.argv[1]), sys.argv[2]
+    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
+        print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
+        return 2
+    try:
+        from numba import cuda
+
+        if not cuda.is_available():
+            raise RuntimeError("numba.cuda.is_available() is False")
+    except Exception as error:
+        print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
+        return 77
+    from celtstone.errors import ParameterError
+    from celtstone.sweep import Sweep
+
+    settings = {"model": "rolling", "t_end": T_END, "method": method}
+    cpu = Sweep(points=POINTS, **settings)
+    cpu.run(directory / "cpu.zarr", workers=1, chunk_points=CHUNK_POINTS)
+    gpu = Sweep(points=POINTS, device="cuda", **settings)
+    report: dict[str, object] = {"device": gpu.device}
+
+    def stop_after_first_block(points: int, failures: int) -> None:
+        raise KeyboardInterrupt
+
+    try:
+        gpu.run(directory / "cuda.zarr", chunk_points=CHUNK_POINTS, progress=stop_after_first_block)
+    except KeyboardInterrupt:
+        from celtstone.sweep import open_sweep
+
+        partial = open_sweep(directory / "cuda.zarr", allow_incomplete=True)
+        report["points_before_resume"] = int((partial["status"] != "").sum())
+    gpu.run(directory / "cuda.zarr", chunk_points=CHUNK_POINTS, resume=True)
+    refusals = []
+    for options in ({"workers": 2}, {"scheduler": "tcp://127.0.0.1:1"}):
+        try:
+            gpu.run(**options)  # type: ignore[arg-type]
+        except ParameterError as error:
+            refusals.append(str(error))
+    report["refusals"] = refusals
+    (directory / "report.json").write_text(json.dumps(report))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

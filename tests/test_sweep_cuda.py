@@ -1,0 +1,161 @@
+"""Sweeps on a CUDA GPU (``Sweep(device="cuda")``, ``celtstone sweep --device cuda``).
+
+No GPU is needed. numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) runs the GPU
+thread's Python with celtstone's kernels as their compiled CPU code, so the oracle is
+the CPU sweep itself: every result field must agree to the last bit and every count
+exactly, the reversals and the spin's zero crossings (located inside each step on both)
+included. The sample (``tests/sweep_cuda_sample.py``) runs in a process of its own,
+since the simulator is chosen when numba is imported. On this machine, without a GPU,
+asking for one is a one-line error (exit 2), never a run on the CPU.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from celtstone.cli.main import main
+from celtstone.errors import ParameterError
+from celtstone.sweep import Sweep, open_sweep
+
+SAMPLE = Path(__file__).resolve().parent / "sweep_cuda_sample.py"
+GPU_METHODS = ("vern9", "dop853")  # solvers.batch_cuda.CUDA_METHODS
+SKIPPED = 77  # the sample's exit status where the simulator is unavailable
+
+
+def _gpu_here() -> bool:
+    """Whether this process sees a CUDA GPU (or the simulator): then the refusals below
+    do not happen."""
+    from celtstone.solvers.batch_cuda import cuda_unavailable_reason
+
+    return cuda_unavailable_reason() is None
+
+
+@pytest.mark.parametrize("method", GPU_METHODS)
+def test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator(
+    tmp_path: Path, method: str
+) -> None:
+    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
+    done = subprocess.run(
+        [sys.executable, str(SAMPLE), str(tmp_path), method],
+        env=environment,
+        capture_output=True,
+        text=True,
+    )
+    if done.returncode == SKIPPED:
+        pytest.skip(done.stderr.strip())
+    assert done.returncode == 0, done.stdout + done.stderr
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert report["device"] == "cuda"
+    cpu, gpu = open_sweep(tmp_path / "cpu.zarr"), open_sweep(tmp_path / "cuda.zarr")
+    # the sample covers what the loop and the reduction read: reversals, crossings up to
+    # 6, and a lift-off
+    assert cpu["reversal_count"].values.tolist() == [0, 1, 1, 0, 0]
+    assert set(cpu["spin_crossing_count"].values) >= {2, 6}
+    assert cpu["status"].values.tolist() == ["success"] * 4 + ["lift_off"]
+    assert set(cpu.data_vars) == set(gpu.data_vars)
+    for name in cpu.data_vars:
+        expected, got = cpu[name].values, gpu[name].values
+        if expected.dtype.kind == "f":  # to the last bit, NaN where the CPU has NaN
+            np.testing.assert_array_equal(got, expected, err_msg=name, strict=True)
+        else:
+            assert got.tolist() == expected.tolist(), name
+    assert gpu.attrs["device"] == "numba's CUDA simulator"
+    assert gpu.attrs["sweep_spec"] == cpu.attrs["sweep_spec"]  # either device resumes it
+    # Ctrl-C after the first block of three left that block alone; resuming added the others
+    assert report["points_before_resume"] == 2
+    workers, scheduler = report["refusals"]
+    assert workers.startswith("workers = 2 is not allowed: expected no value with device cuda")
+    assert scheduler.startswith("scheduler = 'tcp://127.0.0.1:1' is not allowed")
+
+
+def test_cuda_without_a_gpu_is_one_line_and_exit_2(tmp_path: Path) -> None:
+    if _gpu_here():
+        pytest.skip("a CUDA GPU is here: the sweep would run on it")
+    store = tmp_path / "sweep.zarr"
+    argv = ["sweep", "--model", "rolling", "--vary", "initial_spin=-5,5", "--t-end", "0.1"]
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        status = main([*argv, "--device", "cuda", "--out", str(store), "--no-progress"])
+    assert status == 2
+    lines = err.getvalue().strip().splitlines()
+    assert len(lines) == 1, lines
+    assert "device = 'cuda' is not allowed" in lines[0]
+    assert "numba.cuda.is_available() is False" in lines[0]
+    assert not store.exists()  # refused before the store is made: no CPU run either
+    with pytest.raises(ParameterError, match="no CUDA GPU"):
+        Sweep({"initial_spin": [-5.0]}, model="rolling", device="cuda")
+
+
+def test_auto_takes_the_cpu_where_the_gpu_cannot_run() -> None:
+    sweep = Sweep({"initial_spin": [-5.0]}, model="sliding", device="auto")
+    assert sweep.device == "cpu"
+    if not _gpu_here():
+        assert Sweep({"initial_spin": [-5.0]}, model="rolling", device="auto").device == "cpu"
+
+
+@pytest.mark.parametrize(
+    ("settings", "reason"),
+    [
+        ({"model": "sliding"}, "the GPU runs the rolling model so far"),
+        ({"model": "rolling", "method": "radau5"}, "the GPU runs vern9 or dop853, not radau5"),
+    ],
+)
+def test_cuda_names_what_the_gpu_cannot_run(settings: dict[str, str], reason: str) -> None:
+    with pytest.raises(ParameterError, match=reason):
+        Sweep({"initial_spin": [-5.0]}, device="cuda", **settings)
+
+
+def test_unknown_device_lists_the_devices() -> None:
+    with pytest.raises(ParameterError, match="expected one of: cpu, cuda, auto"):
+        Sweep({"initial_spin": [-5.0]}, model="rolling", device="gpu")
+
+
+BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_sweep.py"
+
+
+def _benchmark(*arguments: str, simulator: bool = False) -> subprocess.CompletedProcess[str]:
+    environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    if simulator:
+        environment["NUMBA_ENABLE_CUDASIM"] = "1"
+    return subprocess.run(
+        [sys.executable, str(BENCHMARK), *arguments],
+        env=environment,
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_benchmark_stages_run_and_agree_in_the_simulator(tmp_path: Path) -> None:
+    """The GPU benchmark's three stages, its GPU stage in the simulator: what a lent GPU
+    runs in one call works, and its report compares the fields it should."""
+    small = ("--grid", "2", "--large", "2", "--copies", "1")
+    prepared = _benchmark("--prepare", str(tmp_path), *small)
+    assert prepared.returncode == 0, prepared.stderr
+    if not _gpu_here():  # without a GPU the stage says so and writes nothing
+        refused = _benchmark("--gpu", str(tmp_path))
+        assert refused.returncode != 0
+        assert "--gpu needs a CUDA GPU: no CUDA GPU or driver found" in refused.stderr
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["inputs.npz"]
+    ran = _benchmark("--gpu", str(tmp_path), *small, simulator=True)
+    if ran.returncode != 0 and "--gpu needs a CUDA GPU" in ran.stderr:
+        pytest.skip(f"numba's CUDA simulator is unavailable: {ran.stderr.strip()}")
+    assert ran.returncode == 0, ran.stderr
+    again = _benchmark("--gpu", str(tmp_path), simulator=True)
+    assert again.returncode != 0 and "pass --force" in again.stderr
+    reported = _benchmark("--report", str(tmp_path))
+    assert reported.returncode == 0, reported.stderr
+    summary = json.loads(reported.stdout)
+    assert summary["points"] == 4
+    for count in ("status_agrees", "reversal_count_agree", "spin_crossing_count_agree"):
+        assert summary[count] == 4, count
+    assert summary["differences"]["spin_final"]["max"] == 0.0  # the simulator: the CPU's code
+    assert summary["gpu"]["device"] == "numba's CUDA simulator"
