@@ -184,8 +184,9 @@ def _cli_page() -> str:
 def _exclude_from_validation(app: Any, config: Any) -> None:
     """Left out of numpydoc's validation, computed from the documented names: data, whose
     value's docstring numpydoc checks as a function's (``float``'s, ``dict``'s; the page
-    shows the docstring written under it, :func:`_data_docstring`), and the constructor
-    of a class that has none of its own (``object.__init__``'s docstring is Python's)."""
+    shows the docstring written under it, :func:`_data_docstring`), the constructor
+    of a class that has none of its own (``object.__init__``'s docstring is Python's),
+    and a Protocol's constructor and parameters (typing's ``*args, **kwargs``)."""
     names = [f"celtstone.{name}" for name in celtstone.__all__]
     for module in documented_modules():
         names += [f"{module}.{name}" for name in public_names(importlib.import_module(module))]
@@ -197,6 +198,10 @@ def _exclude_from_validation(app: Any, config: Any) -> None:
             excluded.append(full)
         elif inspect.isclass(value) and value.__init__ is object.__init__:
             excluded.append(f"{full}.__init__")
+        elif inspect.isclass(value) and getattr(value, "_is_protocol", False):
+            # a Protocol's constructor is typing's (*args, **kwargs), whose parameters
+            # numpydoc would ask the class to document; its members are still checked
+            excluded += [full, f"{full}.__init__"]
     patterns = {f"^{re.escape(full)}$" for full in excluded}
     config.numpydoc_validation_exclude = set(config.numpydoc_validation_exclude) | patterns
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 
 from celtstone.files.path_names import check_path_name
@@ -83,7 +82,12 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="shortened runs and a 6-point f grid: a smoke test, not the reproduction",
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress on standard error (a bar at a terminal; elsewhere, as in a log, "
+        "a line every 30 s and one as each target ends, with its time)",
+    )
     parser.add_argument(
         "--overwrite",
         action="store_true",
@@ -108,7 +112,7 @@ def handle(args: argparse.Namespace) -> int:
         study.load_body()  # an unknown body fails before any run
     if args.quick:
         studies = [reduced(study) for study in studies]
-    show = not args.no_progress and sys.stderr.isatty()
+    show = not args.no_progress
     atlas = AtlasTarget(atlas_grid(args.atlas_grid), quick=args.quick)
     report = reproduce(
         args.targets, args.out, studies, progress=show, atlas=atlas, overwrite=args.overwrite

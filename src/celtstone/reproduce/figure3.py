@@ -15,7 +15,12 @@ from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.simulation.models import Model
 
-__all__ = ["figure3"]
+__all__ = ["figure3", "figure3_models"]
+
+
+def figure3_models(study: Study) -> list[Model]:
+    """Rolling, then sliding at the study's ``fig3_friction``."""
+    return [study.rolling(), study.sliding(study.fig3_friction)]
 
 
 def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
@@ -37,7 +42,7 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     """
     body = study.load_body()
     stem = f"fig3_{study.key}"
-    models: list[Model] = [study.rolling(), study.sliding(study.fig3_friction)]
+    models = figure3_models(study)
     datasets, cases = run_cases(study, body, models, study.fig3_t_end, out, stem, progress)
     title = (
         f"Figure 3 analogue, {study.key}: long run, rolling and sliding f = {study.fig3_friction:g}"

@@ -103,7 +103,7 @@ class Study:
         The targets this study runs (the paper's: all of :data:`TARGETS`).
     contact : str
         "sliding" (the paper's regularised sliding contact) or "hybrid" (the stick–slip
-        contact, ``celtstone.simulation.hybrid``).
+        contact, ``celtstone.solvers.phases``).
     ingredient_frictions : tuple of float
         The f [1] of the one-at-a-time runs of a paper-contact study's Figure 2 target
         (``reproduce.ingredients``): each ingredient of the realistic contact alone.
@@ -385,7 +385,7 @@ def _realistic(body: str) -> Study:
       Coulomb's bound f N of the true N (by up to 21 % for K&L): with the consistent load
       and the stick–slip contact, the threshold's grid held runs that had not ended after
       40 minutes on two cores, against about a minute for the whole grid with N = m g;
-    * the stick–slip contact (``celtstone.simulation.hybrid``): a real contact sticks, without the
+    * the stick–slip contact (``celtstone.solvers.phases``): a real contact sticks, without the
       regularised law's creep. It is also what makes these runs affordable: once the
       spin has died, the regularised elliptic contact at rest is stiff (one K&L 20 s run
       at f = 0.15 did not end within 150 s), while in stick the stone rolls (1.7 s for

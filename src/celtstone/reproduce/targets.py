@@ -9,6 +9,7 @@ import os
 import secrets
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
@@ -18,19 +19,23 @@ from celtstone._about import version
 from celtstone.errors import OutputError, ParameterError
 from celtstone.files.export import (
     output_error,
+    remove_stale_temporaries,
     replace_directory,
     temporary_directory,
     write_json,
 )
 from celtstone.files.ownership import file_entry
+from celtstone.reproduce.cases import case_key, compute_case, quiet_friction_bound
 from celtstone.reproduce.directory import ReproductionDirectory
 from celtstone.reproduce.figure2 import figure2, figure2_models
-from celtstone.reproduce.figure3 import figure3
+from celtstone.reproduce.figure3 import figure3, figure3_models
 from celtstone.reproduce.ingredients import ingredient_models
-from celtstone.reproduce.progress import Progress, progress_bar
+from celtstone.reproduce.parallel import SharedRuns, sharing_runs
+from celtstone.reproduce.progress import Progress, duration_words, progress_bar
 from celtstone.reproduce.report import write_report
 from celtstone.reproduce.study import REALISTIC_STUDIES, STUDIES, TARGETS, Study
 from celtstone.reproduce.threshold import threshold
+from celtstone.simulation.models import Model
 
 _RUNNERS = {"fig2": figure2, "fig3": figure3, "threshold": threshold}
 _STAGING = "reproduce"  # staging directories out/.reproduce.<pid>.<random>.part
@@ -69,12 +74,29 @@ def _targets(names: Sequence[str], atlas: FamilyTarget | None) -> list[str]:
     return list(dict.fromkeys(chosen))
 
 
-def _runs(study: Study, target: str) -> int:
+def _planned_runs(study: Study, target: str) -> list[tuple[Study, Model, float]]:
+    """The runs a study's target asks for, each with the study it runs in and its length
+    [s]: all of them but the threshold's bisections, which follow from its grid."""
     if target == "fig2":
-        return len(figure2_models(study)) + len(ingredient_models(study))
+        t_end = study.fig2_t_end
+        ingredients = [(i.study(study), model, t_end) for i, model in ingredient_models(study)]
+        return [(study, model, t_end) for model in figure2_models(study)] + ingredients
     if target == "fig3":
-        return 2
-    return len(study.friction_grid())
+        return [(study, model, study.fig3_t_end) for model in figure3_models(study)]
+    return [(study, study.sliding(f), study.threshold_t_end) for f in study.friction_grid()]
+
+
+def _plan(runs: SharedRuns, chosen: Sequence[str], studies: Sequence[Study]) -> None:
+    """Every planned run of the studies' targets, in the order the targets ask for them."""
+    bodies = {study.body: study.load_body() for study in studies}
+    for target in chosen:
+        for study in studies:
+            if target in study.targets and target in _RUNNERS:
+                for run_study, model, t_end in _planned_runs(study, target):
+                    compute = functools.partial(
+                        compute_case, run_study, bodies[study.body], model, t_end
+                    )
+                    runs.plan(case_key(run_study, model, t_end), compute)
 
 
 def _utc_now() -> str:
@@ -311,20 +333,43 @@ def _reproduce(
 ) -> Path:
     identity = run_identity(chosen, studies)
     total = sum(
-        _runs(study, target) for study in studies for target in chosen if target in study.targets
+        len(_planned_runs(study, target))
+        for study in studies
+        for target in chosen
+        if target in study.targets
     )
     if atlas is not None and ATLAS_TARGET in chosen:
         total += atlas.runs()
+    # what a killed reproduction left goes now, as each target's staging would remove it,
+    # since a signal may come in a run computed ahead before the first target has begun
+    remove_stale_temporaries(directory.out / _STAGING)
     bar = progress_bar(total, "reproduce", progress)
+    started = time.monotonic()
+
+    def done(words: str, since: float) -> None:
+        now = time.monotonic()
+        bar.note(f"{words}: {duration_words(now - since)} ({duration_words(now - started)} in all)")
+
+    # the runs of every study's targets computed ahead on the cores (``parallel``), quiet
+    # as each target's own are (``cases.quiet_friction_bound``: the filters are the process's)
     try:
-        for target in chosen:
-            if target == ATLAS_TARGET and atlas is not None:
-                _run_target(atlas, directory, bar, identity, ATLAS_SOURCE)
-                continue
-            for study in studies:
-                if target in study.targets:  # a study may run some targets only
-                    run = functools.partial(_RUNNERS[target], study)
-                    _run_target(run, directory, bar, identity, _body_source(study))
+        with quiet_friction_bound(), sharing_runs() as runs:
+            _plan(runs, chosen, studies)
+            for target in chosen:
+                if target == ATLAS_TARGET and atlas is not None:
+                    since = time.monotonic()
+                    _run_target(atlas, directory, bar, identity, ATLAS_SOURCE)
+                    done("atlas", since)
+                    continue
+                for study in studies:
+                    if target in study.targets:  # a study may run some targets only
+                        since = time.monotonic()
+                        run = functools.partial(_RUNNERS[target], study)
+                        _run_target(run, directory, bar, identity, _body_source(study))
+                        done(f"{target} {study.key}", since)
+        since = time.monotonic()
+        report = write_report(directory.out, directory)
+        done("report", since)
     finally:
         bar.close()
-    return write_report(directory.out, directory)
+    return report
