@@ -154,8 +154,7 @@ class CeltstoneWarning(UserWarning):
 
 
 class PlausibilityWarning(CeltstoneWarning):
-    """A parameter is allowed but implausible for a rattleback
-    (``celtstone.simulation.plausibility``)."""
+    """A parameter is allowed but implausible for a rattleback (``simulation.plausibility``)."""
 
 
 class FrictionBoundWarning(CeltstoneWarning):

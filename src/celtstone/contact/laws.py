@@ -54,23 +54,30 @@ class FrictionLawEntry:
 
     Parameters
     ----------
-    name : the law's name in models, the CLI, sweeps and a run's attributes
-    code : its code in the kernels, a ``kernels.layout.FrictionLaw`` member's value
-    words : what it is, with its paper equation (help texts)
-    label : its name in a plot's legend
-    functions : the kernel ``kernels.friction.law_functions`` dispatches to for this
-        code: (|V1| [m/s], ε|Ω_n| [m/s], pressure code) -> (F/(fN), M/(fNε)) [1]
-    disk : the closed-form kernel ``kernels.friction.contact_friction`` takes for the
+    name : str
+        The law's name in models, the CLI, sweeps and a run's attributes.
+    code : int
+        Its code in the kernels, a ``kernels.layout.FrictionLaw`` member's value.
+    words : str
+        What it is, with its paper equation (help texts).
+    label : str
+        Its name in a plot's legend.
+    functions : callable
+        The kernel ``kernels.friction.law_functions`` dispatches to for this code:
+        (|V1| [m/s], ε|Ω_n| [m/s], pressure code) -> (F/(fN), M/(fNε)) [1].
+    disk : callable or None
+        The closed-form kernel ``kernels.friction.contact_friction`` takes for the
         disk, arguments as ``law_friction`` less the law; None: ``law_friction``, the
-        force and moment from ``functions``
-    stick_limit : the closed form ``kernels.stick.limit_moment`` takes, (φ, pressure
-        code) -> μ_max [1]; None: the bisection of ``functions``
-        (``stick.bisected_limit_moment``)
-    elliptic_reference : the law over a Hertz ellipse by quadrature that
-        ``celtstone friction --ellipse`` prints, in the convention of
+        force and moment from ``functions``.
+    stick_limit : callable or None
+        The closed form ``kernels.stick.limit_moment`` takes, (φ, pressure code) ->
+        μ_max [1]; None: the bisection of ``functions`` (``stick.bisected_limit_moment``).
+    elliptic_reference : callable or None
+        The law over a Hertz ellipse by quadrature that ``celtstone friction
+        --ellipse`` prints, in the convention of
         ``contact.ellipse.elliptic_friction_functions``; None: the fast form a run uses
         (``contact.ellipse_table.fast_friction_functions``: the disk law of radius A
-        corrected by the table built from the exact entry's reference)
+        corrected by the table built from the exact entry's reference).
     """
 
     name: str

@@ -331,15 +331,20 @@ class Trajectory:
         return json_number(self.outcome()["first_reversal_time"])
 
     def outcome(self, band: float | None = None) -> dict[str, Any]:
-        """The run's outcome record: each swept outcome of ``simulation.outcome.OUTCOMES``
-        by name, in its unit, as a sweep stores it for the same point (NaN where the
-        declaration says; counts as int, ``status`` and ``message`` as text).
+        """Give the run's outcome record, as a sweep stores it for the same point.
 
         Parameters
         ----------
         band : float, optional
             Half-width of the spin's hysteresis band of the reversals [rad/s]; default
             :attr:`reversal_band`.
+
+        Returns
+        -------
+        dict of str to object
+            Each swept outcome of ``simulation.outcome.OUTCOMES`` by name, in its unit
+            (NaN where the declaration says; counts as int, ``status`` and ``message``
+            as text).
         """
         return dict(self._outcome) if band is None else self._reduce(band)
 
