@@ -44,7 +44,7 @@ SLIDING_OR_STICK = (
     "celtstone.kernels.dynamics.sliding_acceleration",
     "celtstone.kernels.stick.stick_acceleration",
     "celtstone.kernels.friction.law_friction",
-    "celtstone.kernels.friction.pade_friction",
+    "celtstone.kernels.friction.pade_disk_friction",
     "celtstone.solvers.phases.run_phases",
 )
 OTHER_METHODS = ("celtstone.solvers._radau.", "celtstone.solvers._dop853.")

@@ -26,13 +26,8 @@ from celtstone.contact.ellipse_table import (
     node_ratios,
     small_slip_stiffness,
 )
-from celtstone.kernels.friction import exact_friction, pade_friction
-from celtstone.kernels.friction_ellipse import (
-    ASPECT_MIN,
-    COEFFICIENTS,
-    elliptic_contact_friction,
-    elliptic_pade,
-)
+from celtstone.kernels.friction import law_friction, pade_friction
+from celtstone.kernels.friction_ellipse import ASPECT_MIN, COEFFICIENTS, elliptic_contact_friction
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
 NORMAL = (0.0, 0.0, 1.0)
@@ -49,6 +44,11 @@ PADE_FORCE_ERROR = 0.40
 PADE_MOMENT_ERROR = 0.23
 INTERPOLATION_FORCE_ERROR = 6.2e-4
 INTERPOLATION_MOMENT_ERROR = 7.3e-4
+
+
+def elliptic_pade(*arguments: object) -> tuple[tuple[float, float, float], float]:
+    """:func:`elliptic_contact_friction` with Zhuravlev's Padé law (its other arguments)."""
+    return elliptic_contact_friction(*arguments, FrictionLaw.PADE.value)
 
 
 def random_points(count: int, seed: int = 20240613) -> list[tuple[float, float, float]]:
@@ -296,7 +296,9 @@ def test_exact_disk_law_corrected_is_the_exact_elliptic_law() -> None:
 def test_equal_axes_give_the_exact_disk_law_and_unknown_laws_nan() -> None:
     slip, spin = (2e-4, -1e-4, 0.0), 0.7
     force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 1e-3, 1e-9, 1)
-    disk_force, disk_moment = exact_friction(slip, spin, 1e-3, 1e-9, ContactPressure.HERTZ.value)
+    disk_force, disk_moment = law_friction(
+        slip, spin, 1e-3, 1e-9, FrictionLaw.EXACT.value, ContactPressure.HERTZ.value
+    )
     assert force == disk_force and moment == disk_moment
     force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 5e-4, 1e-9, 7)
     assert math.isnan(moment) and all(math.isnan(f) for f in force)

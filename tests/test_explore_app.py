@@ -90,7 +90,7 @@ def test_friction_slider_redraws_with_the_cli_reversal(
     assert explorer.outcome is shown and len(explorer.sources["spin"].data["time"]) > 0
 
     path = tmp_path / "run.nc"
-    path.write_bytes(explorer._dataset_bytes(".nc").getvalue())
+    path.write_bytes(explorer._dataset_bytes("run.nc").getvalue())
     assert main(["plot", str(path), "--out", str(tmp_path / "run.png")]) == 0
     assert (tmp_path / "run.png").stat().st_size > 0
     capsys.readouterr()
@@ -291,10 +291,12 @@ def test_the_downloads_are_the_command_lines_files_and_leave_nothing_behind(
     scratch = tmp_path / "scratch"
     scratch.mkdir()
     monkeypatch.setattr("tempfile.tempdir", str(scratch))
-    netcdf = explorer._dataset_bytes(".nc").getvalue()
-    csv = explorer._dataset_bytes(".csv").getvalue()
-    png = explorer._figure_bytes("png").getvalue()
-    svg = explorer._figure_bytes("svg").getvalue()
+    offered = {  # what the page's download buttons give
+        button.filename: button.callback().getvalue()
+        for button in explorer.downloads.select(pn.widgets.FileDownload)  # type: ignore[attr-defined]
+    }
+    assert set(offered) == {"run.nc", "run.csv", "run.png", "run.svg"}
+    netcdf, csv, png, svg = (offered[f"run.{kind}"] for kind in ("nc", "csv", "png", "svg"))
     assert list(scratch.iterdir()) == []
     words = shlex.split(command_line(explorer.outcome.inputs) or "")
     for suffix, content in ((".nc", netcdf), (".csv", csv)):

@@ -13,10 +13,10 @@ A shape class (``bodies.shapes``) is a frozen dataclass that says, as class attr
 * ``stored``: whether the shape is data (rebuilt from its table in a run's file and
   sent to sweep workers) or lives in this process only (a compiled Python function);
 
-and implements ``kernel_fields`` (the kernel record's fields it fills),
-``kernel_parameters`` (four numbers a run records), ``rest_height``,
+and implements ``kernel_parameters`` (four numbers a run records), ``rest_height``,
 ``radii_of_curvature`` and ``example`` (a Kane & Levinson-sized instance,
-symmetric about the plane y = 0, that the registry's tests run).
+symmetric about the plane y = 0, that the registry's tests run). The kernel record's
+fields it fills (``kernel_fields``) are its entries, by key, unless it says otherwise.
 
 From these, :class:`DeclaredShape` makes the provenance (``table``, ``attributes``) and
 the swept copies (``replaced``); the body-file loader, the sweep's parameter list,
@@ -128,12 +128,16 @@ class DeclaredShape:
     def kernel_fields(self) -> dict[str, Any]:
         """Give the fields of the kernel parameter record this shape sets.
 
+        Its code, and each declared entry under its key: the record's field of that name.
+        A shape whose record holds something other than its entries (an implicit
+        surface) gives its own.
+
         Returns
         -------
         dict of str to object
             Field name of ``kernels.layout`` -> value (SI).
         """
-        raise NotImplementedError
+        return {"shape_code": self.code, **{e.key: getattr(self, e.key) for e in self.entries}}
 
     def kernel_parameters(self) -> tuple[float, float, float, float]:
         """Give the four shape numbers a run records (``body_shape_parameters``).

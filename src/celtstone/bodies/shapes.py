@@ -3,7 +3,8 @@
 Each shape declares once (``bodies.declaration``) its kind, kernel code, body-file
 entries with units, sweepable numbers, drawing and provenance; the body-file loader,
 sweeps, run attributes and the viewer read :data:`SHAPES`. Adding a shape: a class
-here, its ``ShapeCode`` and record fields (``kernels/layout.py``) and its branches in
+here, its ``ShapeCode`` and record fields named as its entries (``kernels/layout.py``)
+and its branches in
 ``kernels/geometry.py`` and ``kernels/hertz.py`` (``docs/architecture.md``).
 """
 
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Self
+from typing import Self
 
 from celtstone.bodies.declaration import (
     KL_COM_OFFSET,
@@ -69,16 +70,6 @@ class _AboutCentre(DeclaredShape):
         """
         a, b, c = self.semi_axes
         return (a, b, c, self.com_offset)
-
-    def kernel_fields(self) -> dict[str, Any]:
-        """Give the fields of the kernel parameter record this shape sets.
-
-        Returns
-        -------
-        dict of str to object
-            Field name of ``kernels.layout`` -> value (SI).
-        """
-        return {"shape_code": self.code, "semi_axes": self.semi_axes, "com_offset": self.com_offset}
 
     @property
     def rest_height(self) -> float:
@@ -207,20 +198,6 @@ class Paraboloid(DeclaredShape):
         rho1, rho2 = self.radii_of_curvature
         return (rho1, rho2, self.com_height, 0.0)
 
-    def kernel_fields(self) -> dict[str, Any]:
-        """Give the fields of the kernel parameter record this shape sets.
-
-        Returns
-        -------
-        dict of str to object
-            Field name of ``kernels.layout`` -> value (SI).
-        """
-        return {
-            "shape_code": self.code,
-            "radii_of_curvature": self.radii_of_curvature,
-            "com_height": self.com_height,
-        }
-
     @property
     def rest_height(self) -> float:
         """Height l of G above the contact point at rest [m]."""
@@ -239,10 +216,9 @@ class Superellipsoid(_AboutCentre):
 
     Parameters
     ----------
-    semi_axes : tuple of 3 float
-        (a, b, c), semi-axes along body axes 1, 2, 3 [m].
-    com_offset : float
-        Distance h of the centre of mass G below O along axis 3 [m], |h| < c.
+    semi_axes, com_offset
+        As for :class:`Ellipsoid`: the semi-axes (a, b, c) [m] and G's offset h below O
+        along axis 3 [m], |h| < c.
     exponent : float
         Exponent p [1], in [2, 64]; p = 2 is the ellipsoid. p < 1 is not convex and
         1 <= p < 2 has edges (infinite curvature), so neither is accepted.
@@ -293,16 +269,6 @@ class Superellipsoid(_AboutCentre):
         p > 2 is flat at the rest contact, where a run stops (docs/decisions.md §13).
         """
         return cls(KL_SEMI_AXES, KL_COM_OFFSET, 2.0)
-
-    def kernel_fields(self) -> dict[str, Any]:
-        """Give the fields of the kernel parameter record this shape sets.
-
-        Returns
-        -------
-        dict of str to object
-            Field name of ``kernels.layout`` -> value (SI).
-        """
-        return {**super().kernel_fields(), "exponent": self.exponent}
 
     @property
     def radii_of_curvature(self) -> tuple[float, float]:

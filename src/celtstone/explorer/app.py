@@ -14,6 +14,7 @@ from __future__ import annotations
 import io
 import math
 import tempfile
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -148,24 +149,8 @@ class Explorer:
             for name in DESIGN_FIELDS
         }
         self.body_numbers = pn.pane.Markdown("", styles={"font-size": "0.85em"})
-        self.omega = [
-            pn.widgets.FloatInput(
-                label=f"ω{i + 1} [rad/s]",
-                value=first.omega[i],
-                width=110,
-                description=schema.PARAMETERS["omega"].help(),
-            )
-            for i in range(3)
-        ]
-        self.angles = [
-            pn.widgets.FloatInput(
-                label=f"{symbol} [deg]",
-                value=first.euler_angles[i],
-                width=110,
-                description=schema.PARAMETERS["euler_angles"].help(),
-            )
-            for i, symbol in enumerate(("α", "β"))
-        ]
+        self.omega = _component_inputs("omega", ("ω1", "ω2", "ω3"), "rad/s", first.omega)
+        self.angles = _component_inputs("euler_angles", ("α", "β"), "deg", first.euler_angles)
         self.t_end = pn.widgets.FloatInput(
             label=parameter_label("t_end"),
             value=first.t_end,
@@ -490,31 +475,17 @@ class Explorer:
         self.unpin_button.on_click(self._unpin)
         self.command = pn.pane.Markdown("")
         self.snippet = pn.pane.Markdown("")
+        downloads = (  # file name, label, what makes its bytes from the file name
+            ("run.nc", "run (NetCDF)", self._dataset_bytes),
+            ("run.csv", "run (CSV)", self._dataset_bytes),
+            ("run.png", "figure (PNG)", self._figure_bytes),
+            ("run.svg", "figure (SVG)", self._figure_bytes),
+        )
         files = [
             pn.widgets.FileDownload(
-                callback=lambda: self._dataset_bytes(".nc"),
-                filename="run.nc",
-                label="run (NetCDF)",
-                embed=False,
-            ),
-            pn.widgets.FileDownload(
-                callback=lambda: self._dataset_bytes(".csv"),
-                filename="run.csv",
-                label="run (CSV)",
-                embed=False,
-            ),
-            pn.widgets.FileDownload(
-                callback=lambda: self._figure_bytes("png"),
-                filename="run.png",
-                label="figure (PNG)",
-                embed=False,
-            ),
-            pn.widgets.FileDownload(
-                callback=lambda: self._figure_bytes("svg"),
-                filename="run.svg",
-                label="figure (SVG)",
-                embed=False,
-            ),
+                callback=partial(make, name), filename=name, label=label, embed=False
+            )
+            for name, label, make in downloads
         ]
         self.downloads = pn.Card(
             pn.Row(*files),
@@ -533,19 +504,21 @@ class Explorer:
         )
         self.snippet.object = f"```python\n{python_snippet(inputs)}\n```"
 
-    def _dataset_bytes(self, suffix: str) -> io.BytesIO:
-        """The shown run as a file, written by ``celtstone.files.export`` into a private
-        temporary directory and read back; nothing is left on disk."""
+    def _dataset_bytes(self, name: str) -> io.BytesIO:
+        """The shown run as the file ``name`` (its suffix the format), written by
+        ``celtstone.files.export`` into a private temporary directory and read back;
+        nothing is left on disk."""
         from celtstone.files.export import write
 
         if self.outcome is None or self.outcome.trajectory is None:
             return io.BytesIO(b"")
         with tempfile.TemporaryDirectory(prefix="celtstone-explore-") as folder:
-            path = write(self.outcome.trajectory.dataset, Path(folder) / f"run{suffix}")
+            path = write(self.outcome.trajectory.dataset, Path(folder) / name)
             return io.BytesIO(path.read_bytes())
 
-    def _figure_bytes(self, kind: str) -> io.BytesIO:
-        """The shown run drawn by ``celtstone plot``'s figure, as PNG or SVG."""
+    def _figure_bytes(self, name: str) -> io.BytesIO:
+        """The shown run drawn by ``celtstone plot``'s figure, as PNG or SVG by the suffix
+        of the file ``name``."""
         from celtstone.plotting.run import plot_run
 
         if self.outcome is None or self.outcome.trajectory is None:
@@ -554,7 +527,7 @@ class Explorer:
 
         drawn = plot_run(self.outcome.trajectory.dataset)
         buffer = io.BytesIO()
-        drawn.savefig(buffer, format=kind)
+        drawn.savefig(buffer, format=Path(name).suffix[1:])
         plt.close(drawn)
         buffer.seek(0)
         return buffer
@@ -568,6 +541,21 @@ class Explorer:
         """Shown inline in a notebook (Jupyter calls this)."""
         self._ensure_polling(anywhere=True)
         return self.layout._repr_mimebundle_(include, exclude)
+
+
+def _component_inputs(
+    parameter: str, symbols: tuple[str, ...], unit: str, values: tuple[float, ...]
+) -> list[Any]:
+    """One number input per component of the vector ``parameter`` (``schema.PARAMETERS``)."""
+    return [
+        pn.widgets.FloatInput(
+            label=f"{symbol} [{unit}]",
+            value=value,
+            width=110,
+            description=schema.PARAMETERS[parameter].help(),
+        )
+        for symbol, value in zip(symbols, values, strict=True)
+    ]
 
 
 def _progress_words(running: Progress) -> str:

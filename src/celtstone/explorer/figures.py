@@ -46,24 +46,21 @@ def run_figures(
         "tools": "pan,wheel_zoom,box_zoom,reset,save",
     }
     spin = figure(y_axis_label="spin ω·n [rad/s]", **options)
-    spin.line(
-        "time",
-        "value",
-        source=sources["spin"],
-        line_width=2,
-        legend_label="this run",
-        name="spin",
+    energy = figure(y_axis_label="energy [J]", **options)
+    tilt = figure(y_axis_label="tilt of axis 3 [deg]", **options)
+    this_run = {"line_width": 2, "legend_label": "this run"}
+    pinned_run = {"color": "gray", "line_dash": "dashed", "legend_label": "pinned run"}
+    curves = (  # figure, source (the curve's name), style
+        (spin, "spin", this_run),
+        (spin, "pinned_spin", {**pinned_run, "line_width": 2}),
+        (energy, "energy", {"line_width": 2, "legend_label": "energy E"}),
+        (energy, "work", {"line_width": 2, "color": "orange", "legend_label": "friction work W"}),
+        (energy, "total", {"color": "green", "line_dash": "dashed", "legend_label": "E + W"}),
+        (tilt, "tilt", this_run),
+        (tilt, "pinned_tilt", pinned_run),
     )
-    spin.line(
-        "time",
-        "value",
-        source=sources["pinned_spin"],
-        line_width=2,
-        color="gray",
-        line_dash="dashed",
-        legend_label="pinned run",
-        name="pinned_spin",
-    )
+    for plot, key, style in curves:
+        plot.line("time", "value", source=sources[key], name=key, **style)
     spin.segment(
         "time",
         "low",
@@ -74,34 +71,6 @@ def run_figures(
         line_dash="dotted",
         line_width=2,
         legend_label="reversal",
-    )
-    energy = figure(y_axis_label="energy [J]", **options)
-    energy.line("time", "value", source=sources["energy"], line_width=2, legend_label="energy E")
-    energy.line(
-        "time",
-        "value",
-        source=sources["work"],
-        line_width=2,
-        color="orange",
-        legend_label="friction work W",
-    )
-    energy.line(
-        "time",
-        "value",
-        source=sources["total"],
-        color="green",
-        line_dash="dashed",
-        legend_label="E + W",
-    )
-    tilt = figure(y_axis_label="tilt of axis 3 [deg]", **options)
-    tilt.line("time", "value", source=sources["tilt"], line_width=2, legend_label="this run")
-    tilt.line(
-        "time",
-        "value",
-        source=sources["pinned_tilt"],
-        color="gray",
-        line_dash="dashed",
-        legend_label="pinned run",
     )
     for plot in (spin, energy, tilt):
         plot.legend.location = "top_right"

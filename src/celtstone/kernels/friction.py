@@ -24,7 +24,7 @@ import math
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction_exact import exact_friction_functions
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
-from celtstone.kernels.vector import NAN3, Vec, regularised_norm, scale
+from celtstone.kernels.vector import Vec, regularised_norm, scale
 
 PADE_B = 8.0 / (3.0 * math.pi)  # b in paper eq. (12), fixes F ≈ fN(3π/8)u at small u
 PADE_A = 15.0 * math.pi / 16.0  # a in paper eq. (12), fixes M ≈ fNε/(5u) at large u
@@ -34,10 +34,6 @@ HERTZ_MOMENT = 3.0 * math.pi / 16.0  # M0 / (f N ε) for the Hertz pressure, eq.
 UNIFORM_PADE_B = 1.0
 UNIFORM_PADE_A = 8.0 / 3.0
 UNIFORM_MOMENT = 2.0 / 3.0
-# ab - 1 of the Padé boundary μ = (1 - φ)/(1 + (ab - 1)φ): 5/2 - 1 for the Hertz
-# pressure, 8/3 - 1 for the uniform one
-PADE_BOUNDARY = PADE_A * PADE_B - 1.0
-UNIFORM_PADE_BOUNDARY = UNIFORM_PADE_A * UNIFORM_PADE_B - 1.0
 
 
 @kernel
@@ -162,25 +158,6 @@ def law_friction(
 
 
 @kernel
-def exact_friction(
-    slip_velocity: Vec,
-    spin_rate: float,
-    contact_radius: float,
-    regularisation_speed: float,
-    pressure: int,
-) -> tuple[Vec, float]:
-    """:func:`law_friction` of the exact Coulomb–Contensou law (``friction_exact``)."""
-    return law_friction(
-        slip_velocity,
-        spin_rate,
-        contact_radius,
-        regularisation_speed,
-        FrictionLaw.EXACT.value,
-        pressure,
-    )
-
-
-@kernel
 def zhuravlev_pade(
     slip_velocity: Vec,
     spin_rate: float,
@@ -231,17 +208,11 @@ def pade_friction(
 ) -> tuple[Vec, float]:
     """Zhuravlev–Padé law for the Hertz pressure, per unit f N (paper eq. 10, 12).
 
-    M0 = 3πfNε/16, b = 8/(3π), a = 15π/16; arguments and returns as in
-    :func:`zhuravlev_pade`.
+    M0 = 3πfNε/16, b = 8/(3π), a = 15π/16 (:func:`pade_disk_friction` of the Hertz
+    pressure); arguments and returns as in :func:`zhuravlev_pade`.
     """
-    return zhuravlev_pade(
-        slip_velocity,
-        spin_rate,
-        contact_radius,
-        regularisation_speed,
-        PADE_B,
-        PADE_A,
-        HERTZ_MOMENT,
+    return pade_disk_friction(
+        slip_velocity, spin_rate, contact_radius, regularisation_speed, ContactPressure.HERTZ.value
     )
 
 
@@ -254,21 +225,19 @@ def pade_disk_friction(
     pressure: int,
 ) -> tuple[Vec, float]:
     """The Padé law on the disk for a pressure code, in the closed form of paper eq. (10)
-    (:func:`zhuravlev_pade`); arguments and returns as :func:`law_friction`, NaN for an
+    (:func:`zhuravlev_pade` with the pressure's :func:`pade_constants` and
+    :func:`zero_slip_moment`); arguments and returns as :func:`law_friction`, NaN for an
     unknown pressure."""
-    if pressure == ContactPressure.HERTZ:
-        return pade_friction(slip_velocity, spin_rate, contact_radius, regularisation_speed)
-    if pressure == ContactPressure.UNIFORM:
-        return zhuravlev_pade(
-            slip_velocity,
-            spin_rate,
-            contact_radius,
-            regularisation_speed,
-            UNIFORM_PADE_B,
-            UNIFORM_PADE_A,
-            UNIFORM_MOMENT,
-        )
-    return NAN3, math.nan
+    force_b, moment_a = pade_constants(pressure)
+    return zhuravlev_pade(
+        slip_velocity,
+        spin_rate,
+        contact_radius,
+        regularisation_speed,
+        force_b,
+        moment_a,
+        zero_slip_moment(pressure),
+    )
 
 
 @kernel
@@ -297,12 +266,11 @@ def contact_friction(
 
 @kernel
 def pade_boundary(pressure: int) -> float:
-    """ab - 1 of the Padé limit-set boundary for a pressure code [1]; NaN if unknown."""
-    if pressure == ContactPressure.HERTZ:
-        return PADE_BOUNDARY
-    if pressure == ContactPressure.UNIFORM:
-        return UNIFORM_PADE_BOUNDARY
-    return math.nan
+    """ab - 1 of the Padé limit-set boundary μ = (1 - φ)/(1 + (ab - 1)φ) for a pressure
+    code (5/2 - 1 for the Hertz pressure, 8/3 - 1 for the uniform one) [1]; NaN if unknown.
+    """
+    force_b, moment_a = pade_constants(pressure)
+    return moment_a * force_b - 1.0
 
 
 @kernel

@@ -46,7 +46,7 @@ import numpy as np
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.friction import contact_friction
 from celtstone.kernels.friction_exact import complete_elliptic_integrals
-from celtstone.kernels.layout import ContactPressure, FrictionLaw
+from celtstone.kernels.layout import ContactPressure
 from celtstone.kernels.vector import NAN3, Vec, cross, dot
 
 TABLE_FILE = Path(__file__).with_name("friction_ellipse_table.npz")
@@ -295,27 +295,4 @@ def elliptic_contact_friction(
         major_axis,
         semi_major_axis,
         semi_minor_axis,
-    )
-
-
-@kernel
-def elliptic_pade(
-    slip_velocity: Vec,
-    spin_rate: float,
-    normal: Vec,
-    major_axis: Vec,
-    semi_major_axis: float,
-    semi_minor_axis: float,
-    regularisation_speed: float,
-) -> tuple[Vec, float]:
-    """:func:`elliptic_contact_friction` with the Padé law (arguments and returns as there)."""
-    return elliptic_contact_friction(
-        slip_velocity,
-        spin_rate,
-        normal,
-        major_axis,
-        semi_major_axis,
-        semi_minor_axis,
-        regularisation_speed,
-        FrictionLaw.PADE.value,
     )

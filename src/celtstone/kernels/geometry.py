@@ -95,9 +95,8 @@ def superellipsoid_contact(
 
     Parameters
     ----------
-    n, n_rate : upward vertical in body axes [1] and its time derivative [1/s]
-    a, b, c : semi-axes along body axes 1, 2, 3 [m]
-    h : distance of G below the centre along axis 3 [m]
+    n, n_rate, a, b, c, h : as :func:`ellipsoid_contact` (the vertical and its rate [1],
+        [1/s]; the semi-axes and G's offset [m])
     exponent : p >= 2 [1]; p = 2 is the ellipsoid
 
     Notes

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -182,38 +183,61 @@ def _check_attributes(dataset: xr.Dataset, name: str) -> None:
         try:
             SETTINGS[setting].check(_attribute(attrs[setting]))
         except ParameterError as error:
-            raise ParameterError(
-                name,
-                _title(dataset),
-                _ALLOWED,
-                f"its attribute {setting} = {_attribute(attrs[setting])!r}: "
-                f"expected {error.allowed}",
+            raise _bad_attribute(
+                dataset, name, setting, _attribute(attrs[setting]), error.allowed
             ) from None
-    try:  # as `run` writes it: "[ω1, ω2, ω3]" [rad/s]; the plot's title shows it
-        omega = np.asarray(ast.literal_eval(str(attrs["initial_omega"])), dtype=float)
-        ok = omega.shape == (3,) and bool(np.isfinite(omega).all())
+    # as `run` writes it: "[ω1, ω2, ω3]" [rad/s]; the plot's title shows it
+    _check_attribute(
+        dataset,
+        name,
+        "initial_omega",
+        attrs["initial_omega"],
+        _is_rates,
+        "three finite numbers [rad/s]",
+    )
+    window = attrs.get("reversal_window", 0.0)
+    _check_attribute(dataset, name, "reversal_window", window, _is_duration, "a duration >= 0 s")
+
+
+def _is_rates(text: object) -> bool:
+    """Whether ``text`` reads as three finite numbers, "[ω1, ω2, ω3]"."""
+    omega = np.asarray(ast.literal_eval(str(text)), dtype=float)
+    return omega.shape == (3,) and bool(np.isfinite(omega).all())
+
+
+def _is_duration(value: Any) -> bool:
+    """Whether ``value`` is a finite number >= 0."""
+    return bool(np.isfinite(float(value)) and float(value) >= 0.0)
+
+
+def _check_attribute(
+    dataset: xr.Dataset,
+    name: str,
+    attribute: str,
+    value: Any,
+    test: Callable[[Any], bool],
+    expected: str,
+) -> None:
+    """Refuse the run unless ``test(value)`` holds for its attribute (a value that does not
+    parse fails it)."""
+    try:
+        ok = test(value)
     except (ValueError, TypeError, SyntaxError, MemoryError, RecursionError):
         ok = False
     if not ok:
-        raise ParameterError(
-            name,
-            _title(dataset),
-            _ALLOWED,
-            f"its attribute initial_omega = {attrs['initial_omega']!r}: expected three finite "
-            "numbers [rad/s]",
-        )
-    window = attrs.get("reversal_window", 0.0)
-    try:
-        ok = np.isfinite(float(window)) and float(window) >= 0.0
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise ParameterError(
-            name,
-            _title(dataset),
-            _ALLOWED,
-            f"its attribute reversal_window = {window!r}: expected a duration >= 0 s",
-        )
+        raise _bad_attribute(dataset, name, attribute, value, expected)
+
+
+def _bad_attribute(
+    dataset: xr.Dataset, name: str, attribute: str, value: Any, expected: str
+) -> ParameterError:
+    """The error of a run whose attribute ``attribute`` is ``value``, not ``expected``."""
+    return ParameterError(
+        name,
+        _title(dataset),
+        _ALLOWED,
+        f"its attribute {attribute} = {value!r}: expected {expected}",
+    )
 
 
 def _version_numbers(text: object) -> tuple[int, ...] | None:
