@@ -251,6 +251,7 @@ REACHED_BELOW = {
     solvers.Status.MAX_PHASES: "test_phases.py: simulate does not take max_phases",
     solvers.Status.CONTACT_RANGE: "physics/test_elliptic_contact.py: body checks refuse such "
     "bodies at rest",
+    solvers.Status.STOPPED: "test_stop_request.py: the caller's progress callback raised",
 }
 
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from celtstone.errors import ParameterError
 from celtstone.solvers._events import event_table
+from celtstone.solvers._stop import request_stop
 from celtstone.solvers._structures import (
     Controls,
     HybridSettings,
@@ -81,6 +82,9 @@ from celtstone.solvers.codes import (
     STATUS_STEP_TOO_SMALL as STATUS_STEP_TOO_SMALL,
 )
 from celtstone.solvers.codes import (
+    STATUS_STOPPED as STATUS_STOPPED,
+)
+from celtstone.solvers.codes import (
     STATUS_SUCCESS as STATUS_SUCCESS,
 )
 from celtstone.solvers.codes import (
@@ -111,6 +115,7 @@ __all__ = [
     "STATUS_PHASE_CHANGE",
     "STATUS_SINGULAR",
     "STATUS_STEP_TOO_SMALL",
+    "STATUS_STOPPED",
     "STATUS_SUCCESS",
     "STATUS_UNKNOWN_CODE",
     "RawPhases",
@@ -230,7 +235,8 @@ def solve(
     when sqrt(|V1|² + ε²(ω·n)²) falls below it; a stick run (``MODEL_STICK``) always
     stops when its stick margin falls below zero. ``final_state`` is the state at
     ``t_stop``. ``progress``, if given, is called about ten times a second from this
-    thread with the time [s] reached, while the compiled loop runs in another.
+    thread with the time [s] reached, while the compiled loop runs in another; if it
+    raises, the loop stops at its next step and the exception is raised here.
     """
     method = _method_code(method_name)
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
@@ -291,6 +297,9 @@ def solve_phases(
 
 
 _POLL_INTERVAL = 0.1  # s between progress reports
+# s to wait for a stopped loop's thread: it returns before its next step, but a loop that
+# is still compiling (a first stick–slip run) finishes that first, then stops at once
+_STOP_WAIT = 5.0
 
 
 def _run(
@@ -301,7 +310,12 @@ def _run(
 ) -> Any:
     """``function(*arguments)``; with ``progress``, in a daemon thread (the compiled loops
     release the GIL) while this thread reports the last sample time written, read from
-    ``output.stats``. Ctrl-C here abandons the thread."""
+    ``output.stats``.
+
+    When ``progress`` raises, or Ctrl-C arrives while this thread waits, the compiled
+    loop is asked to stop (``_stop.request_stop``: it returns before its next step with
+    ``STATUS_STOPPED``), its thread is waited for, and the exception is raised again.
+    """
     if progress is None:
         return function(*arguments)
     outcome: dict[str, Any] = {}
@@ -315,10 +329,15 @@ def _run(
     thread = threading.Thread(target=work, name="celtstone-run", daemon=True)
     thread.start()
     times, stats = output.sample_times, output.stats
-    while thread.is_alive():
-        thread.join(_POLL_INTERVAL)
-        written = int(stats[STAT_SAMPLES_WRITTEN])
-        progress(float(times[written - 1]) if written > 0 else 0.0)
+    try:
+        while thread.is_alive():
+            thread.join(_POLL_INTERVAL)
+            written = int(stats[STAT_SAMPLES_WRITTEN])
+            progress(float(times[written - 1]) if written > 0 else 0.0)
+    except BaseException:
+        request_stop(stats)
+        thread.join(_STOP_WAIT)
+        raise
     if "error" in outcome:
         raise outcome["error"]
     return outcome["returned"]

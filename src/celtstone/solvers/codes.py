@@ -17,7 +17,7 @@ METHODS = {
     "vern9": METHOD_VERN9,
 }
 
-# slots of the integrator's int64 statistics array (8 long); the compiled loop adds to
+# slots of the integrator's int64 statistics array (9 long); the compiled loop adds to
 # them, so one array sums the phases of a hybrid run
 STAT_NFEV = 0  # right-hand-side evaluations
 STAT_NJEV = 1  # Jacobian evaluations
@@ -27,7 +27,10 @@ STAT_REJECTED = 4  # rejected step attempts
 STAT_SAMPLES_WRITTEN = 5  # output samples filled so far, updated after every step
 STAT_SWITCHES = 6  # switches between DOP853 and Radau (method auto)
 STAT_RADAU_STEPS = 7  # accepted steps that Radau took (all of radau5's, auto's stiff ones)
-N_STATS = 8
+# not a count: set to 1 from another thread to stop the run at its next step
+# (``solvers._stop``); read by the compiled loop before each step
+STAT_STOP_REQUESTED = 8
+N_STATS = 9
 
 DEFAULT_MAX_PHASES = 100_000  # capacity of a hybrid run's phase log (solvers.phases)
 
@@ -115,6 +118,11 @@ class Status(enum.IntEnum):
         "than 50 times longer than wide (B/A < 0.02), or the surface is flat or "
         "saddle-shaped at the contact; use contact_shape circle",
     )
+    STOPPED = (
+        12,
+        "stopped",
+        "stopped on request before t_end (the caller cancelled the run or pressed Ctrl-C)",
+    )
 
 
 # plain ints for the compiled code (numba folds a global to its value)
@@ -130,6 +138,7 @@ STATUS_NON_CONVEX = int(Status.NON_CONVEX)
 STATUS_UNKNOWN_CODE = int(Status.UNKNOWN_CODE)
 STATUS_MAX_PHASES = int(Status.MAX_PHASES)
 STATUS_CONTACT_RANGE = int(Status.CONTACT_RANGE)
+STATUS_STOPPED = int(Status.STOPPED)
 
 UNDECLARED_STATUS = "failed"  # the label of a code that no member declares (never returned)
 

@@ -6,7 +6,8 @@ accepted state (finite, a right-hand side that applies, its normal force and spi
 locates the events of the run's table inside the step (``_events``: lift-off, phase
 change of the hybrid contact, spin zero crossings), fills the output samples that fall
 inside the step from the method's dense output, and stops at t_end, at a terminal
-event, at a singular or off-shape right-hand side, or on integrator failure.
+event, at a singular or off-shape right-hand side, on integrator failure, or when
+another thread asks it to (``_stop``).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._linking import address_call, cached_link_to, link_to
 from celtstone.solvers._step_control import initial_step
+from celtstone.solvers._stop import stop_requested
 from celtstone.solvers._structures import RunEnd
 from celtstone.solvers.codes import (
     METHOD_AUTO,
@@ -51,6 +53,7 @@ from celtstone.solvers.codes import (
     STATUS_NOT_FINITE,
     STATUS_OFF_SHAPE,
     STATUS_SINGULAR,
+    STATUS_STOPPED,
     STATUS_SUCCESS,
     STATUS_UNKNOWN_CODE,
 )
@@ -161,7 +164,9 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     controls : ``_structures.Controls``
     table : event table (``_events.event_table``)
     output : ``_structures.Output``, filled; ``output.stats`` is added to, its slot
-        ``STAT_SAMPLES_WRITTEN`` after every step (read while the loop runs: progress)
+        ``STAT_SAMPLES_WRITTEN`` after every step (read while the loop runs: progress);
+        its slot ``STAT_STOP_REQUESTED`` read before every step (set from another
+        thread, the run stops with ``STATUS_STOPPED`` at the state it reached)
 
     Returns
     -------
@@ -200,6 +205,9 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     steps = 0
     stopped = False
     while t < t_end:
+        if stop_requested(stats):  # another thread asked (``solvers._stop``)
+            status = STATUS_STOPPED
+            break
         if steps >= controls.max_steps:
             status = STATUS_MAX_STEPS
             break

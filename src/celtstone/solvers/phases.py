@@ -17,6 +17,8 @@ the results are the same to the last bit. Samples, crossings and the counters of
 ``stats`` continue from phase to phase in the caller's arrays; phases are written to a
 preallocated :class:`_structures.PhaseLog` whose length is the capacity: a run that
 needs one more phase stops with ``STATUS_MAX_PHASES`` where that phase would start.
+A stop request (``_stop``) ends the phase under way with ``STATUS_STOPPED``, and so
+the run.
 The function releases the GIL, so sweeps run it on threads and Dask workers.
 """
 
