@@ -269,8 +269,8 @@ def diagnostics_rows(model, ys, params, out):
     """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS).
 
     It and :func:`diagnostics` are inlined into the loop compiled per model
-    (``_rows_of``): as separate functions each was a compile of its own (about 0.3 s
-    of CPU apiece), with the right-hand side's code optimised again in each."""
+    (``_rows_of``): as separate functions each was a compile of its own, with the
+    right-hand side's code optimised again in each."""
     work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
     for i in range(ys.shape[0]):
         diagnostics(model, ys[i], params, out[i], work)
