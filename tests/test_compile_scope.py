@@ -111,7 +111,8 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
         "the run loop compiled once, for the rolling model (0) and vern9 (3)"
     )
     assert not set(SLIDING_OR_STICK) & set(names), names
-    # the right-hand side compiled once, for the rolling model as a constant
+    # the right-hand side, called at its address (``solvers._system``), compiled once,
+    # for the rolling model as a constant: never for every code by a call site's typing
     evaluated = [types for name, types in compiled if name == "celtstone.kernels.system.evaluate"]
     assert [types[0] for types in evaluated] == ["Literal[int](0)"], evaluated
     # every method's (empty) workspace is made: the run loop's workspace tuple has one type

@@ -247,8 +247,8 @@ def solve(
     )
     table = event_table(int(model), float(capture_speed))
     arguments = (int(model), method, params, y0, float(t_end), controls, table, output)
-    link = integrate_link(arguments)  # compiled for this model and method
-    end = _run(integrate_at, (link, arguments), output, progress)
+    link, to_rhs = integrate_link(arguments)  # compiled for this model and method
+    end = _run(integrate_at, (link, (*arguments, to_rhs)), output, progress)
     return RawSolution(**_trimmed(end, output))
 
 
