@@ -1,13 +1,16 @@
 """Cold starts: a user's first run of each model after installing, and the same run again.
 
-Each row runs ``celtstone run ... --json`` in a new process with its own empty numba
-cache directory (``NUMBA_CACHE_DIR``), as a first run after ``pip install`` does, then
-once more in a new process on the cache it left (a cached run). Rows:
+Each row runs ``celtstone run ... --json`` (or ``celtstone compile``) in a new process
+with its own empty numba cache directory (``NUMBA_CACHE_DIR``), as a first run after
+``pip install`` does, then once more in a new process on the cache it left (a cached
+run). Rows:
 
 - first rolling run: Kane & Levinson's stone, ``--model rolling --t-end 1`` (vern9);
 - first sliding run: ``--model sliding --t-end 1`` (Zhuravlev's Padé law, the disk, auto);
 - first stick–slip run with the realistic contact: ``--contact hybrid``, the Hertz
-  ellipse (E = 3 GPa, ν = 0.35), the exact law, a rolling-friction length of 1e-5 m.
+  ellipse (E = 3 GPa, ν = 0.35), the exact law, a rolling-friction length of 1e-5 m;
+- ``celtstone compile``: every driver a run, a stick–slip run and a sweep call (its
+  cached row loads them).
 
 Printed per row: CPU time (user + system, of the process and its children, which load on
 the shared machine disturbs far less than wall time), wall time, and the load average
@@ -34,19 +37,20 @@ REALISTIC = (
     "--elastic-modulus 3e9 --poisson-ratio 0.35 --rolling-resistance 1e-5"
 )
 ROWS = {
-    "rolling": "--model rolling --t-end 1",
-    "sliding": "--model sliding --t-end 1",
-    "stick-slip": "--model sliding --t-end 1 " + REALISTIC,
+    "rolling": "run --model rolling --t-end 1 --json",
+    "sliding": "run --model sliding --t-end 1 --json",
+    "stick-slip": "run --model sliding --t-end 1 --json " + REALISTIC,
+    "compile": "compile",
 }
 
 
 def run_once(arguments: str, cache: str) -> tuple[float, float]:
-    """(CPU time [s], wall time [s]) of one ``celtstone run`` in a new process."""
+    """(CPU time [s], wall time [s]) of one ``celtstone`` command in a new process."""
     environment = dict(os.environ, NUMBA_CACHE_DIR=cache)
     environment["PYTHONPATH"] = os.pathsep.join(
         [str(SOURCE), *filter(None, [environment.get("PYTHONPATH")])]
     )
-    command = [sys.executable, "-m", "celtstone", "run", *arguments.split(), "--json"]
+    command = [sys.executable, "-m", "celtstone", *arguments.split()]
     start = time.perf_counter()
     process = subprocess.Popen(
         command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
@@ -55,7 +59,7 @@ def run_once(arguments: str, cache: str) -> tuple[float, float]:
     wall = time.perf_counter() - start
     errors = process.stderr.read().decode() if process.stderr else ""
     if os.waitstatus_to_exitcode(status) != 0:
-        raise SystemExit(f"celtstone run {arguments} failed:\n{errors}")
+        raise SystemExit(f"celtstone {arguments} failed:\n{errors}")
     return usage.ru_utime + usage.ru_stime, wall
 
 

@@ -95,8 +95,8 @@ def test_a_first_rolling_run_compiles_only_the_rolling_model_and_its_method(
     tmp_path: Path,
 ) -> None:
     """A first rolling run (vern9, its summary) compiles one run loop, for the rolling
-    model and vern9 as constants, and none of the sliding model's, the stick phase's or
-    the other methods' steps."""
+    model and vern9 as constants, one right-hand side, for the rolling model, and none of
+    the sliding model's, the stick phase's or the other methods' steps."""
     code = """
 import celtstone as cs
 
@@ -111,6 +111,10 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
         "the run loop compiled once, for the rolling model (0) and vern9 (3)"
     )
     assert not set(SLIDING_OR_STICK) & set(names), names
+    # the right-hand side, called at its address (``solvers._system``), compiled once,
+    # for the rolling model as a constant: never for every code by a call site's typing
+    evaluated = [types for name, types in compiled if name == "celtstone.kernels.system.evaluate"]
+    assert [types[0] for types in evaluated] == ["Literal[int](0)"], evaluated
     # every method's (empty) workspace is made: the run loop's workspace tuple has one type
     steps = [name for name in names if name.startswith(OTHER_METHODS)]
     assert all(name.endswith(".workspace") for name in steps), steps

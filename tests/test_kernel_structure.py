@@ -25,7 +25,7 @@ from celtstone.kernels.layout import (
     ShapeCode,
 )
 from celtstone.simulation.models import initial_vector, kernel_parameters
-from celtstone.solvers import _radau
+from celtstone.solvers import _radau, _system
 from tests.test_kernel_dispatch import BODIES, STATE
 
 MODELS = {
@@ -87,7 +87,8 @@ def test_the_radau_jacobian_is_block_triangular_and_matches_a_full_one() -> None
     y = _state(3)
     f = _rates(code, y, params)
     jacobian = np.empty((N_STATE, N_STATE))
-    split = _radau.jacobian(code, params, 0.0, y, f, jacobian, np.empty(N_STATE), np.empty(N_STATE))
+    system = (params, _system.rhs_link(params))  # as the run loop passes it
+    split = _radau.jacobian(code, system, 0.0, y, f, jacobian, np.empty(N_STATE), np.empty(N_STATE))
     assert split == N_DYNAMIC
     full = np.empty_like(jacobian)
     for j in range(N_STATE):

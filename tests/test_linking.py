@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from numba import types as numba_types
 
 import celtstone as cs
 from celtstone.kernels import layout
@@ -42,6 +43,24 @@ def test_the_stick_slip_and_sweep_loops_hold_no_copy_of_the_run_loop() -> None:
     assert not any("6phases10run_phases" in name for name in _defined_functions(batch._batch))
 
 
+def test_the_loop_for_every_code_holds_no_copy_of_the_right_hand_side() -> None:
+    """It calls ``kernels.system.evaluate`` at an address (``solvers._system``); linked
+    in, every model's equations were compiled again in each method's step, event and
+    start function and in the loop."""
+    cs.compile_solvers()
+    right_hand_side = "6system8evaluate"  # in numba's mangled names of system.evaluate
+    every_code = [
+        overload
+        for types, overload in driver.integrate.overloads.items()
+        if not any(isinstance(argument, numba_types.Literal) for argument in types)
+    ]
+    assert every_code, "compile_solvers compiles the loop for every code"
+    for overload in every_code:
+        module = overload.library._get_module_for_linking()
+        defined = {function.name for function in module.functions if not function.is_declaration}
+        assert defined and not any(right_hand_side in name for name in defined)
+
+
 def _off_by_one(link: tuple[int, int]) -> tuple[int, int]:
     return link[0], link[1] + 1
 
@@ -56,9 +75,9 @@ def test_a_stick_slip_run_with_a_wrong_link_raises(
 ) -> None:
     real = phases.integrate_links
 
-    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
-        slip, stick = real(*args)
-        return spoil(slip), spoil(stick)
+    def spoiled(*args: Any) -> tuple[tuple[int, int], ...]:
+        slip, stick, to_rhs = real(*args)
+        return spoil(slip), spoil(stick), to_rhs
 
     monkeypatch.setattr(solver_run, "integrate_links", spoiled)
     body = cs.load_body("kane_levinson_1982")
@@ -71,10 +90,31 @@ def test_a_run_with_a_wrong_link_raises(
     monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
 ) -> None:
     real = driver.integrate_link
-    monkeypatch.setattr(solver_run, "integrate_link", lambda *args: spoil(real(*args)))
+
+    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
+        link, to_rhs = real(*args)
+        return spoil(link), to_rhs
+
+    monkeypatch.setattr(solver_run, "integrate_link", spoiled)
     body = cs.load_body("kane_levinson_1982")
     with pytest.raises(RuntimeError, match="integrate: a link to another compiled version"):
         cs.simulate(cs.RollingModel(), body, KL_START, 0.01)
+
+
+@pytest.mark.parametrize("spoil", [_off_by_one, _none], ids=["another-version", "no-link"])
+def test_a_run_with_a_wrong_link_to_its_right_hand_side_raises(
+    monkeypatch: pytest.MonkeyPatch, spoil: Callable[[tuple[int, int]], tuple[int, int]]
+) -> None:
+    real = driver.integrate_link
+
+    def spoiled(*args: Any) -> tuple[tuple[int, int], tuple[int, int]]:
+        link, to_rhs = real(*args)
+        return link, spoil(to_rhs)
+
+    monkeypatch.setattr(solver_run, "integrate_link", spoiled)
+    body = cs.load_body("kane_levinson_1982")
+    with pytest.raises(RuntimeError, match="evaluate: a link to another compiled version"):
+        cs.simulate(cs.SlidingModel(), body, KL_START, 0.01)
 
 
 @pytest.mark.parametrize("hybrid", [True, False], ids=["hybrid", "sliding"])
@@ -85,7 +125,7 @@ def test_a_sweep_with_a_wrong_link_raises(monkeypatch: pytest.MonkeyPatch, hybri
         to_integrate, to_phases, phase_links = real(*args)
         if hybrid:
             return to_integrate, _off_by_one(to_phases), phase_links
-        return _off_by_one(to_integrate), to_phases, phase_links
+        return (_off_by_one(to_integrate[0]), to_integrate[1]), to_phases, phase_links
 
     monkeypatch.setattr(batch, "_links", spoiled)
     fixed = {} if hybrid else {"contact": "sliding"}
@@ -110,7 +150,7 @@ def test_a_batch_without_hybrid_points_links_no_phase_loop() -> None:
         points = batch.Points(params, state, np.zeros(1), np.zeros(1), speeds)
         links = batch._links(layout.MODEL_SLIDING, (0, 0), points, 0.01, controls, output, log)
         to_integrate, to_phases, phase_links = links
-        assert (to_integrate != _linking.NO_LINK) is not linked  # every point is hybrid
+        assert (to_integrate[0] != _linking.NO_LINK) is not linked  # every point is hybrid
         assert (to_phases != _linking.NO_LINK) is linked
         assert all((link != _linking.NO_LINK) is linked for link in phase_links)
 

@@ -12,7 +12,7 @@ from celtstone.kernels import layout, system
 from celtstone.kernels import stick as stick_kernels
 from celtstone.simulation.models import initial_vector, kernel_parameters
 from celtstone.simulation.reversals import dataset_reversal_times
-from celtstone.solvers import _events, _methods, _structures, codes
+from celtstone.solvers import _events, _methods, _structures, _system, codes
 
 STATE = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
 
@@ -360,7 +360,10 @@ def test_an_unknown_method_code_stops_with_its_status() -> None:
     controls = _structures.Controls(1e-8, 1e-12, 0.0, 0.0, 1000, True)
     table = _events.event_table(layout.MODEL_ROLLING, 0.0)
     unknown = max(solvers.METHODS.values()) + 1
-    end = solvers.integrate(layout.MODEL_ROLLING, unknown, params, y0, 1.0, controls, table, output)
+    to_rhs = _system.rhs_link(params)
+    end = solvers.integrate(
+        layout.MODEL_ROLLING, unknown, params, y0, 1.0, controls, table, output, to_rhs
+    )
     assert end.status == solvers.STATUS_UNKNOWN_CODE
     assert end.t_stop == 0.0
     assert output.stats[codes.STAT_ACCEPTED] == 0

@@ -242,7 +242,7 @@ STATE_BLOCKS: dict[str, int | slice] = {
 }
 
 
-@kernel
+@inlined_kernel
 def diagnostics(model, y, params, out, work):
     """Fill ``out`` (length N_DIAGNOSTICS) with derived quantities of state ``y``.
 
@@ -268,9 +268,13 @@ def diagnostics(model, y, params, out, work):
     out[D_STATUS] = status
 
 
-@kernel
+@inlined_kernel
 def diagnostics_rows(model, ys, params, out):
-    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS)."""
+    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS).
+
+    It and :func:`diagnostics` are inlined into the loop compiled per model
+    (``_rows_of``): as separate functions each was a compile of its own, with the
+    right-hand side's code optimised again in each."""
     work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
     for i in range(ys.shape[0]):
         diagnostics(model, ys[i], params, out[i], work)

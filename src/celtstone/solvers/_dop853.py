@@ -18,9 +18,9 @@ from typing import NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._step_control import explicit_attempt
+from celtstone.solvers._system import rhs
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,

@@ -45,9 +45,10 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, Y_N, Y_OMEGA
-from celtstone.kernels.system import phase_value, spin_and_normal_force
+from celtstone.kernels.system import phase_value
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
+from celtstone.solvers._system import parameters, spin_and_normal_force
 from celtstone.solvers.codes import STATUS_LIFT_OFF, STATUS_PHASE_CHANGE, STATUS_SUCCESS
 
 ROOT_TOLERANCE = 1e-12  # s, event location
@@ -223,7 +224,7 @@ def event_value(event, model, params, y, scratch):
     if event.value == VALUE_NORMAL_FORCE:
         return spin_and_normal_force(model, y, params, scratch)[1]
     if event.value == VALUE_PHASE:
-        return phase_value(model, y, params, event.parameter)
+        return phase_value(model, y, parameters(params), event.parameter)
     return np.nan
 
 

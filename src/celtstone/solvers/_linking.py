@@ -60,6 +60,13 @@ def _overload(dispatcher: Any, argument_types: tuple[Any, ...]) -> Any:
     return dispatcher.overloads[argument_types]
 
 
+def compile_for(dispatcher: Any, arguments: tuple[Any, ...]) -> None:
+    """Compile ``dispatcher`` for the types of ``arguments`` (Python values), or load it
+    from numba's cache, in this thread: a later call with them only runs."""
+    if not _PYTHON and hasattr(dispatcher, "compile"):  # else a plain function
+        _overload(dispatcher, tuple(typeof(value, Purpose.argument) for value in arguments))
+
+
 def link_to(
     dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...] = ()
 ) -> tuple[int, int]:

@@ -7,9 +7,10 @@ The contract (in the manner of SciPy's ``OdeSolver``)
    Tests parametrised over ``solvers.METHODS`` then run it: convergence slope, agreement
    with SciPy, events, failures. Every function below is compiled by numba and takes
    numbers, arrays and NamedTuples of them only (item 11).
-2. **The system** is ``kernels.system.rhs(model, t, y, params, out)``: ``model`` a model
-   code, ``params`` the kernel parameter record (opaque to the methods: they only pass it
-   on), ``y`` the state (length n), ``out`` receives dy/dt; it returns the
+2. **The system** is ``_system.rhs(model, t, y, params, out)``: ``model`` a model
+   code, ``params`` the run's system (the kernel parameter record and the link to its
+   compiled right-hand side, ``solvers._system``; opaque to the methods: they only pass
+   it on), ``y`` the state (length n), ``out`` receives dy/dt; it returns the
    right-hand-side status and the normal force [N]. A method calls nothing else of the
    physics.
 3. ``ORDER`` (int): the method's order p, global error O(h^p) (the tests check the

@@ -26,10 +26,10 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import N_DYNAMIC, N_READ, RHS_OK
-from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._linalg import block_factor, block_solve
 from celtstone.solvers._step_control import rms_scaled, smallest_step
+from celtstone.solvers._system import rhs
 from celtstone.solvers._tableaux import table
 from celtstone.solvers.codes import (
     STAT_NFEV,

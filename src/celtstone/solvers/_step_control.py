@@ -8,8 +8,8 @@ import numpy as np
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import RHS_OK
-from celtstone.kernels.system import rhs
 from celtstone.solvers._compile import inlined
+from celtstone.solvers._system import rhs
 from celtstone.solvers.codes import (
     STAT_NFEV,
     STAT_REJECTED,

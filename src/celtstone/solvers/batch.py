@@ -281,9 +281,9 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
     """Run and reduce every point into its row of ``results``. ``methods`` is (the method,
     the method of stick phases); a point with a capture speed runs the hybrid contact
     (``phases.run_phases``), as ``simulate`` with ``HybridModel``. ``links`` are those of
-    ``driver.integrate`` for the model and method, ``phases.run_phases`` and its two
-    links to ``driver.integrate`` (``_linking``; ``NO_LINK`` where no point runs the
-    loop)."""
+    ``driver.integrate`` for the model and method with its right-hand side's,
+    ``phases.run_phases`` and its links (``_linking``; ``NO_LINK`` where no point runs
+    the loop)."""
     to_integrate, phases_link, phase_links = links
     spins = np.zeros(output.sample_times.shape[0])
     averaged = np.zeros(output.sample_times.shape[0])
@@ -301,8 +301,8 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
             end, _, _ = call_run_phases(phases_link, arguments)
             times = log.sample_times
         else:
-            arguments = (model, methods[0], p, y0, t_end, controls, table, output)
-            end = call_integrate(to_integrate, arguments)
+            run = (model, methods[0], p, y0, t_end, controls, table, output, to_integrate[1])
+            end = call_integrate(to_integrate[0], run)
             times = output.sample_times
         reversal = (
             points.reversal_bands[i],
@@ -403,13 +403,18 @@ def _links(
     controls: Controls,
     output: Output,
     log: PhaseLog,
-) -> tuple[tuple[int, int], tuple[int, int], tuple[tuple[int, int], tuple[int, int]]]:
+) -> tuple[
+    tuple[tuple[int, int], tuple[int, int]],
+    tuple[int, int],
+    tuple[tuple[int, int], tuple[int, int], tuple[int, int]],
+]:
     """``_batch``'s links: ``driver.integrate`` for ``model`` and the method if a point
     runs one model, ``phases.run_phases`` and its two links if a point runs the hybrid
     contact (else ``NO_LINK``, so that a batch without one does not compile it)."""
     hybrid_points = points.capture_speeds > 0.0
-    to_integrate = to_phases = NO_LINK
-    phase_links = (NO_LINK, NO_LINK)
+    to_integrate = (NO_LINK, NO_LINK)  # the loop and its right-hand side
+    to_phases = NO_LINK
+    phase_links = (NO_LINK, NO_LINK, NO_LINK)
     if points.params.shape[0] == 0:
         return to_integrate, to_phases, phase_links
     params, y0 = points.params[0], points.initial_states[0]

@@ -28,14 +28,14 @@ from celtstone.kernels.layout import (
     RHS_SINGULAR,
     ModelCode,
 )
-from celtstone.kernels.system import rhs, spin_and_normal_force
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._linking import address_call, cached_link_to, link_to
+from celtstone.solvers._linking import NO_LINK, address_call, cached_link_to, link_to
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._stop import stop_requested
 from celtstone.solvers._structures import RunEnd
+from celtstone.solvers._system import rhs, rhs_link, spin_and_normal_force
 from celtstone.solvers.codes import (
     METHOD_AUTO,
     METHOD_DOP853,
@@ -151,7 +151,7 @@ def first_step(method, model, params, y, f, controls, scratch, f_scratch, stats)
 
 
 @kernel
-def integrate(model, method, params, y0, t_end, controls, table, output):
+def integrate(model, method, params, y0, t_end, controls, table, output, rhs_link):
     """Integrate from t = 0 to ``t_end`` [s]; see the module docstring.
 
     Parameters
@@ -167,6 +167,8 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         ``STAT_SAMPLES_WRITTEN`` after every step (read while the loop runs: progress);
         its slot ``STAT_STOP_REQUESTED`` read before every step (set from another
         thread, the run stops with ``STATUS_STOPPED`` at the state it reached)
+    rhs_link : the link to the right-hand side compiled for ``params``
+        (``_system.rhs_link``; for ``model`` as a constant where it is one)
 
     Returns
     -------
@@ -174,6 +176,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     """
     stats = output.stats
     samples_before = stats[STAT_SAMPLES_WRITTEN]
+    system = (params, rhs_link)  # as ``_system.rhs`` takes it: the methods' ``params``
     n = y0.shape[0]
     y = y0.copy()
     f = np.empty(n)
@@ -181,7 +184,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     f_new = np.empty(n)
     point = np.empty(n)
     scratch = np.empty(n)
-    status, n_samples, normal_old = first_check(model, params, y, f, output)
+    status, n_samples, normal_old = first_check(model, system, y, f, output)
     if status == STATUS_SUCCESS and not methods.is_known(method):
         status = STATUS_UNKNOWN_CODE
     stats[STAT_SAMPLES_WRITTEN] = samples_before + n_samples
@@ -190,7 +193,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     min_normal = normal_old
     t_min_normal = 0.0
     values = np.empty(table.shape[0])
-    events.start_values(table, model, params, y, values, scratch)
+    events.start_values(table, model, system, y, values, scratch)
     work = methods.workspaces(method, n)
     # the switching record and the interpolants' arrays looked up once, and the whole
     # workspace handed only to the helpers that need it: per step, those lookups and
@@ -198,8 +201,8 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
     dense_of = methods.dense_arrays(work)  # by method code
     switching = work.auto
     rate = events.spin_rate(y, f)
-    h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
-    methods.start(method, model, params, 0.0, y, f, h, controls, work, stats)
+    h = first_step(method, model, system, y, f, controls, scratch, f_new, stats)
+    methods.start(method, model, system, 0.0, y, f, h, controls, work, stats)
     n_crossings = 0
     t = 0.0
     steps = 0
@@ -214,7 +217,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         steps += 1
         stepper = methods.active(method, switching)  # the method that takes this step
         status, h_taken, h_next, code, normal_new = methods.attempt(
-            method, stepper, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+            method, stepper, model, system, t, y, f, h, t_end, controls, work, y_new, f_new, stats
         )
         if status != STATUS_SUCCESS:
             break
@@ -240,14 +243,14 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             or not all_decided
             or sample_inside(step, t_new, output.sample_times, n_samples)
         ):
-            methods.dense(stepper, model, params, t, y, y_new, h_taken, work, stats)
+            methods.dense(stepper, model, system, t, y, y_new, h_taken, work, stats)
         stop_row, x_limit, t_limit, n_crossings = events.locate_events(
             table,
             values,
             spin_new,
             normal_new,
             model,
-            params,
+            system,
             step,
             t_new,
             all_decided,
@@ -265,7 +268,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
             min_normal, t_min_normal = stop_at(
                 table[stop_row],
                 model,
-                params,
+                system,
                 step,
                 x_limit,
                 t_limit,
@@ -289,7 +292,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output):
         if controls.max_step > 0.0:
             h = min(h, controls.max_step)
         if method == METHOD_AUTO:  # only a switching run hands over its workspace here
-            methods.after_step(method, model, params, t, y, f, h, controls, work, stats)
+            methods.after_step(method, model, system, t, y, f, h, controls, work, stats)
     if not stopped:
         output.final_state[:] = y
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
@@ -333,33 +336,40 @@ OWN_LOOP_SECONDS = 25.0
 EVERY_CODE_SECONDS = 55.0
 
 
-def integrate_link(arguments: tuple[Any, ...], own_loop: bool = True) -> tuple[int, int]:
-    """The link to ``integrate`` for ``arguments`` (Python side; loads or compiles it,
-    saying so on a terminal when it compiles).
+def integrate_link(
+    arguments: tuple[Any, ...], own_loop: bool = True
+) -> tuple[tuple[int, int], tuple[int, int]]:
+    """The link to ``integrate`` for ``arguments`` and its ``rhs_link`` argument, as
+    ``integrate`` is called with ``(*arguments, rhs_link)`` (Python side; loads or
+    compiles it, saying so on a terminal when it compiles).
 
     The loop for every model and method code if it is compiled (in this process or
     numba's cache: ``celtstone compile``, or an earlier run); else, with ``own_loop``
     and a method of ``OWN_LOOP_METHODS``, the loop compiled for ``arguments``' model
     and method as constants (``MODEL_AND_METHOD``), which compiles only their
     branches; else the loop for every code, compiled now (the stick–slip loop's two
-    phases call one loop).
+    phases call one loop). Each calls the right-hand side at ``rhs_link``
+    (``_system``), compiled for the model as a constant in a loop for one model.
     """
-    every_code = cached_link_to(integrate, arguments)
+    placeholder = (*arguments, NO_LINK)  # for the argument types
+    every_code = cached_link_to(integrate, placeholder)
     if every_code is not None:
-        return every_code
+        return every_code, rhs_link(arguments[2])
     model, method = int(arguments[0]), int(arguments[1])
     names = {code: name for name, code in METHODS.items()}
     if own_loop and MODEL_AND_METHOD and method in OWN_LOOP_METHODS:
         model_names = {int(code): code.name.lower() for code in ModelCode}
         subject = f"the {model_names.get(model, model)} model with {names[method]}"
         with compiling(subject, OWN_LOOP_SECONDS):
-            return link_to(integrate, arguments, MODEL_AND_METHOD)
+            to_rhs = rhs_link(arguments[2], model)
+            return link_to(integrate, placeholder, MODEL_AND_METHOD), to_rhs
     with compiling("the run loop of every model and method", EVERY_CODE_SECONDS):
-        return link_to(integrate, arguments)
+        to_rhs = rhs_link(arguments[2])
+        return link_to(integrate, placeholder), to_rhs
 
 
 @kernel
 def integrate_at(link, arguments):
     """``integrate(*arguments)`` at ``link`` (:func:`integrate_link` of the same
-    arguments): the entry from Python."""
+    arguments, with its ``rhs_link`` last): the entry from Python."""
     return call_integrate(link, arguments)

@@ -51,12 +51,13 @@ STICK = int(PhaseKind.STICK)
 
 def integrate_links(
     params: np.ndarray, hybrid: HybridSettings, controls: Controls, output: Output
-) -> tuple[tuple[int, int], tuple[int, int]]:
+) -> tuple[tuple[int, int], tuple[int, int], tuple[int, int]]:
     """The links to ``driver.integrate`` for slip (the sliding model, the slip method)
     and stick (the stick model, the stick method), for the arguments ``run_phase``
-    passes it, from a run's parameter record, settings, controls and output (Python
-    side; compiles or loads them). Both phases run the loop for every code, compiled
-    once (``driver.integrate_link``)."""
+    passes it, from a run's parameter record, settings, controls and output, and the
+    link to the right-hand side that both take (``rhs_link``; Python side; compiles or
+    loads them). Both phases run the loop for every code, compiled once
+    (``driver.integrate_link``)."""
     state = np.zeros(output.final_state.shape[0])
     links = []
     for model, method in (
@@ -66,7 +67,7 @@ def integrate_links(
         table = event_table(model, 1.0)
         arguments = (model, int(method), params, state, 0.0, controls, table, output)
         links.append(integrate_link(arguments, own_loop=False))
-    return links[0], links[1]
+    return links[0][0], links[1][0], links[0][1]
 
 
 @kernel
@@ -112,7 +113,7 @@ def run_phase(
 ):
     """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
     at most ``steps_left`` steps, with ``driver.integrate`` at its link of
-    ``integrate_links`` (slip, stick); its
+    ``integrate_links`` (slip, stick, right-hand side); its
     samples go to ``output`` from ``first_sample``, its crossings from ``first_crossing``
     (to a spare buffer once ``output.crossings`` is full). Returns (``RunEnd``, its
     shifted sample times, its crossing buffer)."""
@@ -134,7 +135,8 @@ def run_phase(
         controls.adaptive,
     )
     table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
-    arguments = (model, method, params, y, t_end - t0, phase_controls, table, phase_output)
+    to_rhs = integrate_links[2]
+    arguments = (model, method, params, y, t_end - t0, phase_controls, table, phase_output, to_rhs)
     link = integrate_links[1] if kind == STICK else integrate_links[0]
     end = call_integrate(link, arguments)
     return end, times, crossings
@@ -153,9 +155,9 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
     controls : ``_structures.Controls``; ``max_steps`` bounds the steps of all phases
     output : ``_structures.Output`` over the whole run, filled
     log : ``_structures.PhaseLog``, filled
-    integrate_links : the links to ``driver.integrate`` for slip and stick that
-        :func:`integrate_links` makes from the run's parameter record, settings,
-        controls and output (``solvers._linking``)
+    integrate_links : the links to ``driver.integrate`` for slip and stick and its
+        ``rhs_link`` that :func:`integrate_links` makes from the run's parameter
+        record, settings, controls and output (``solvers._linking``)
 
     Returns
     -------

@@ -1,0 +1,69 @@
+"""The right-hand side as the run loop reaches it: compiled once, called at its address.
+
+The run loop ``driver.integrate`` and everything it calls receive the run's *system*,
+the pair (kernel parameter record, ``rhs_link``), where the methods' contract says
+``params`` (``_methods``, item 2: opaque to them, passed on to :func:`rhs`).
+:func:`rhs` calls ``kernels.system.evaluate`` at the address ``rhs_link``
+(``_linking``): compiled for the model code as a constant in a loop compiled for one
+model (``driver.OWN_LOOP_METHODS``: a rolling run's), for every model code in the loop
+for every code (:func:`rhs_link` makes both, Python side).
+
+numba links each callee's code into its caller and optimises and generates machine
+code for the whole again; with ``kernels.system.rhs`` inlined, the right-hand side of
+every model, with its friction laws, contact shapes and the implicit-surface solver,
+was compiled again in every step, event and start function of every method and in the
+loop itself (docs/decisions.md, "Cold start"). The results are the same to the last
+bit: the same function, compiled with the same flags, in a compile unit of its own.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numba import types
+
+from celtstone.kernels import system as physics
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA
+from celtstone.solvers._compile import inlined
+from celtstone.solvers._linking import address_call, link_to
+
+# ``evaluate``'s return type in numba: (status, normal force, friction power, friction
+# force). Given, typing a call compiles nothing: a call site passes the model code as a
+# plain int even where it is a constant, and would compile ``evaluate`` for every code.
+EVALUATE_RETURNS = types.Tuple((types.int64, types.float64, types.float64, types.float64))
+call_evaluate = address_call(physics.evaluate, returns=EVALUATE_RETURNS)
+
+
+def rhs_link(params: Any, model: int | None = None) -> tuple[int, int]:
+    """The link to ``kernels.system.evaluate`` for the parameter record ``params``, as
+    :func:`rhs` calls it: compiled for ``model`` as a constant (a loop compiled for one
+    model), or for every model code (None); Python side, compiles it or loads it from
+    numba's cache."""
+    state = np.zeros(N_STATE)
+    if model is None:
+        return link_to(physics.evaluate, (0, state, params, state))
+    return link_to(physics.evaluate, (int(model), state, params, state), constants=(0,))
+
+
+@inlined
+def parameters(system):
+    """The kernel parameter record of the run's ``system``."""
+    return system[0]
+
+
+@inlined
+def rhs(model, t, y, system, dy):
+    """``kernels.system.rhs`` of the run's ``system`` (at its link): fills ``dy`` with
+    dy/dt; returns (right-hand-side status, normal force [N])."""
+    status, normal_force, _, _ = call_evaluate(system[1], (model, y, system[0], dy))
+    return status, normal_force
+
+
+@inlined
+def spin_and_normal_force(model, y, system, work):
+    """``kernels.system.spin_and_normal_force`` of the run's ``system`` (at its link):
+    spin ω · n [rad/s], normal force N [N], right-hand-side status; ``work`` is scratch."""
+    status, normal_force, _, _ = call_evaluate(system[1], (model, y, system[0], work))
+    spin = y[Y_OMEGA] * y[Y_N] + y[Y_OMEGA + 1] * y[Y_N + 1] + y[Y_OMEGA + 2] * y[Y_N + 2]
+    return spin, normal_force, status
