@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import subprocess
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import imageio.v3 as iio
 import imageio_ffmpeg
@@ -12,7 +14,7 @@ import pytest
 import xarray as xr
 
 import celtstone as cs
-from celtstone.visual import VIDEO_FRAME_LIMITS, animate, animate_comparison
+from celtstone.visual import VIDEO_FRAME_LIMITS, animate, animate_comparison, scene
 from celtstone.visual import animation as animate_module
 
 # the 100 s run's mp4 at the default 768 x 576 stays below this (README "See it move")
@@ -118,3 +120,66 @@ def test_100_s_run_video_stays_within_the_limits(long_run: xr.Dataset, tmp_path:
     assert info.frames == VIDEO_FRAME_LIMITS[".mp4"]
     assert _read(info.path, info.size).shape[0] == info.frames
     assert info.bytes < MP4_SIZE_LIMIT
+
+
+def _drawn_whole(figure: Any, panel: Any, time: float) -> tuple[np.ndarray, np.ndarray]:
+    """The figure drawn from scratch at ``time`` [s] with matplotlib's own 3-D artists: the
+    whole trail, and the body's front faces as a ``Poly3DCollection`` (shaded as the video
+    shades them, each face stroked in its colour to hide the seams); then without the body.
+    """
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    i = panel.sample(time)
+    vertices = scene.place(panel.mesh.vertices, panel.rotations[i], panel.centres[i])
+    faces = vertices[panel.mesh.triangles]
+    normals = np.cross(faces[:, 1] - faces[:, 0], faces[:, 2] - faces[:, 0])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    front = normals @ panel.eye > 0.0
+    ambient = animate_module._AMBIENT
+    light = ambient + (1 - ambient) * np.clip(normals[front] @ animate_module._LIGHT, 0, None)
+    shade = np.clip(light[:, None] * animate_module._BODY_COLOUR, 0.0, 1.0)
+    body = Poly3DCollection(faces[front], facecolor=shade, edgecolor=shade, lw=0.3, zorder=3)
+    panel.ax.add_collection3d(body)
+    contacts = panel.contacts[: i + 1]
+    panel.trail.set_data_3d(contacts[:, 0], contacts[:, 1], np.zeros(i + 1))
+    panel.body.set_visible(False)
+    drawn = []
+    for shown in (True, False):
+        body.set_visible(shown)
+        figure.canvas.draw()
+        drawn.append(np.asarray(figure.canvas.buffer_rgba())[..., :3].astype(int))
+    body.remove()
+    panel.body.set_visible(True)
+    return drawn[0], drawn[1]
+
+
+def test_a_blitted_frame_matches_the_scene_drawn_whole(
+    rolling_runs: dict[str, xr.Dataset], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A frame as the video draws it (the background restored, the trail grown piece by
+    piece, the body's faces projected and drawn as one batch of flat triangles) is what
+    matplotlib draws from scratch with its own 3-D artists: the two differ only along
+    edges (the collection strokes each face), in a few of the body's pixels."""
+    compared: list[tuple[int, int]] = []
+
+    def compare(
+        path: Path, suffix: str, frames: Iterator[np.ndarray], *args: Any, **kw: Any
+    ) -> None:
+        arguments = frames.gi_frame.f_locals  # type: ignore[attr-defined]
+        figure, (panel,), plan = arguments["figure"], arguments["panels"], arguments["plan"]
+        for index, frame in enumerate(frames):
+            if index in (plan.count // 3, plan.count - 1):
+                blitted = frame[..., :3].astype(int)
+                whole, without_body = _drawn_whole(figure, panel, float(plan.times[index]))
+                body = np.count_nonzero(np.abs(whole - without_body).max(axis=-1) > 64)
+                differing = np.count_nonzero(np.abs(whole - blitted).max(axis=-1) > 64)
+                compared.append((differing, body))
+        path.write_bytes(b"")
+
+    monkeypatch.setattr(animate_module, "_write", compare)
+    # the rolling stone's contact wanders: its trail is long
+    animate(rolling_runs["kane_levinson_1982"], tmp_path / "run.mp4", size=(640, 480))
+    assert len(compared) == 2
+    for differing, body in compared:
+        assert body > 2000  # the body is drawn, a few thousand pixels
+        assert differing < 0.05 * body
