@@ -19,6 +19,7 @@ import numpy as np
 from celtstone.errors import ParameterError
 from celtstone.solvers import phases
 from celtstone.solvers._events import event_table
+from celtstone.solvers._linking import compile_for
 from celtstone.solvers._stop import request_stop
 from celtstone.solvers._structures import (
     Controls,
@@ -214,8 +215,8 @@ def solve(
     )
     table = event_table(int(model), float(capture_speed))
     arguments = (int(model), method, params, y0, float(t_end), controls, table, output)
-    link = integrate_link(arguments)  # compiled for this model and method
-    end = _run(integrate_at, (link, arguments), output, progress)
+    link, to_rhs = integrate_link(arguments)  # compiled for this model and method
+    end = _run(integrate_at, (link, (*arguments, to_rhs)), output, progress)
     return RawSolution(**_trimmed(end, output))
 
 
@@ -276,9 +277,9 @@ def _run(
     output: Output,
     progress: Callable[[float], None] | None,
 ) -> Any:
-    """``function(*arguments)``; with ``progress``, in a daemon thread (the compiled loops
-    release the GIL) while this thread reports the last sample time written, read from
-    ``output.stats``.
+    """``function(*arguments)``; with ``progress``, compiled (or loaded) in this thread,
+    then run in a daemon thread (the compiled loops release the GIL) while this thread
+    reports the last sample time written, read from ``output.stats``.
 
     When ``progress`` raises, or Ctrl-C arrives while this thread waits, the compiled
     loop is asked to stop (``_stop.request_stop``: it returns before its next step with
@@ -286,6 +287,8 @@ def _run(
     """
     if progress is None:
         return function(*arguments)
+    # compiled here, first: a stop request reaches a loop that runs, not one that compiles
+    compile_for(function, arguments)
     outcome: dict[str, Any] = {}
 
     def work() -> None:
