@@ -4,10 +4,10 @@ One CUDA thread per point runs ``solvers.batch_cuda.run_batch_cuda``: the CPU dr
 steps, events and reduction compiled for CUDA. The stages, so that only one needs the GPU
 machine and it fits one short call there:
 
-``--prepare DIR`` (any machine): the CPU sweep of the rolling model over initial spin ×
-Euler angle α (``--grid`` points per axis, 10 s), timed on every core; its kernel
-inputs, its result fields and the initial states of a larger grid (``--large``) go to
-``DIR/inputs.npz``.
+``--prepare DIR`` (any machine): the CPU sweep of ``--model`` (rolling by default)
+over initial spin × Euler angle α (``--grid`` points per axis, 10 s), timed on every
+core; its kernel inputs, its result fields and the initial states of a larger grid
+(``--large``) go to ``DIR/inputs.npz``.
 
 ``--gpu DIR`` (the GPU machine: numba with a CUDA target, NumPy): the first launch in
 this process (the kernel compiled, or loaded from numba's cache), the first launch in a
@@ -21,14 +21,23 @@ large grid tiled ``--copies`` times; ``DIR/gpu.npz`` holds the small grid's fiel
 numbers by their largest difference) and points per second; ``DIR/report.json``.
 
 ``--ptx DIR`` (a machine without a GPU, with numba-cuda and NVIDIA's NVVM, e.g.
-``pip install numba-cuda[cu12]``): compiles the kernel of each method to PTX for compute
-capability 9.0 and, where ``ptxas`` is found, assembles it and keeps its report of
-registers, stack and spills: the CUDA build checked without a GPU.
+``pip install numba-cuda[cu12]``): compiles the kernel of ``--model`` and ``--method``
+to PTX for compute capability 9.0 and, where ``ptxas`` is found, assembles it and keeps
+its report of registers, stack and spills: the CUDA build checked without a GPU.
 
 One call on a lent GPU, the inputs prepared here and carried with the working tree:
 ``python benchmarks/gpu_sweep.py --gpu DIR && python benchmarks/gpu_sweep.py --report DIR``
 (about 2 to 4 minutes, most of it the first compile). Every file is written whole or
 not at all, and replaced only with ``--force``.
+
+``--model sliding`` times the sliding model instead (the Padé law on the disk, the
+default regularisation δ, no stick phases: ``--set contact=sliding``), with ``--method``
+any of the four; the issue's row is 64 × 64 points of 10 s with the sliding default,
+``auto``. Prepared here with a CPU grid the 2-core machine computes in a minute or two,
+the 64 × 64 grid on the GPU alone:
+``--prepare DIR --model sliding --method auto --grid 12 --large 64 --copies 4``
+(the GPU stage's first compile is longer than the rolling model's: Radau's Newton
+iteration and LU on the thread).
 """
 
 from __future__ import annotations
@@ -51,6 +60,8 @@ SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
 ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
 T_END = 10.0  # [s]
 COMPUTE_CAPABILITY = (9, 0)  # H100, H200: the --ptx stage's target
+# the sweeps this script times, by --model: the fixed settings of each
+MODELS: dict[str, dict[str, str]] = {"rolling": {}, "sliding": {"contact": "sliding"}}
 
 
 def _write_whole(path: Path, force: bool, data: bytes) -> None:
@@ -84,10 +95,14 @@ def _grid(n: int) -> dict[str, np.ndarray]:
     return {"initial_spin": np.linspace(*SPIN, n), "euler_alpha": np.linspace(*ALPHA, n)}
 
 
-def _sweep(n: int, method: str, device: str = "cpu") -> Any:
+def _sweep(n: int, method: str, model: str, device: str = "cpu") -> Any:
+    """The benchmark's sweep of ``model``: "rolling", or "sliding" on its own (the Padé
+    law on the disk with the default regularisation δ, no stick phases)."""
     from celtstone.sweep import Sweep
 
-    return Sweep(_grid(n), model="rolling", t_end=T_END, method=method, device=device)
+    return Sweep(
+        _grid(n), model=model, t_end=T_END, method=method, device=device, fixed=MODELS[model]
+    )
 
 
 def _kernel_inputs(sweep: Any) -> dict[str, Any]:
@@ -106,17 +121,17 @@ def _kernel_inputs(sweep: Any) -> dict[str, Any]:
     }
 
 
-def prepare(directory: Path, n: int, large: int, method: str, force: bool) -> None:
+def prepare(directory: Path, n: int, large: int, method: str, model: str, force: bool) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     if (directory / "inputs.npz").exists() and not force:  # before the sweep's minutes
         raise SystemExit(f"{directory / 'inputs.npz'} exists: pass --force to replace it")
-    sweep = _sweep(n, method)
-    _sweep(1, method).run()  # compiled before the timing
+    sweep = _sweep(n, method, model)
+    _sweep(1, method, model).run()  # compiled before the timing
     start = time.perf_counter()
     results = sweep.run()
     seconds = time.perf_counter() - start
     inputs = _kernel_inputs(sweep)
-    big = _kernel_inputs(_sweep(large, method))
+    big = _kernel_inputs(_sweep(large, method, model))
     records = big["params"]
     if not all(records[k].tobytes() == records[0].tobytes() for k in range(len(records))):
         raise SystemExit("the large grid's parameter records differ: this script keeps one")
@@ -129,6 +144,7 @@ def prepare(directory: Path, n: int, large: int, method: str, force: bool) -> No
         **{f"large_{k}": v for k, v in big.items()},
         **{k: v.astype(str) if v.dtype == object else v for k, v in fields.items()},
         model=int(sweep.builder.model.code),
+        model_name=model,
         method=method,
         grid=n,
         t_end=sweep.t_end,
@@ -140,7 +156,16 @@ def prepare(directory: Path, n: int, large: int, method: str, force: bool) -> No
         cpu_cores=len(os.sched_getaffinity(0)),
         cpu_machine=platform.processor() or platform.machine(),
     )
-    print(json.dumps({"points": sweep.size, "cpu_seconds": round(seconds, 2), "method": method}))
+    print(
+        json.dumps(
+            {
+                "model": model,
+                "points": sweep.size,
+                "cpu_seconds": round(seconds, 2),
+                "method": method,
+            }
+        )
+    )
 
 
 def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, float]:
@@ -201,7 +226,11 @@ def gpu(directory: Path, copies: int, force: bool) -> None:
     reason = cuda_unavailable_reason()
     if reason is not None:
         raise SystemExit(f"--gpu needs a CUDA GPU: {reason}")
-    figures: dict[str, Any] = {"device": device_name(), "method": str(data["method"])}
+    figures: dict[str, Any] = {
+        "device": device_name(),
+        "model": str(data["model_name"]),
+        "method": str(data["method"]),
+    }
     import numba
 
     figures["numba"] = numba.__version__
@@ -228,7 +257,9 @@ def gpu(directory: Path, copies: int, force: bool) -> None:
     status = large[:, FIELDS.index("status")]
     figures["large_statuses"] = {str(int(c)): int((status == c).sum()) for c in np.unique(status)}
     try:  # the whole backend: Sweep(device="cuda"), where celtstone.sweep imports here
-        sweep = _sweep(int(data["grid"]), str(data["method"]), device="cuda")
+        sweep = _sweep(
+            int(data["grid"]), str(data["method"]), str(data["model_name"]), device="cuda"
+        )
         start = time.perf_counter()
         sweep.run()
         figures["sweep_run_small_s"] = round(time.perf_counter() - start, 3)
@@ -294,7 +325,7 @@ def report(directory: Path, force: bool) -> None:
     print(text)
 
 
-def ptx(directory: Path, methods: list[str]) -> None:
+def ptx(directory: Path, methods: list[str], model_name: str) -> None:
     """Each method's kernel compiled to PTX without a GPU (numba-cuda and NVVM), and
     assembled by ptxas where it is found."""
     import shutil
@@ -311,24 +342,23 @@ def ptx(directory: Path, methods: list[str]) -> None:
     except ImportError:
         raise SystemExit("--ptx needs numba-cuda (pip install numba-cuda[cu12])") from None
     from celtstone.kernels.layout import N_STATE
-    from celtstone.solvers import batch_cuda
+    from celtstone.solvers import _auto, _radau, batch_cuda
     from celtstone.solvers._events import event_table
     from celtstone.solvers.batch import N_FIELDS
 
     directory.mkdir(parents=True, exist_ok=True)
-    sweep = _sweep(1, methods[0])
+    sweep = _sweep(1, methods[0], model_name)
     params, y0 = sweep.builder.arrays([0])
     model = int(sweep.builder.model.code)
     zeros = np.zeros
     buffers = batch_cuda.Buffers(
         params, y0, zeros(1), zeros(1), event_table(model, 0.0), zeros(3),
         zeros((1, 3, N_STATE)), zeros((1, 3)), zeros((1, 3)), zeros((1, 3)), zeros((1, 1)),
-        zeros((1, N_FIELDS)),
+        zeros((1, N_FIELDS)), zeros((1, 1), _radau.MEMORY), zeros((1, 1), _auto.RECORD),
     )  # fmt: skip
-    run = batch_cuda.Run(1.0, 1e-8, 1e-12, 100)
+    run = batch_cuda.Run(1.0, 1e-8, 1e-12, 100, (0, 0))
     signature = types.void(typeof(run), typeof(buffers))
-    batch_cuda.declare_for_cuda()
-    batch_cuda._thread_device = cuda.jit(device=True)(batch_cuda._thread)
+    batch_cuda.declare_device_functions()
     ptxas = shutil.which("ptxas") or next(
         (str(p) for p in Path(sys.prefix).glob("lib/python*/site-packages/nvidia/*/bin/ptxas")),
         None,
@@ -338,10 +368,11 @@ def ptx(directory: Path, methods: list[str]) -> None:
         code = batch_cuda.CUDA_METHODS[method]
         source = batch_cuda._ensemble_source(model, code, batch_cuda.SOURCE_KEY)
         start = time.perf_counter()
-        text, _ = cuda.compile_ptx(source, signature, cc=COMPUTE_CAPABILITY)
+        with batch_cuda.direct_rhs():
+            text, _ = cuda.compile_ptx(source, signature, cc=COMPUTE_CAPABILITY)
         entry: dict[str, Any] = {"ptx_s": round(time.perf_counter() - start, 1)}
         entry["ptx_bytes"] = len(text)
-        path = directory / f"ensemble_{method}.ptx"
+        path = directory / f"ensemble_{model_name}_{method}.ptx"
         _write_whole(path, True, text.encode())
         if ptxas is not None:
             arch = f"sm_{COMPUTE_CAPABILITY[0]}{COMPUTE_CAPABILITY[1]}"
@@ -370,7 +401,13 @@ def main() -> None:
     parser.add_argument("--report", type=Path)
     parser.add_argument("--ptx", type=Path)
     parser.add_argument("--first-launch", type=Path, help=argparse.SUPPRESS)
-    parser.add_argument("--method", default="vern9", help="vern9 (default) or dop853")
+    parser.add_argument("--method", default="vern9", help="vern9 (default), dop853, radau5 or auto")
+    parser.add_argument(
+        "--model",
+        default="rolling",
+        choices=tuple(MODELS),
+        help="rolling (default), or sliding: the Padé law on the disk, no stick phases",
+    )
     parser.add_argument("--grid", type=int, default=32, help="points per axis, CPU and GPU")
     parser.add_argument("--large", type=int, default=256, help="points per axis, GPU only")
     parser.add_argument("--copies", type=int, default=4, help="the large grid repeated")
@@ -379,18 +416,18 @@ def main() -> None:
     for name in ("grid", "large", "copies"):
         if getattr(args, name) < 1:
             parser.error(f"--{name} must be a whole number >= 1, not {getattr(args, name)}")
-    if args.method not in ("vern9", "dop853"):
-        parser.error(f"--method must be vern9 or dop853, not {args.method!r}")
+    if args.method not in ("vern9", "dop853", "radau5", "auto"):
+        parser.error(f"--method must be vern9, dop853, radau5 or auto, not {args.method!r}")
     if args.first_launch:
         print(_first_launch(args.first_launch))
     if args.prepare:
-        prepare(args.prepare, args.grid, args.large, args.method, args.force)
+        prepare(args.prepare, args.grid, args.large, args.method, args.model, args.force)
     if args.gpu:
         gpu(args.gpu, args.copies, args.force)
     if args.report:
         report(args.report, args.force)
     if args.ptx:
-        ptx(args.ptx, ["vern9", "dop853"])
+        ptx(args.ptx, [args.method], args.model)
 
 
 if __name__ == "__main__":

@@ -1,14 +1,20 @@
-"""A small rolling sweep on the CPU and in numba's CUDA simulator, for tests/test_sweep_cuda.py.
+"""A small sweep on the CPU and in numba's CUDA simulator, for tests/test_sweep_cuda.py.
 
-Run as ``NUMBA_ENABLE_CUDASIM=1 python tests/sweep_cuda_sample.py DIR METHOD`` (the
-variable must be set before numba is imported, hence a process of its own). Writes to
+Run as ``NUMBA_ENABLE_CUDASIM=1 python tests/sweep_cuda_sample.py DIR MODEL METHOD``
+(the variable must be set before numba is imported, hence a process of its own), MODEL
+a key of ``SWEEPS``. Writes to
 DIR: ``cpu.zarr``, the CPU sweep; ``cuda.zarr``, the same sweep on the (simulated) GPU,
 stopped by Ctrl-C after its first block and resumed; ``report.json``, what the test
 checks besides the stores. Exits 77 where the simulator is unavailable, saying why.
 
-The points are five initial states of the Kane & Levinson body over 3 s that cover
-what the loop and the reduction read: runs that reverse and runs that do not, raw spin
-sign changes from 2 to 6, and a run that lifts off (a terminal event) at once.
+The rolling points are five initial states of the Kane & Levinson body over 3 s that
+cover what the loop and the reduction read: runs that reverse and runs that do not, raw
+spin sign changes from 2 to 6, and a run that lifts off (a terminal event) at once. The
+sliding points (no stick phases) over 2 s, with the Padé law on the disk and the static
+friction load, and three with the exact law and the dynamic load: runs that reverse and
+runs that do not, and from none to 19 spin sign changes. (A spin that starts at zero
+chatters about it while the slip decides its sense: with an explicit method that takes
+millions of steps, too many for a test.)
 """
 
 from __future__ import annotations
@@ -18,16 +24,34 @@ import os
 import sys
 from pathlib import Path
 
-POINTS = {
-    "initial_spin": [-6.0, -4.0, -2.0, 0.0, -20.0],
-    "euler_alpha": [5.0, 0.1, 5.0, 5.0, 20.0],
+SWEEPS = {
+    "rolling": {
+        "points": {
+            "initial_spin": [-6.0, -4.0, -2.0, 0.0, -20.0],
+            "euler_alpha": [5.0, 0.1, 5.0, 5.0, 20.0],
+        },
+        "t_end": 3.0,  # s
+    },
+    "sliding": {
+        "points": {
+            "initial_spin": [-6.0, -2.0, -20.0, -6.0, 2.0],
+            "euler_alpha": [5.0, 5.0, 20.0, 10.0, 5.0],
+        },
+        "t_end": 2.0,  # s
+        "fixed": {"contact": "sliding"},
+    },
+    "sliding_exact_dynamic": {
+        "points": {"initial_spin": [-2.0, -20.0, -8.0], "euler_alpha": [5.0, 20.0, 5.0]},
+        "t_end": 2.0,  # s
+        "fixed": {"contact": "sliding", "friction_law": "exact", "friction_load": "dynamic"},
+        "model": "sliding",
+    },
 }
-T_END = 3.0  # s
 CHUNK_POINTS = 2  # three blocks: the interruption falls after the first
 
 
 def main() -> int:
-    directory, method = Path(sys.argv[1]), sys.argv[2]
+    directory, model, method = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
     if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
         print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
         return 2
@@ -42,10 +66,12 @@ def main() -> int:
     from celtstone.errors import ParameterError
     from celtstone.sweep import Sweep
 
-    settings = {"model": "rolling", "t_end": T_END, "method": method}
-    cpu = Sweep(points=POINTS, **settings)
+    sweep = dict(SWEEPS[model])
+    points = sweep.pop("points")
+    settings = {"model": sweep.pop("model", model), "method": method, **sweep}
+    cpu = Sweep(points=points, **settings)
     cpu.run(directory / "cpu.zarr", workers=1, chunk_points=CHUNK_POINTS)
-    gpu = Sweep(points=POINTS, device="cuda", **settings)
+    gpu = Sweep(points=points, device="cuda", **settings)
     report: dict[str, object] = {"device": gpu.device}
 
     def stop_after_first_block(points: int, failures: int) -> None:

@@ -27,8 +27,27 @@ from celtstone.errors import ParameterError
 from celtstone.sweep import Sweep, open_sweep
 
 SAMPLE = Path(__file__).resolve().parent / "sweep_cuda_sample.py"
-GPU_METHODS = ("vern9", "dop853")  # solvers.batch_cuda.CUDA_METHODS
 SKIPPED = 77  # the sample's exit status where the simulator is unavailable
+# what each of the sample's sweeps covers, so that the comparison reads every branch of the
+# loop and the reduction (from the CPU sweep, checked before the GPU's is compared):
+# reversal counts, statuses; every sweep has spin crossing counts of 3 or more values,
+# the largest at least 6 (how many depends on the method's steps where the spin chatters)
+COVERAGE = {
+    "rolling": ([0, 1, 1, 0, 0], ["success"] * 4 + ["lift_off"]),
+    "sliding": ([0, 0, 1, 1, 0], ["success"] * 5),
+    "sliding_exact_dynamic": ([0, 1, 0], ["success"] * 3),
+}
+# (sweep of the sample, method): every method on each model; the other sliding sweep takes
+# the default method of a sliding sweep
+RUNS = [
+    ("rolling", "vern9"),
+    ("rolling", "dop853"),
+    ("sliding", "dop853"),
+    ("sliding", "vern9"),
+    ("sliding", "radau5"),
+    ("sliding", "auto"),
+    ("sliding_exact_dynamic", "auto"),
+]
 
 
 def _gpu_here() -> bool:
@@ -39,13 +58,13 @@ def _gpu_here() -> bool:
     return cuda_unavailable_reason() is None
 
 
-@pytest.mark.parametrize("method", GPU_METHODS)
+@pytest.mark.parametrize(("sweep", "method"), RUNS)
 def test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator(
-    tmp_path: Path, method: str
+    tmp_path: Path, sweep: str, method: str
 ) -> None:
     environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
     done = subprocess.run(
-        [sys.executable, str(SAMPLE), str(tmp_path), method],
+        [sys.executable, str(SAMPLE), str(tmp_path), sweep, method],
         env=environment,
         capture_output=True,
         text=True,
@@ -56,11 +75,13 @@ def test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator(
     report = json.loads((tmp_path / "report.json").read_text())
     assert report["device"] == "cuda"
     cpu, gpu = open_sweep(tmp_path / "cpu.zarr"), open_sweep(tmp_path / "cuda.zarr")
-    # the sample covers what the loop and the reduction read: reversals, crossings up to
-    # 6, and a lift-off
-    assert cpu["reversal_count"].values.tolist() == [0, 1, 1, 0, 0]
-    assert set(cpu["spin_crossing_count"].values) >= {2, 6}
-    assert cpu["status"].values.tolist() == ["success"] * 4 + ["lift_off"]
+    # the sample covers what the loop and the reduction read: reversals, crossings, and
+    # (rolling) a lift-off
+    reversals, statuses = COVERAGE[sweep]
+    assert cpu["reversal_count"].values.tolist() == reversals
+    crossings = set(cpu["spin_crossing_count"].values.tolist())
+    assert len(crossings) >= 3 and max(crossings) >= 6, crossings
+    assert cpu["status"].values.tolist() == statuses
     assert set(cpu.data_vars) == set(gpu.data_vars)
     for name in cpu.data_vars:
         expected, got = cpu[name].values, gpu[name].values
@@ -102,16 +123,25 @@ def test_auto_takes_the_cpu_where_the_gpu_cannot_run() -> None:
         assert Sweep({"initial_spin": [-5.0]}, model="rolling", device="auto").device == "cpu"
 
 
-@pytest.mark.parametrize(
-    ("settings", "reason"),
-    [
-        ({"model": "sliding"}, "the GPU runs the rolling model so far"),
-        ({"model": "rolling", "method": "radau5"}, "the GPU runs vern9 or dop853, not radau5"),
-    ],
-)
-def test_cuda_names_what_the_gpu_cannot_run(settings: dict[str, str], reason: str) -> None:
-    with pytest.raises(ParameterError, match=reason):
-        Sweep({"initial_spin": [-5.0]}, device="cuda", **settings)
+def test_cuda_names_what_the_gpu_cannot_run() -> None:
+    with pytest.raises(ParameterError, match=r"the stick-slip contact \(contact=hybrid, a sli"):
+        Sweep({"initial_spin": [-5.0]}, model="sliding", device="cuda")
+
+
+@pytest.mark.parametrize("method", ["vern9", "dop853", "radau5", "auto"])
+def test_cuda_takes_every_method_of_the_sliding_model(method: str) -> None:
+    """Only the missing GPU refuses these (where there is one, the sample above runs them)."""
+    if _gpu_here():
+        pytest.skip("a CUDA GPU is here: the sweep would run on it")
+    with pytest.raises(ParameterError, match="no CUDA GPU") as refused:
+        Sweep(
+            {"initial_spin": [-5.0]},
+            model="sliding",
+            fixed={"contact": "sliding"},
+            method=method,
+            device="cuda",
+        )
+    assert "not allowed" in str(refused.value) and "runs on the cpu" not in str(refused.value)
 
 
 def test_unknown_device_lists_the_devices() -> None:
@@ -134,11 +164,16 @@ def _benchmark(*arguments: str, simulator: bool = False) -> subprocess.Completed
     )
 
 
-def test_benchmark_stages_run_and_agree_in_the_simulator(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "sweep", [(), ("--model", "sliding", "--method", "auto")], ids=["rolling", "sliding"]
+)
+def test_benchmark_stages_run_and_agree_in_the_simulator(
+    tmp_path: Path, sweep: tuple[str, ...]
+) -> None:
     """The GPU benchmark's three stages, its GPU stage in the simulator: what a lent GPU
     runs in one call works, and its report compares the fields it should."""
     small = ("--grid", "2", "--large", "2", "--copies", "1")
-    prepared = _benchmark("--prepare", str(tmp_path), *small)
+    prepared = _benchmark("--prepare", str(tmp_path), *small, *sweep)
     assert prepared.returncode == 0, prepared.stderr
     if not _gpu_here():  # without a GPU the stage says so and writes nothing
         refused = _benchmark("--gpu", str(tmp_path))
@@ -159,3 +194,4 @@ def test_benchmark_stages_run_and_agree_in_the_simulator(tmp_path: Path) -> None
         assert summary[count] == 4, count
     assert summary["differences"]["spin_final"]["max"] == 0.0  # the simulator: the CPU's code
     assert summary["gpu"]["device"] == "numba's CUDA simulator"
+    assert summary["gpu"]["model"] == ("sliding" if sweep else "rolling")

@@ -115,7 +115,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         default="cpu",
         metavar="|".join(DEVICES),
         help="where the points run: cpu (default), cuda (a CUDA GPU, one thread per point: "
-        "the rolling model with vern9 or dop853 so far; an error where it cannot run) or "
+        "the rolling model, and sliding with --set contact=sliding, so far; an error where "
+        "it cannot run) or "
         "auto (the GPU where it can, else the CPU)",
     )
     parser.add_argument(

@@ -1,13 +1,16 @@
 """The batch driver on a CUDA GPU: one thread per point, the CPU driver's steps and fields.
 
 ``run_batch_cuda`` takes what ``batch.run_batch`` takes and returns the same result
-array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the rolling model with
-an explicit method (``CUDA_METHODS``). Each thread integrates one point with celtstone's
-own kernels and method, compiled by numba for CUDA from the same Python source as the
-CPU code, so no equation or method is written twice:
+array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the rolling model and
+the sliding model without stick phases (``CUDA_MODELS``), with every method
+(``CUDA_METHODS``). Each thread integrates one point with celtstone's own kernels and
+method, compiled by numba for CUDA from the same Python source as the CPU code, so no
+equation or method is written twice:
 
-* the method's ``attempt`` and ``dense`` (``_vern9``, ``_dop853``), ``kernels.system.rhs``
-  and the first step of ``driver.first_step``;
+* the methods' dispatch (``_methods``: ``start``, ``active``, ``attempt``,
+  ``after_step``), so ``auto`` switches between DOP853 and Radau on the thread as on the
+  CPU; each method's ``dense`` (Radau's with a loop for its row copy, ``_radau_dense``);
+  ``kernels.system.rhs`` and the first step of ``driver.first_step``;
 * the events of ``_events`` (``event_table``, ``all_decided_by_ends``,
   ``locate_events``): spin zero crossings are located inside each step on the method's
   interpolant as on the CPU, pairs of crossings inside one step included, so the
@@ -18,8 +21,23 @@ CPU code, so no equation or method is written twice:
 
 The thread's loop, ``_integrate_point``, repeats ``driver.integrate``'s: a CUDA thread
 cannot allocate, so its arrays are the thread's local arrays and slices of global arrays
-the launch provides (each point's samples, averaged spin and crossings), and slice
-assignments are loops (numba's CUDA lowering has none).
+the launch provides (each point's samples, averaged spin and crossings, Radau's scalars
+and ``auto``'s switching record, set on the host as ``_radau.workspace`` and
+``_auto.workspace`` set them), and slice assignments are loops (numba's CUDA lowering
+has none). Radau's workspace (Jacobian, the real and the complex LU, about 8 kB) is the
+thread's local memory.
+
+On the CPU the solvers call the right-hand side at its address (``_system``: the run's
+system is the parameter record and a link); a GPU cannot call a CPU address, so while
+the kernel compiles for CUDA the solvers call the kernels' own right-hand side directly
+on the record (``direct_rhs``). numba's simulator runs the CPU's compiled code, and
+there the thread passes the CPU's system, link included.
+
+The sliding model's kernels choose the contact shape at run time, so every sliding
+kernel holds the elliptic contact's table (``kernels.friction_ellipse``, 1.18 MB), which
+numba freezes into the code. The CUDA target would put it into constant memory (64 kB);
+``declare_for_cuda`` has it put every frozen array above ``CONSTANT_MEMORY_LIMIT`` into
+global memory instead, read-only, so the kernel assembles and both contact shapes run.
 
 numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, no GPU) runs the thread's Python
 with the kernels as their compiled CPU code: there the fields equal the CPU sweep's to the
@@ -34,30 +52,34 @@ keeps it in numba's cache, keyed on a hash of the sources it is built from
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import math
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
 
 try:  # numba's CUDA target: its own (numba-cuda) or the one built into numba
-    from numba import cuda, float64, int64
+    from numba import complex128, cuda, float64, int64
 except ImportError:  # pragma: no cover - a numba without one
     cuda = None  # type: ignore[assignment]
 
 from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
-from celtstone.kernels.system import rhs, spin_and_normal_force
-from celtstone.solvers import _dop853, _vern9
+from celtstone.solvers import _auto, _dop853, _radau, _system, _vern9
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
 from celtstone.solvers._structures import Controls, RunEnd
 from celtstone.solvers.batch import N_FIELDS, _reduce
 from celtstone.solvers.codes import (
+    METHOD_AUTO,
     METHOD_DOP853,
+    METHOD_RADAU5,
     METHOD_VERN9,
     METHODS,
     N_STATS,
@@ -65,13 +87,13 @@ from celtstone.solvers.codes import (
     STATUS_MAX_STEPS,
     STATUS_NOT_FINITE,
     STATUS_SUCCESS,
-    STATUS_UNKNOWN_CODE,
 )
 from celtstone.solvers.driver import all_finite, first_step, rhs_failure, sample_inside
 
 __all__ = [
     "CUDA_METHODS",
     "CUDA_MODELS",
+    "CUDA_MODEL_NAMES",
     "KEPT_CROSSINGS",
     "THREADS_PER_BLOCK",
     "Buffers",
@@ -84,19 +106,29 @@ __all__ = [
     "run_batch_cuda",
 ]
 
-CUDA_MODELS = (int(ModelCode.ROLLING),)
-"""Model codes a GPU thread runs (the sliding model's tables are frozen constants yet)."""
-CUDA_METHODS = {"vern9": METHOD_VERN9, "dop853": METHOD_DOP853}
-"""Methods a GPU thread runs, by name: the explicit ones, whose workspaces are small."""
+CUDA_MODELS = (int(ModelCode.ROLLING), int(ModelCode.SLIDING))
+"""Model codes a GPU thread runs: rolling, and sliding on its own (no stick phases)."""
+CUDA_MODEL_NAMES = tuple(ModelCode(code).name.lower() for code in CUDA_MODELS)
+"""Their names, as ``Sweep(model=...)`` takes them."""
+CUDA_METHODS = {
+    "vern9": METHOD_VERN9,
+    "dop853": METHOD_DOP853,
+    "radau5": METHOD_RADAU5,
+    "auto": METHOD_AUTO,
+}
+"""Methods a GPU thread runs, by name: every method, Radau's workspace (Jacobian and LU
+factors, 8 kB) in the thread's local memory."""
 MAX_LAUNCH_POINTS = 262_144  # threads of one launch: more than fill a GPU (§44: 65 536 do)
 SIMULATOR_LAUNCH_POINTS = 64  # numba's simulator runs a Python thread per GPU thread
 MEMORY_FRACTION = 0.5  # of the GPU's free memory, for one launch's arrays
 THREADS_PER_BLOCK = 64  # 32 to 256 made no difference (docs/decisions.md §44)
+CONSTANT_MEMORY_LIMIT = 16_384  # [bytes]: a larger frozen array goes to global memory
 KEPT_CROSSINGS = 100_000  # crossing times a point keeps where they time reversals, as on the CPU
 MAX_EVENT_ROWS = 3  # lift-off, phase change, spin crossing (``_events.event_table``)
 # the thread's workspace arrays, sized for the larger of the two methods
 MAX_STAGES = max(_vern9.N_STAGES_EXTENDED, _dop853.N_STAGES_EXTENDED)
 MAX_DENSE_ROWS = max(_vern9.DENSE_ROWS, _dop853.DENSE_ROWS)
+RADAU_DENSE_ROWS = _radau.DENSE_ROWS  # a global of this module: a shape CUDA types as constant
 
 # NumPy's name that numba-cuda 0.30 still overloads (by name: ruff's NumPy 2 rule rewrites it)
 REMOVED_ALIAS = "row_stack"
@@ -121,13 +153,15 @@ SOURCE_KEY = _source_key()
 
 
 class Run(NamedTuple):
-    """What every thread of a launch shares: the duration [s], the tolerances and the
-    step limit."""
+    """What every thread of a launch shares: the duration [s], the tolerances, the
+    step limit, and in numba's simulator the right-hand side's link
+    (``_system.rhs_link``; (0, 0) on a GPU, where the kernels are called directly)."""
 
     t_end: float
     rtol: float
     atol: float
     max_steps: int
+    rhs_link: tuple[int, int]
 
 
 class Buffers(NamedTuple):
@@ -145,6 +179,9 @@ class Buffers(NamedTuple):
     spins, averaged, cumulative : each point's ``_reduce`` buffers, shape (k, m)
     crossings : each point's spin zero crossing times [s], shape (k, capacity)
     results : each point's result fields (``batch.FIELDS``), shape (k, N_FIELDS)
+    radau_memory : each point's Radau scalars (``_radau.MEMORY``), shape (k, 1), as
+        ``_radau.workspace`` sets them before a run
+    switching : each point's ``auto`` switching record (``_auto.RECORD``), shape (k, 1)
     """
 
     params: Any
@@ -159,13 +196,15 @@ class Buffers(NamedTuple):
     cumulative: Any
     crossings: Any
     results: Any
+    radau_memory: Any
+    switching: Any
 
 
 @inlined
-def _first_check(model, params, y, f, sample_times, samples):
+def _first_check(model, system, y, f, sample_times, samples):
     """``driver.first_check`` without its ``Output``: f(0, y), the samples at times <= 0,
     and why the run cannot start; (status, samples written, normal force [N])."""
-    code, normal_force = rhs(model, 0.0, y, params, f)
+    code, normal_force = _system.rhs(model, 0.0, y, system, f)
     n_samples = 0
     while n_samples < sample_times.shape[0] and sample_times[n_samples] <= 0.0:
         for j in range(y.shape[0]):
@@ -199,7 +238,7 @@ def _fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
 
 
 @inlined
-def _stop_at(event, model, params, step, x_limit, normal, t_limit, y_end, state, work):
+def _stop_at(event, model, system, step, x_limit, normal, t_limit, y_end, state, work):
     """``driver.stop_at`` for a sweep, which keeps no final state: the smallest normal
     force [N] and its time [s] including the state where the terminal ``event`` stops the
     run (``state`` receives it), ``normal`` those before; ``work`` is scratch."""
@@ -211,7 +250,7 @@ def _stop_at(event, model, params, step, x_limit, normal, t_limit, y_end, state,
             state[j] = y_end[j]
     else:
         methods.interpolate(step.method, step.dense, step.y_old, x_limit, state)
-    normal_force = spin_and_normal_force(model, state, params, work)[1]
+    normal_force = _system.spin_and_normal_force(model, state, system, work)[1]
     if normal_force < min_normal:
         return normal_force, t_limit
     return min_normal, t_min_normal
@@ -229,21 +268,56 @@ class ThreadWorkspace(NamedTuple):
     error_terms: Any  # (2, N_STATE): DOP853's
 
 
+@inlined
+def _radau_dense(model, params, t, y, y_new, h, work, stats):
+    """``_radau.dense`` with a loop for its row copy (numba's CUDA lowering copies no
+    array into a slice): the collocation polynomial of the accepted step [t, t + h]."""
+    collocation = work.collocation
+    dense = work.dense
+    for j in range(y.shape[0]):
+        for k in range(3):
+            dense[k, j] = (
+                collocation[0, j] * _radau.P[0, k]
+                + collocation[1, j] * _radau.P[1, k]
+                + collocation[2, j] * _radau.P[2, k]
+            )
+    memory = work.memory[0]
+    memory.has_dense = True
+    memory.t_previous = t
+    memory.h_previous = h
+    for j in range(y.shape[0]):
+        work.y_previous[j] = y[j]
+
+
+@inlined
+def _dense(stepper, model, params, t, y, y_new, h, work, stats):
+    """``_methods.dense`` for the thread: the interpolant of the method that took the step."""
+    if stepper == METHOD_DOP853:
+        _dop853.dense(model, params, t, y, y_new, h, work.dop853, stats)
+    elif stepper == METHOD_RADAU5:
+        _radau_dense(model, params, t, y, y_new, h, work.radau5, stats)
+    elif stepper == METHOD_VERN9:
+        _vern9.dense(model, params, t, y, y_new, h, work.vern9, stats)
+
+
 @kernel
-def _integrate_point(model, method, params, y, t_end, controls, table, sample_times, samples,
+def _integrate_point(model, method, system, y, t_end, controls, table, sample_times, samples,
                      crossings, local):  # fmt: skip
-    """``driver.integrate`` from ``y`` (overwritten) to ``t_end`` [s], for a sweep: samples
+    """``driver.integrate`` from ``y`` (overwritten) to ``t_end`` [s], for a sweep (``system``
+    as the driver's, see ``_system_in_simulator``): samples
     into ``samples``, crossing times into ``crossings``; ``local`` holds the thread's
-    arrays, ``work`` among them a ``ThreadWorkspace``. Returns the ``RunEnd``."""
+    arrays, ``work`` among them a ``_methods.Workspaces`` made of them. Returns the
+    ``RunEnd``."""
     f, y_new, f_new, point, scratch, values, stats, work = local
-    status, n_samples, normal_old = _first_check(model, params, y, f, sample_times, samples)
+    status, n_samples, normal_old = _first_check(model, system, y, f, sample_times, samples)
     if status != STATUS_SUCCESS:
         return RunEnd(status, n_samples, 0, 0.0, normal_old, 0.0)
     min_normal = normal_old
     t_min_normal = 0.0
-    events.start_values(table, model, params, y, values, scratch)
+    events.start_values(table, model, system, y, values, scratch)
     rate = events.spin_rate(y, f)
-    h = first_step(method, model, params, y, f, controls, scratch, f_new, stats)
+    h = first_step(method, model, system, y, f, controls, scratch, f_new, stats)
+    methods.start(method, model, system, 0.0, y, f, h, controls, work, stats)
     n_crossings = 0
     t = 0.0
     steps = 0
@@ -252,16 +326,10 @@ def _integrate_point(model, method, params, y, t_end, controls, table, sample_ti
             status = STATUS_MAX_STEPS
             break
         steps += 1
-        if method == METHOD_VERN9:
-            status, h_taken, h_next, code, normal_new = _vern9.attempt(
-                model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
-            )
-        elif method == METHOD_DOP853:
-            status, h_taken, h_next, code, normal_new = _dop853.attempt(
-                model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats
-            )
-        else:
-            status, h_taken, h_next, code, normal_new = STATUS_UNKNOWN_CODE, h, h, RHS_OK, 0.0
+        stepper = methods.active(method, work.auto)  # the method that takes this step
+        status, h_taken, h_next, code, normal_new = methods.attempt(
+            method, stepper, model, system, t, y, f, h, t_end, controls, work, y_new, f_new, stats
+        )
         if status != STATUS_SUCCESS:
             break
         if not all_finite(y_new):
@@ -273,23 +341,25 @@ def _integrate_point(model, method, params, y, t_end, controls, table, sample_ti
         if code != RHS_OK:
             status = rhs_failure(code)
             break
-        step = events.Step(method, work.dense, y, t, h_taken)
+        dense = work.radau5.dense if stepper == METHOD_RADAU5 else work.dop853.dense
+        step = events.Step(stepper, dense, y, t, h_taken)
         all_decided = events.all_decided_by_ends(
             table, values, spin_new, normal_new, rate, rate_new, h_taken
         )
         # the interpolant only where a sample or an event reads it, as on the CPU
-        if not all_decided or sample_inside(step, t_new, sample_times, n_samples):
-            if method == METHOD_VERN9:
-                _vern9.dense(model, params, t, y, y_new, h_taken, work, stats)
-            elif method == METHOD_DOP853:
-                _dop853.dense(model, params, t, y, y_new, h_taken, work, stats)
+        if (
+            methods.dense_every_step(stepper)
+            or not all_decided
+            or sample_inside(step, t_new, sample_times, n_samples)
+        ):
+            _dense(stepper, model, system, t, y, y_new, h_taken, work, stats)
         stop_row, x_limit, t_limit, n_crossings = events.locate_events(
             table,
             values,
             spin_new,
             normal_new,
             model,
-            params,
+            system,
             step,
             t_new,
             all_decided,
@@ -304,7 +374,7 @@ def _integrate_point(model, method, params, y, t_end, controls, table, sample_ti
             min_normal, t_min_normal = _stop_at(
                 table[stop_row],
                 model,
-                params,
+                system,
                 step,
                 x_limit,
                 (min_normal, t_min_normal),
@@ -324,7 +394,54 @@ def _integrate_point(model, method, params, y, t_end, controls, table, sample_ti
         rate = rate_new
         t = t_new
         h = h_next
+        if method == METHOD_AUTO:  # as on the CPU: a switching run may change its method
+            methods.after_step(method, model, system, t, y, f, h, controls, work, stats)
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
+
+
+def _thread_workspaces(method, memory, switching):
+    """A ``_methods.Workspaces`` of the thread's local arrays, as ``_methods.workspaces``
+    makes it before a run: the explicit methods share one ``ThreadWorkspace``; Radau's
+    arrays are zeroed (CUDA's local arrays start undefined). Radau's scalars ``memory``
+    and ``auto``'s switching record ``switching`` (shape (1,) each) are the launch's,
+    set before it (``run_batch_cuda``)."""
+    stages = cuda.local.array((MAX_STAGES, N_STATE), float64)
+    dense = cuda.local.array((MAX_DENSE_ROWS, N_STATE), float64)
+    scratch = cuda.local.array(N_STATE, float64)
+    errors = cuda.local.array((2, N_STATE), float64)
+    explicit = ThreadWorkspace(stages, dense, scratch, errors[0], errors)
+    jacobian = cuda.local.array((N_STATE, N_STATE), float64)
+    lu_real = cuda.local.array((N_STATE, N_STATE), float64)
+    lu_complex = cuda.local.array((N_STATE, N_STATE), complex128)
+    pivots = cuda.local.array((2, N_STATE), int64)
+    collocation = cuda.local.array((3, N_STATE), float64)
+    transformed = cuda.local.array((3, N_STATE), float64)
+    stage_rates = cuda.local.array((3, N_STATE), float64)
+    vectors = cuda.local.array((6, N_STATE), float64)
+    complex_rhs = cuda.local.array(N_STATE, complex128)
+    radau_dense = cuda.local.array((RADAU_DENSE_ROWS, N_STATE), float64)
+    if method == METHOD_RADAU5 or method == METHOD_AUTO:
+        for i in range(N_STATE):
+            for j in range(N_STATE):
+                jacobian[i, j] = 0.0
+                lu_real[i, j] = 0.0
+                lu_complex[i, j] = 0.0
+            pivots[0, i] = 0
+            pivots[1, i] = 0
+            for k in range(3):
+                collocation[k, i] = 0.0
+                transformed[k, i] = 0.0
+                stage_rates[k, i] = 0.0
+                radau_dense[k, i] = 0.0
+            vectors[0, i] = 0.0  # the real right-hand side
+            complex_rhs[i] = 0.0
+    radau = _radau.Workspace(
+        jacobian, lu_real, lu_complex, pivots[0], pivots[1], collocation, transformed,
+        stage_rates, vectors[0], complex_rhs, vectors[1], vectors[2], vectors[3], vectors[4],
+        radau_dense, vectors[5], memory,
+    )  # fmt: skip
+    # the explicit methods read their workspace's fields by name, which ThreadWorkspace has
+    return methods.Workspaces(explicit, radau, switching, explicit)  # type: ignore[arg-type]
 
 
 def _thread(model, method, point, run, buffers):
@@ -337,9 +454,6 @@ def _thread(model, method, point, run, buffers):
     f_new = cuda.local.array(N_STATE, float64)
     state = cuda.local.array(N_STATE, float64)
     scratch = cuda.local.array(N_STATE, float64)
-    stages = cuda.local.array((MAX_STAGES, N_STATE), float64)
-    dense = cuda.local.array((MAX_DENSE_ROWS, N_STATE), float64)
-    errors = cuda.local.array((2, N_STATE), float64)
     values = cuda.local.array(MAX_EVENT_ROWS, float64)
     stats = cuda.local.array(N_STATS, int64)
     first_time = cuda.local.array(1, float64)
@@ -349,13 +463,14 @@ def _thread(model, method, point, run, buffers):
     for j in range(N_STATE):
         y[j] = y0[j]
     params = buffers.params[point]
+    system = _system_device(params, run)
     controls = Controls(run.rtol, run.atol, 0.0, 0.0, run.max_steps, True)
     samples = buffers.samples[point]
     crossings = buffers.crossings[point]
-    work = ThreadWorkspace(stages, dense, scratch, errors[0], errors)
+    work = _workspaces_device(method, buffers.radau_memory[point], buffers.switching[point])
     local = (f, y_new, f_new, state, scratch, values, stats, work)
     end = _integrate_point(
-        model, method, params, y, run.t_end, controls, buffers.table, buffers.sample_times,
+        model, method, system, y, run.t_end, controls, buffers.table, buffers.sample_times,
         samples, crossings, local,
     )  # fmt: skip
     reversal = (
@@ -380,6 +495,60 @@ def _thread(model, method, point, run, buffers):
     )
 
 
+def _system_in_simulator(params, run):
+    """The run's system as the CPU driver's loop has it: the parameter record and the
+    right-hand side's link (numba's simulator runs the CPU's compiled code)."""
+    return (params, run.rhs_link)
+
+
+def _system_on_gpu(params, run):
+    """The run's system on a GPU: the parameter record itself, which the kernels'
+    own right-hand side takes (``direct_rhs``); no CPU address can be called there."""
+    return params
+
+
+@inlined
+def _record_itself(system):
+    """``_system.parameters`` of a GPU thread's system, the record itself."""
+    return system
+
+
+@contextlib.contextmanager
+def direct_rhs() -> Iterator[None]:
+    """While a CUDA kernel compiles: the solvers call the kernels' right-hand side
+    directly (``kernels.system.rhs``, ``spin_and_normal_force``) with the parameter record
+    as their ``params``, in place of ``_system``'s call at a CPU address.
+
+    numba compiles a CPU function for CUDA from its Python source, reading the globals of
+    its module as it compiles: each solver module's reference to a ``_system`` function
+    is replaced for that time (under numba's compiler lock, so that no CPU compile sees
+    it) and restored after. The same arithmetic either way: ``_system`` calls
+    ``kernels.system.evaluate``, which those call too.
+    """
+    from numba.core.compiler_lock import global_compiler_lock
+
+    from celtstone.kernels import system as physics
+
+    direct = {
+        id(_system.rhs): physics.rhs,
+        id(_system.spin_and_normal_force): physics.spin_and_normal_force,
+        id(_system.parameters): _record_itself,
+    }
+    modules = [m for n, m in sorted(sys.modules.items()) if n.startswith("celtstone.solvers")]
+    replaced: list[tuple[Any, str, Any]] = []
+    with global_compiler_lock:
+        try:
+            for module in modules:
+                for name, value in list(vars(module).items()):
+                    if id(value) in direct:
+                        replaced.append((module, name, value))
+                        setattr(module, name, direct[id(value)])
+            yield
+        finally:
+            for module, name, value in replaced:
+                setattr(module, name, value)
+
+
 def _ensemble_source(model, method, key):  # pragma: no cover - the kernel's template
     """The kernel of ``model`` and ``method`` as a Python closure over three integers
     (numba's cache keys a closure on its cells, which must pickle the same in every
@@ -393,18 +562,30 @@ def _ensemble_source(model, method, key):  # pragma: no cover - the kernel's tem
     return ensemble
 
 
-_thread_device: Any = None  # ``_thread`` as a CUDA device function, made by ``_kernel``
+# ``_thread``, ``_thread_workspaces`` and the system's maker as CUDA device functions,
+# made by ``_kernel`` (``declare_device_functions``)
+_thread_device: Any = None
+_workspaces_device: Any = None
+_system_device: Any = None
 
 
 @functools.cache
 def _kernel(model: int, method: int) -> Any:
     """The CUDA kernel of ``model`` and ``method``, compiled at its first launch or loaded
     from numba's cache."""
-    global _thread_device
+    declare_device_functions()
+    return cuda.jit(cache=True)(_ensemble_source(model, method, SOURCE_KEY))
+
+
+def declare_device_functions() -> None:
+    """``declare_for_cuda``, and the thread's device functions, once per process."""
+    global _thread_device, _workspaces_device, _system_device
     declare_for_cuda()
     if _thread_device is None:
+        making_system = _system_in_simulator if in_simulator() else _system_on_gpu
+        _system_device = cuda.jit(device=True)(making_system)
+        _workspaces_device = cuda.jit(device=True)(_thread_workspaces)
         _thread_device = cuda.jit(device=True)(_thread)
-    return cuda.jit(cache=True)(_ensemble_source(model, method, SOURCE_KEY))
 
 
 @functools.cache
@@ -448,6 +629,38 @@ def declare_for_cuda() -> None:
             overload(function, target="cuda")(implementation)
         except Exception:  # another numba's CUDA target: its own serves
             pass
+    _large_constants_in_global_memory()
+
+
+def _large_constants_in_global_memory() -> None:
+    """Make numba's CUDA target put a frozen array larger than ``CONSTANT_MEMORY_LIMIT``
+    into global memory rather than constant memory: the elliptic contact's table
+    (``kernels.friction_ellipse``, 1.18 MB) is part of every sliding kernel, since the
+    contact shape is chosen at run time, and a GPU has 64 kB of constant memory, which
+    ptxas refuses to exceed. The array stays read-only and initialised in the module; a
+    smaller one (the methods' tableaux) stays in constant memory."""
+    try:
+        from numba.cuda import target
+        from numba.cuda.cudadrv import nvvm
+    except ImportError:  # pragma: no cover - a numba without a CUDA target
+        return
+    context = target.CUDATargetContext
+    original = context.make_constant_array
+    if getattr(original, "celtstone_global", False):
+        return
+
+    def make_constant_array(self, builder, aryty, arr):
+        if np.asarray(arr).nbytes <= CONSTANT_MEMORY_LIMIT:
+            return original(self, builder, aryty, arr)
+        constant = nvvm.ADDRSPACE_CONSTANT  # read by the original as it emits the global
+        nvvm.ADDRSPACE_CONSTANT = nvvm.ADDRSPACE_GLOBAL
+        try:
+            return original(self, builder, aryty, arr)
+        finally:
+            nvvm.ADDRSPACE_CONSTANT = constant
+
+    make_constant_array.celtstone_global = True  # type: ignore[attr-defined]
+    context.make_constant_array = make_constant_array  # type: ignore[method-assign]
 
 
 def in_simulator() -> bool:
@@ -491,9 +704,10 @@ def launch_points(n_samples: int, crossing_capacity: int) -> int:
 
 def bytes_per_point(n_samples: int, crossing_capacity: int) -> int:
     """GPU memory [bytes] a point of a launch takes: its samples, its ``_reduce``
-    buffers, its crossings, its inputs and its results."""
+    buffers, its crossings, its inputs, its method's records and its results."""
     floats = n_samples * (N_STATE + 3) + crossing_capacity + N_STATE + 2 + N_FIELDS
-    return 8 * floats + 1024  # and its parameter record, at most 1 kB
+    records = _radau.MEMORY.itemsize + _auto.RECORD.itemsize
+    return 8 * floats + records + 1024  # and its parameter record, at most 1 kB
 
 
 def run_batch_cuda(
@@ -543,6 +757,9 @@ def run_batch_cuda(
         "reversal_windows": windows,
         "table": events.event_table(model, 0.0),
         "sample_times": times,
+        # each point's records as a run starts (``_radau.workspace``, ``_auto.workspace``)
+        "radau_memory": np.tile(_radau.workspace(0).memory, (k, 1)),
+        "switching": np.tile(_auto.workspace(), (k, 1)),
     }
     shapes = {
         "samples": (k, m, N_STATE),
@@ -552,7 +769,8 @@ def run_batch_cuda(
         "crossings": (k, capacity),
         "results": (k, N_FIELDS),
     }
-    run = Run(float(t_end), float(rtol), float(atol), int(max_steps))
+    link = _system.rhs_link(inputs["params"][0]) if in_simulator() and k > 0 else (0, 0)
+    run = Run(float(t_end), float(rtol), float(atol), int(max_steps), link)
     kernel = _kernel(model, method)
     blocks = (k + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     if k == 0:
@@ -565,6 +783,7 @@ def run_batch_cuda(
         **{name: cuda.to_device(values) for name, values in inputs.items()},
         **{name: cuda.device_array(s) for name, s in shapes.items()},
     )
-    kernel[blocks, THREADS_PER_BLOCK](run, device)
+    with direct_rhs():  # the first launch compiles the kernel (or loads it from the cache)
+        kernel[blocks, THREADS_PER_BLOCK](run, device)
     cuda.synchronize()
     return device.results.copy_to_host()

@@ -2,8 +2,9 @@
 
 ``resolve_device`` turns the user's ``device`` ("cpu", "cuda" or "auto") into the one
 that runs, and refuses "cuda" in one line where the GPU cannot run the sweep: no CUDA
-GPU here, or a model or method that has no GPU thread yet. A sweep asked to run on the
-GPU never falls back to the CPU; "auto" takes the GPU where it can and says nothing.
+GPU here, or a contact that has no GPU thread yet (the stick–slip contact's phases). A
+sweep asked to run on the GPU never falls back to the CPU; "auto" takes the GPU where
+it can and says nothing.
 
 ``CudaPool`` gathers the runner's tasks (blocks of points) into launches of
 ``solvers.batch_cuda.run_batch_cuda``, one thread per point, as many points at a time
@@ -32,12 +33,13 @@ def _gpu_refusal(model: str, method: str, is_hybrid: bool) -> str | None:
     """Why the GPU cannot run this sweep, or None."""
     from celtstone.solvers import batch_cuda
 
-    if is_hybrid or model != "rolling":
+    if is_hybrid:
         return (
-            f"the GPU runs the rolling model so far; the {model} model"
-            + (" with the stick-slip contact" if is_hybrid else "")
-            + " runs on the cpu"
+            "the GPU runs the rolling model, and the sliding model with contact=sliding; "
+            "the stick-slip contact (contact=hybrid, a sliding sweep's default) runs on the cpu"
         )
+    if model not in batch_cuda.CUDA_MODEL_NAMES:
+        return f"the GPU runs the {' and '.join(batch_cuda.CUDA_MODEL_NAMES)} models, not {model}"
     if method not in batch_cuda.CUDA_METHODS:
         return f"the GPU runs {' or '.join(batch_cuda.CUDA_METHODS)}, not {method}"
     return batch_cuda.cuda_unavailable_reason()

@@ -187,9 +187,9 @@ class Sweep:
         Called with (objects built, objects to build) while the points are validated.
     device : {"cpu", "cuda", "auto"}, optional
         Where the points run: the CPU's threads (or ``run``'s scheduler), a CUDA GPU
-        (one thread per point; the rolling model with vern9 or dop853 so far), or the GPU
-        where it can run the sweep, else the CPU. "cuda" where it cannot is an error,
-        never a quiet run on the CPU.
+        (one thread per point; the rolling model, and the sliding model with contact
+        sliding, so far), or the GPU where it can run the sweep, else the CPU. "cuda"
+        where it cannot is an error, never a quiet run on the CPU.
     """
 
     def __init__(
