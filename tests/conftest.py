@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
 
 import matplotlib
 import pytest
@@ -19,6 +23,29 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 BODY_NAMES = sorted(cs.list_bodies())
 
 
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Keep ``make test``'s ``xdist_group`` marks working: with ``--dist loadgroup`` each
+    worker appends ``@GROUP`` to a grouped test's node ID and the scheduler keeps a group
+    on one worker. pytest-xdist 3.8 writes the suffix into ``Item._nodeid``, which pytest
+    9.2 no longer reads (node IDs are structured), so every group was split across the
+    workers and its module and session fixtures computed in both (pytest-xdist issue
+    1386). Here the suffix goes into the structured ID, after xdist's own hook and only
+    where that left none."""
+    if not getattr(config.option, "loadgroup", False):  # a worker of --dist loadgroup
+        return
+    from _pytest.nodeid import coerce_node_id
+
+    for item in items:
+        marks = item.iter_markers("xdist_group")
+        names = sorted(
+            {str(m.args[0] if m.args else m.kwargs.get("name", "default")) for m in marks}
+        )
+        suffix = "@" + "_".join(names)
+        if names and not item.nodeid.endswith(suffix):
+            item._id = coerce_node_id(item.nodeid + suffix)  # type: ignore[attr-defined]
+
+
 @pytest.fixture(scope="session")
 def kane_levinson() -> cs.Body:
     """Kane & Levinson (1982) ellipsoid, ../shared/references.md."""
@@ -33,3 +60,64 @@ def any_body(request: pytest.FixtureRequest) -> cs.Body:
 
 # Kane & Levinson's initial state: alpha = beta = 0.5 deg, omega = (0, 0, w3) body axes
 LITERATURE_EULER_ANGLES = (0.5, 0.5)
+
+
+# --------------------------------------------------------------------------------------
+# One quick reproduction, read by the tests of Figure 2, of the report and of the atlas
+# --------------------------------------------------------------------------------------
+
+QUICK_REPRODUCTION = "quick-reproduction"
+"""The ``xdist_group`` of every test that reads :func:`quick_reproduction`. pytest-xdist
+computes a session fixture once in each worker that asks for it; the group keeps its
+readers in one worker, so the reproduction is computed once per ``make test``."""
+
+
+@dataclass(frozen=True)
+class QuickReproduction:
+    """``celtstone reproduce all --quick`` of the K&L body with the paper's contact.
+
+    Attributes
+    ----------
+    out : pathlib.Path
+        The directory it wrote (``--out``).
+    argv : list of str
+        Its command line, without the program name.
+    status : int
+        Its exit status.
+    shared : list
+        The :class:`celtstone.reproduce.parallel.SharedRuns` of each ``sharing_runs`` block
+        it entered, after the block ended.
+    """
+
+    out: Path
+    argv: list[str]
+    status: int
+    shared: list
+
+
+@pytest.fixture(scope="session")
+def quick_reproduction(tmp_path_factory: pytest.TempPathFactory) -> QuickReproduction:
+    """Every target of the K&L body in ``--quick`` form (Figure 2's runs of 5 s, the
+    threshold, Figure 3, the coarse atlas), run once through the CLI; mark its readers
+    ``pytest.mark.xdist_group(QUICK_REPRODUCTION)``."""
+    from celtstone.cli.main import main
+    from celtstone.reproduce import targets as reproduce_targets
+
+    out = tmp_path_factory.mktemp("quick-reproduction")
+    argv = [
+        *("reproduce", "all", "--quick", "--no-progress", "--out", str(out)),
+        *("--body", "kane_levinson_1982", "--contact", "paper"),
+    ]
+    shared: list = []
+    sharing = reproduce_targets.sharing_runs
+
+    @contextlib.contextmanager
+    def watched(*args: object, **kwargs: object) -> Iterator[object]:
+        with sharing(*args, **kwargs) as runs:  # type: ignore[arg-type]
+            shared.append(runs)
+            yield runs
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(reproduce_targets, "sharing_runs", watched)
+        status = main(argv)
+    return QuickReproduction(out, argv, status, shared)

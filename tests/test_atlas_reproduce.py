@@ -1,6 +1,10 @@
 """``celtstone reproduce atlas`` (issue 15, item 3): its files whole, the report's section 7
 read from them, the CLI's ``--atlas-grid``, nothing left by an interruption.
 
+The atlas read here is the coarse one of the quick reproduction (``tests/conftest.py``:
+``celtstone reproduce all --quick``, whose tests in ``test_reproduce.py`` read the same
+directory), computed once for both files.
+
 Oracle: the counts of the report are recomputed from the store ``atlas.zarr`` (the
 verdicts ``compute_atlas`` wrote), not from the JSON the report reads.
 """
@@ -17,7 +21,7 @@ import xarray as xr
 
 from celtstone.atlas import fields
 from celtstone.atlas.search import stored_searches
-from celtstone.atlas.target import ATLAS_GRIDS, AtlasGrid, AtlasSlice, AtlasTarget
+from celtstone.atlas.target import ATLAS_GRIDS, DEFAULT_ATLAS_GRID, AtlasSlice
 from celtstone.cli.main import main
 from celtstone.cli.reproduce import ATLAS_GRID_WORDS
 from celtstone.errors import ParameterError
@@ -25,67 +29,70 @@ from celtstone.files.export import read_table
 from celtstone.reproduce import reproduce
 from celtstone.reproduce.atlas_report import atlas_counts
 from celtstone.reproduce.findings import FINDINGS
-from tests.test_atlas_fields import SHORT  # two designs: 3 s runs, a 4-point f grid
+from celtstone.reproduce.study import TARGETS
+from tests.conftest import QUICK_REPRODUCTION, QuickReproduction
 
-TINY = AtlasGrid(
-    "tiny",
-    (
-        AtlasSlice(
-            "tiny",
-            "length",
-            (0.1,),
-            "misalignment",
-            (2.0, 4.0),
-            (("width_ratio", 0.25), ("height_ratio", 0.15), ("mass_fraction", 0.5)),
-        ),
-    ),
-    SHORT,
-)
+GRID = ATLAS_GRIDS[DEFAULT_ATLAS_GRID]  # the quick reproduction's: no --atlas-grid
+(SLICE,) = GRID.slices  # its files are named after it
+QUICK = pytest.mark.xdist_group(QUICK_REPRODUCTION)  # one worker computes it (conftest)
 
 
 @pytest.fixture(scope="module")
-def atlas_out(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("atlas")
-    reproduce(["atlas"], out, [], progress=False, atlas=AtlasTarget(TINY))
-    return out
+def atlas_out(quick_reproduction: QuickReproduction) -> Path:
+    """The quick reproduction's directory: the atlas of :data:`GRID` beside the K&L body's
+    targets."""
+    assert quick_reproduction.status == 0
+    assert "--atlas-grid" not in quick_reproduction.argv
+    assert GRID.name == "coarse" and len(GRID.designs()) == 4
+    return quick_reproduction.out
 
 
+@QUICK
 def test_atlas_writes_its_files_whole(atlas_out: Path) -> None:
+    designs = GRID.designs()
     names = {p.name for p in atlas_out.iterdir()}
-    assert {"atlas.zarr", "atlas_tiny.csv", "atlas_tiny.png", "atlas_tiny.svg"} <= names
+    stem = f"atlas_{SLICE.name}"
+    assert {"atlas.zarr", f"{stem}.csv", f"{stem}.png", f"{stem}.svg"} <= names
     assert {"data", "report.md"} <= names
     assert not list(atlas_out.rglob("*.part"))
     dataset = xr.open_zarr(atlas_out / "atlas.zarr", consolidated=False)
-    assert dataset.sizes["design"] == 2
-    assert dataset.attrs["atlas_grid"] == "tiny"
-    table, header = read_table(atlas_out / "atlas_tiny.csv")
-    assert len(table) == 2 and header["atlas_grid"] == "tiny"
-    assert header["slice"].startswith("L [m] = 0.1 × δ [deg] = 2, 4")
+    assert dataset.sizes["design"] == len(designs)
+    assert dataset.attrs["atlas_grid"] == GRID.name
+    table, header = read_table(atlas_out / f"{stem}.csv")
+    assert len(table) == len(designs) and header["atlas_grid"] == GRID.name
+    assert header["slice"].startswith("L [m] = 0.1, 0.2 × δ [deg] = 2, 4")
     for finding in FINDINGS:  # the CSV's verdicts are the store's
         assert table[finding].tolist() == dataset[finding].values.tolist()
-    assert table["misalignment"].tolist() == [2.0, 4.0]
+    assert table["length"].tolist() == [d.length for d in designs]
+    assert table["misalignment"].tolist() == [d.misalignment for d in designs]
     numbers = json.loads((atlas_out / "data" / "atlas_atlas.json").read_text())
-    assert numbers["run"]["targets"] == ["atlas"]
+    figure2 = json.loads((atlas_out / "data" / "fig2_kane_levinson_1982.json").read_text())
+    assert numbers["run"]["id"] == figure2["run"]["id"]  # the one run that made both
+    assert numbers["run"]["targets"] == [*TARGETS, "atlas"]  # ``all``
 
 
+@QUICK
 def test_report_counts_are_the_stores(atlas_out: Path) -> None:
     dataset = xr.open_zarr(atlas_out / "atlas.zarr", consolidated=False)
+    count = len(GRID.designs())
     report = (atlas_out / "report.md").read_text(encoding="utf-8")
     section = report[report.index("## 7. For which stones") :]
     holds = int(dataset["all_findings_hold"].values.sum())
-    assert f'All five findings hold ("yes") for {holds} of 2 designs.' in section
-    assert "Atlas grid **tiny**" in section
+    assert f'All five findings hold ("yes") for {holds} of {count} designs.' in section
+    assert f"Atlas grid **{GRID.name}**" in section
     for finding in FINDINGS:
         values = dataset[finding].values.tolist()
         row = f"| {finding} | {values.count('yes')} | {values.count('partly')} | "
         assert row + f"{values.count('no')} |" in section
-    designs = [{"verdicts": {f: dataset[f].values[k] for f in FINDINGS}} for k in range(2)]
+    designs = [{"verdicts": {f: dataset[f].values[k] for f in FINDINGS}} for k in range(count)]
     counts = atlas_counts(designs)
-    both = [all(dataset[f].values[k] == "yes" for f in ("period", "threshold")) for k in range(2)]
+    both = [
+        all(dataset[f].values[k] == "yes" for f in ("period", "threshold")) for k in range(count)
+    ]
     assert counts["pairs"]["period+threshold"] == sum(both)
     if holds == 0:
         assert "No design of this grid satisfies all five findings" in section
-    assert "](atlas_tiny.png)" in section
+    assert f"](atlas_{SLICE.name}.png)" in section
     for search in stored_searches():  # the searches of record, from their stored summaries
         assert f"### The search for the long-run finding: the {search['box']} box" in section
         assert f"over **{search['points']} designs**" in section

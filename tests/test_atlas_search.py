@@ -111,6 +111,7 @@ def searched() -> tuple[list[SearchPoint], list[dict], object]:
     return points, numbers, search_dataset(points, numbers, SHORT, seed=None)
 
 
+@pytest.mark.xdist_group("atlas-search")  # `searched` once, in one worker
 def test_each_point_is_judged_as_the_report_judges_a_direct_run(searched) -> None:  # type: ignore[no-untyped-def]
     points, numbers, dataset = searched
     target, judge = JUDGES["long_run"]
@@ -133,6 +134,7 @@ def test_each_point_is_judged_as_the_report_judges_a_direct_run(searched) -> Non
         assert float(row["rolling_shortest_interval"]) == pytest.approx(expected, nan_ok=True)
 
 
+@pytest.mark.xdist_group("atlas-search")  # `searched` once, in one worker
 def test_summary_and_report_lines_are_the_table(searched, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     _, _, dataset = searched
     table = search_table(dataset)

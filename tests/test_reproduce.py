@@ -7,10 +7,8 @@ reduced study keeps the physics (same body, start, ε, f) with shorter runs.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import json
-from collections.abc import Iterator
 from pathlib import Path
 
 import imageio_ffmpeg
@@ -21,9 +19,8 @@ import xarray as xr
 import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.files.export import read_table
-from celtstone.reproduce import Study, figure2, reduced, threshold
+from celtstone.reproduce import Study, reduced, threshold
 from celtstone.reproduce import cases as reproduce_cases
-from celtstone.reproduce import targets as reproduce_targets
 from celtstone.reproduce.findings import (
     judge_energy_decrease,
     judge_energy_order,
@@ -31,10 +28,11 @@ from celtstone.reproduce.findings import (
     judge_period_growth,
     judge_threshold,
 )
-from celtstone.reproduce.parallel import SharedRuns
 from celtstone.reproduce.progress import progress_bar
+from tests.conftest import QUICK_REPRODUCTION, QuickReproduction
 
 KL = Study(body="kane_levinson_1982")
+QUICK = pytest.mark.xdist_group(QUICK_REPRODUCTION)  # one worker computes it (conftest)
 
 
 def _quick_kl(out: Path) -> list[str]:
@@ -51,11 +49,14 @@ def _quiet(total: int = 0):
 
 
 @pytest.fixture(scope="module")
-def fig2_kl(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
-    """Figure 2 of the K&L body, runs shortened to 5 s (the reversals come before 3 s)."""
-    out = tmp_path_factory.mktemp("fig2")
-    study = dataclasses.replace(reduced(KL), fig2_t_end=5.0)
-    return out, figure2(study, out, _quiet())
+def fig2_kl(quick_reproduction: QuickReproduction) -> tuple[Path, dict]:
+    """Figure 2 of the K&L body from the quick reproduction: runs of 5 s (a quarter of
+    the paper's 20 s; the reversals come before 3 s), its directory and its numbers."""
+    out = quick_reproduction.out
+    assert quick_reproduction.status == 0
+    result = json.loads((out / "data" / "fig2_kane_levinson_1982.json").read_text())
+    assert result["t_end"] == reduced(KL).fig2_t_end == 5.0
+    return out, result
 
 
 def _static(result: dict) -> dict[float, dict]:
@@ -66,6 +67,7 @@ def _static(result: dict) -> dict[float, dict]:
     }
 
 
+@QUICK
 def test_fig2_reversal_order_in_f(fig2_kl: tuple[Path, dict]) -> None:
     """Paper: the period of the Celt effect grows as f falls; K&L reverses at 0.35 and
     0.25 (later at 0.25) and not at 0.15 (below this body's threshold)."""
@@ -78,6 +80,7 @@ def test_fig2_reversal_order_in_f(fig2_kl: tuple[Path, dict]) -> None:
     assert judge_period_growth(fig2_kl[1]).reproduced == "partly"
 
 
+@QUICK
 def test_fig2_energy_falls_monotonically_and_matches_friction_work(
     fig2_kl: tuple[Path, dict],
 ) -> None:
@@ -95,6 +98,7 @@ def test_fig2_energy_falls_monotonically_and_matches_friction_work(
     assert judge_energy_decrease([fig2_kl[1]]).reproduced == "yes"
 
 
+@QUICK
 def test_fig2_energy_falls_with_f(fig2_kl: tuple[Path, dict]) -> None:
     """Paper: as f falls the energy of motion falls (K&L, at the end of the run)."""
     cases = _static(fig2_kl[1])
@@ -103,6 +107,7 @@ def test_fig2_energy_falls_with_f(fig2_kl: tuple[Path, dict]) -> None:
     assert judge_energy_order(fig2_kl[1]).reproduced in {"yes", "partly"}
 
 
+@QUICK
 def test_fig2_files_and_provenance(fig2_kl: tuple[Path, dict]) -> None:
     """Figures as PNG and SVG, a CSV with provenance, one NetCDF per run with attrs."""
     out, result = fig2_kl
@@ -155,26 +160,19 @@ def test_threshold_reduced_kane_levinson(tmp_path: Path) -> None:
     assert (tmp_path / "threshold_kane_levinson_1982.svg").exists()
 
 
-def test_reproduce_all_quick_writes_report(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+@QUICK
+def test_reproduce_all_quick_writes_report(quick_reproduction: QuickReproduction) -> None:
     """The CLI end to end in --quick form for one body: every target, a report with a
     table per finding and a verdict in each; each run computed ahead is asked for."""
-    shared: list[SharedRuns] = []
-    sharing = reproduce_targets.sharing_runs
-
-    @contextlib.contextmanager
-    def watched(*args: object, **kwargs: object) -> Iterator[SharedRuns]:
-        with sharing(*args, **kwargs) as runs:  # type: ignore[arg-type]
-            shared.append(runs)
-            yield runs
-
-    monkeypatch.setattr(reproduce_targets, "sharing_runs", watched)
-    assert main(["reproduce", "all", *_quick_kl(tmp_path)]) == 0
+    out = quick_reproduction.out
+    assert quick_reproduction.argv == ["reproduce", "all", *_quick_kl(out)]
+    assert quick_reproduction.status == 0
     # every planned run was asked for; the one-at-a-time rows "paper's contact" and
     # "consistent load" at f = 0.35 (--quick's only f) are Figure 2's sliding runs at
     # 0.35 with N = m g and with the dynamic N: handed over, not computed again
-    (runs,) = shared
+    (runs,) = quick_reproduction.shared
     assert (runs.unclaimed, runs.shared) == (0, 2)
-    report = (tmp_path / "report.md").read_text()
+    report = (out / "report.md").read_text()
     assert "--quick" in report
     for heading in ("Figure 2", "threshold", "Figure 3", "energy budget"):
         assert heading in report
@@ -185,9 +183,9 @@ def test_reproduce_all_quick_writes_report(tmp_path: Path, monkeypatch: pytest.M
         "threshold_kane_levinson_1982.png",
     ):
         assert f"]({figure})" in report
-        assert (tmp_path / figure).exists()
+        assert (out / figure).exists()
     assert "](fig2_kane_levinson_1982_rolling_vs_sliding.mp4)" in report
-    assert not list(tmp_path.rglob("*.part"))
+    assert not list(out.rglob("*.part"))
 
 
 def test_interrupt_leaves_only_whole_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -39,6 +39,9 @@ from celtstone.simulation.reversals import dataset_reversal_times
 
 TOY = "toy_rattleback_10cm"
 
+# the tests that read ``both_contacts`` in one pytest-xdist worker, which computes it once
+pytestmark = pytest.mark.xdist_group("realistic-reproduction")
+
 
 def test_realistic_studies_carry_their_contact_into_both_models() -> None:
     """The realistic study's models have the ellipse of a 3 GPa, ν = 0.35 polymer pair,

@@ -105,6 +105,7 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> xr.Dataset:
     return open_sweep(store)
 
 
+@pytest.mark.xdist_group("sweep-reference")  # `reference` once, in one worker
 @pytest.mark.parametrize(
     "sig", [signal.SIGKILL, signal.SIGINT, signal.SIGTERM], ids=["SIGKILL", "SIGINT", "SIGTERM"]
 )

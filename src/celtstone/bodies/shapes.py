@@ -216,9 +216,10 @@ class Superellipsoid(_AboutCentre):
 
     Parameters
     ----------
-    semi_axes, com_offset
-        As for :class:`Ellipsoid`: the semi-axes (a, b, c) [m] and G's offset h below O
-        along axis 3 [m], |h| < c.
+    semi_axes : tuple of 3 float
+        The semi-axes (a, b, c) [m], as for :class:`Ellipsoid`.
+    com_offset : float
+        G's offset h below O along axis 3 [m], |h| < c, as for :class:`Ellipsoid`.
     exponent : float
         Exponent p [1], in [2, 64]; p = 2 is the ellipsoid. p < 1 is not convex and
         1 <= p < 2 has edges (infinite curvature), so neither is accepted.
