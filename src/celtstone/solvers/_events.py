@@ -383,11 +383,13 @@ def locate_events(
         for row in range(table.shape[0]):
             values[row] = checked_value(table[row], spin, normal_force)
         return stop_row, x_limit, t_limit, n_crossings
-    for row in range(table.shape[0]):
-        event = table[row]
-        if event.terminal:
+    for terminal in (True, False):  # terminal rows first: a root cuts the step short
+        for row in range(table.shape[0]):
+            event = table[row]
+            if event.terminal != terminal:
+                continue
             end = checked_value(event, spin, normal_force)
-            roots, _, first, values[row] = scan(
+            roots, n_crossings, first, values[row] = scan(
                 event,
                 model,
                 params,
@@ -401,26 +403,8 @@ def locate_events(
                 point,
                 scratch,
             )
-            if roots > 0:
+            if terminal and roots > 0:
                 stop_row = row
                 x_limit = first
                 t_limit = step.t_old + first * step.h
-    for row in range(table.shape[0]):
-        event = table[row]
-        if not event.terminal:
-            end = checked_value(event, spin, normal_force)
-            _, n_crossings, _, values[row] = scan(
-                event,
-                model,
-                params,
-                step,
-                x_limit,
-                stop_row < 0,
-                values[row],
-                end,
-                crossings,
-                n_crossings,
-                point,
-                scratch,
-            )
     return stop_row, x_limit, t_limit, n_crossings

@@ -409,7 +409,8 @@ def error_norm(model, params, t, y, f, y_new, h, rejected, controls, work, stats
 def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
     """Step from (t, y) with f = f(t, y), trying h [s] first: halve h when Newton fails,
     shrink it by the predictive controller when the error norm exceeds 1; the step
-    never passes ``t_end``.
+    never passes ``t_end``. A step accepted after a rejection is not followed by a larger
+    one (as Hairer's RADAU5 and DOP853 do, and SciPy's Radau does not).
 
     Returns (status, h_taken, h_next, rhs status, normal force [N] at y_new); ``y_new`` and
     ``f_new`` = f(t + h_taken, y_new).
@@ -451,54 +452,10 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
         break
     if status != STATUS_SUCCESS:
         return status, h_try, h, RHS_OK, math.nan
-    h_next, code, normal_force = accept(
-        model,
-        params,
-        t,
-        y_new,
-        f_new,
-        h,
-        h_try,
-        iterations,
-        rate,
-        norm,
-        safety,
-        rejected,
-        controls,
-        work,
-        stats,
-    )
-    return status, h_try, h_next, code, normal_force
-
-
-@inlined
-def accept(
-    model,
-    params,
-    t,
-    y_new,
-    f_new,
-    h,
-    h_taken,
-    iterations,
-    rate,
-    norm,
-    safety,
-    rejected,
-    controls,
-    work,
-    stats,
-):
-    """After an accepted step: f_new, the next step size, and whether the Jacobian is
-    evaluated anew (slow Newton convergence) or the LU factors kept (a small change of h).
-    A step accepted after a rejection is not followed by a larger one (``rejected``; as
-    Hairer's RADAU5 and DOP853 do, and SciPy's Radau does not).
-
-    Returns (h_next [s], rhs status, normal force [N] of the evaluation f_new).
-    """
-    memory = work.memory[0]
+    # the next step size, and whether the Jacobian is evaluated anew (slow Newton
+    # convergence) or the LU factors are kept (a small change of h)
     recompute_jacobian = iterations > 2 and rate > JACOBIAN_RATE
-    factor = predict_factor(h_taken, memory.h_abs_old, norm, memory.error_norm_old)
+    factor = predict_factor(h_try, memory.h_abs_old, norm, memory.error_norm_old)
     factor = min(MAX_FACTOR, safety * factor)
     if rejected:
         factor = min(1.0, factor)
@@ -508,15 +465,15 @@ def accept(
         factor = 1.0
     else:
         memory.lu_valid = False
-    code, normal_force = rhs(model, t + h_taken, y_new, params, f_new)
+    code, normal_force = rhs(model, t + h_try, y_new, params, f_new)
     stats[STAT_NFEV] += 1
     if recompute_jacobian:
-        evaluate_jacobian(model, params, t + h_taken, y_new, f_new, work, stats)
+        evaluate_jacobian(model, params, t + h_try, y_new, f_new, work, stats)
     else:
         memory.current_jacobian = False
-    memory.h_abs_old = h_taken
+    memory.h_abs_old = h_try
     memory.error_norm_old = norm
-    return (h_taken * factor if controls.adaptive else h), code, normal_force
+    return status, h_try, (h_try * factor if controls.adaptive else h), code, normal_force
 
 
 @inlined

@@ -98,22 +98,11 @@ def first_phase(params, y, capture_speed, captured):
 
 @kernel
 def run_phase(
-    params,
-    y,
-    t0,
-    t_end,
-    kind,
-    hybrid,
-    controls,
-    steps_left,
-    output,
-    first_sample,
-    first_crossing,
-    integrate_links,
+    params, y, t0, t_end, kind, hybrid, controls, output, first_sample, first_crossing, links
 ):
     """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
-    at most ``steps_left`` steps, with ``driver.integrate`` at its link of
-    ``integrate_links`` (slip, stick, right-hand side); its
+    with ``controls`` (the phase's: ``max_steps`` the steps left to the run), with
+    ``driver.integrate`` at its link of ``links`` (slip, stick, right-hand side); its
     samples go to ``output`` from ``first_sample``, its crossings from ``first_crossing``
     (to a spare buffer once ``output.crossings`` is full). Returns (``RunEnd``, its
     shifted sample times, its crossing buffer)."""
@@ -126,18 +115,9 @@ def run_phase(
     phase_output = Output(
         times, output.samples[first_sample:], crossings, output.stats, output.final_state
     )
-    phase_controls = Controls(
-        controls.rtol,
-        controls.atol,
-        controls.first_step,
-        controls.max_step,
-        steps_left,
-        controls.adaptive,
-    )
     table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
-    to_rhs = integrate_links[2]
-    arguments = (model, method, params, y, t_end - t0, phase_controls, table, phase_output, to_rhs)
-    link = integrate_links[1] if kind == STICK else integrate_links[0]
+    arguments = (model, method, params, y, t_end - t0, controls, table, phase_output, links[2])
+    link = links[1] if kind == STICK else links[0]
     end = call_integrate(link, arguments)
     return end, times, crossings
 
@@ -186,6 +166,14 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
         if is_new and n_phases == log.kind.shape[0]:
             status = STATUS_MAX_PHASES
             break
+        phase_controls = Controls(  # the run's, with the steps it has left
+            controls.rtol,
+            controls.atol,
+            controls.first_step,
+            controls.max_step,
+            steps_left,
+            controls.adaptive,
+        )
         end, times, crossings = run_phase(
             params,
             y,
@@ -193,8 +181,7 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
             t_end,
             kind,
             hybrid,
-            controls,
-            steps_left,
+            phase_controls,
             output,
             n_samples,
             n_stored,
