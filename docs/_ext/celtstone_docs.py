@@ -29,7 +29,6 @@ from celtstone.cli.main import build_parser
 #: (the compiled core under the user API), ``celtstone.cli`` (the CLI page) and
 #: ``celtstone.files.export`` (the commands' file-writing machinery) are not.
 MODULES = (
-    "celtstone.analysis",
     "celtstone.atlas",
     "celtstone.bodies",
     "celtstone.contact",
@@ -37,6 +36,7 @@ MODULES = (
     "celtstone.plotting",
     "celtstone.reproduce",
     "celtstone.simulation.reversals",
+    "celtstone.stability",
     "celtstone.sweep",
     "celtstone.visual",
 )
@@ -76,8 +76,7 @@ def _origin(module: str, name: str) -> tuple[str, str]:
 def documented_at(module: str, name: str) -> str:
     """The full name under which ``module.name`` is documented, once: ``celtstone.NAME``
     when ``celtstone`` re-exports the same object, the documented module that defines it
-    when another one re-exports it (``celtstone.analysis.reversal_band`` is
-    ``celtstone.simulation.reversals.reversal_band``), else ``module.name``."""
+    when another one re-exports it, else ``module.name``."""
     origin = _origin(module, name)
     if name in celtstone.__all__ and _origin("celtstone", name) == origin:
         return f"celtstone.{name}"

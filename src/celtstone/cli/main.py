@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import atexit
 import importlib
 import os
 import re
@@ -216,11 +217,20 @@ def _stopped(stop: KeyboardInterrupt) -> int:
     """One line for Ctrl-C or SIGTERM; 130 or 143."""
     stop_at_once()  # a second signal while this is said: no traceback
     _quiet_abandoned_writes()
+    # a signal during a compile leaves LLVM objects half made, whose finalizers complain
+    # as the interpreter exits ("Exception ignored in ... ObjectRef.__del__"): the one
+    # line below has said what happened
+    atexit.register(_quiet_finalizers)
     if isinstance(stop, Terminated):
         _say("celtstone: terminated; no partial output was written")
         return EXIT_TERMINATED
     _say("celtstone: interrupted; no partial output was written")
     return EXIT_INTERRUPTED
+
+
+def _quiet_finalizers() -> None:
+    """Drop the exceptions of finalizers run as an interrupted process exits."""
+    sys.unraisablehook = lambda unraisable: None
 
 
 def _main(argv: Sequence[str] | None, signals: Signals) -> int:

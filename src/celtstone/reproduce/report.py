@@ -131,7 +131,7 @@ Reversal times: a *reversal* here is a change of the sense of spin held beyond a
 hysteresis band of 4 % of the initial spin (0.2 rad/s for ω0 = 5 rad/s); the raw spin
 crosses zero several times within hundredths of a second around a reversal, and a
 sliding stone whose spin has died changes sign many times without reversing
-(`celtstone.analysis.reversal_times`). The band is applied to the spin's running mean
+(`celtstone.reversal_times`). The band is applied to the spin's running mean
 over one rocking period, read from the runs' samples (200 per second): a reversal's
 time is known to the samples' resolution, within {resolution:g} s of a converged run's
 for Kane & Levinson's stone (`celtstone.simulation.reversals.REVERSAL_TIME_RESOLUTION`); the
