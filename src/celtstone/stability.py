@@ -113,9 +113,17 @@ def linearised_matrix(
 
     Parameters
     ----------
-    body : a body with I13 = I23 = 0 (rest contact below G on axis 3)
-    spin_rate : s = ω · n of the steady spin [rad/s]
-    model : the rolling model (its viscous damping σ enters J); default σ = 0
+    body : Body
+        A body with I13 = I23 = 0 (rest contact below G on axis 3).
+    spin_rate : float
+        The rate s = ω · n of the steady spin [rad/s].
+    model : RollingModel, optional
+        The rolling model (its viscous damping σ enters J); default σ = 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        J, shape (4, 4), rows and columns (n1, n2, ω1, ω2).
 
     Notes
     -----
@@ -434,7 +442,21 @@ def spin_stability(
 def parse_spin_range(text: str) -> np.ndarray:
     """Spin rates from ``"START:STOP:COUNT"`` (like ``numpy.linspace``) [rad/s].
 
-    COUNT is an integer in [1, MAX_SPIN_COUNT]; COUNT = 1 needs START = STOP.
+    Parameters
+    ----------
+    text : str
+        ``"START:STOP:COUNT"``: COUNT is an integer in [1, MAX_SPIN_COUNT]; COUNT = 1
+        needs START = STOP.
+
+    Returns
+    -------
+    numpy.ndarray
+        The COUNT spin rates [rad/s].
+
+    Raises
+    ------
+    ParameterError
+        For text of another form, or numbers out of range.
     """
     allowed = (
         f"START:STOP:COUNT with START <= STOP in [-{schema.MAX_ANGULAR_SPEED:g}, "
