@@ -289,18 +289,9 @@ def fit(
             screened_starts(runs, seed) if starts is None else draw_starts(problem, starts, seed)
         )
         stages = {"screening": runs.count}
-        outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starting)
-        stages["local fits"] = runs.count - sum(stages.values())
-        best_converged = min(outcomes, key=lambda s: s.cost).converged
-        ends = [(s.end, s.cost) for s in outcomes if s.converged]
-        if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
-            problem, ends, (values, cost, best_converged, _, jacobian, residuals) = _reweighted(
-                runs, problem, values, residuals, ends
-            )
-            stages["refit with the residuals' noise"] = runs.count - sum(stages.values())
-        optimum = _Optimum(values, cost, best_converged, jacobian, residuals)
+        problem, outcomes, ends, optimum = _best_of_starts(runs, problem, starting, stages)
         optimum, spread, whiteness, intervals = _checked(runs, optimum, ends)
-        values, cost, best_converged, jacobian, residuals = optimum
+        values, best_converged = optimum.values, optimum.converged
         stages["interval checks and profiles"] = runs.count - sum(stages.values())
         profiled = None if profile is None else _profile(runs, values, spread, profile)
         if profiled is not None:
@@ -530,6 +521,25 @@ def _profile(runs: Runs, values: np.ndarray, spread: Any, name: str) -> Any:
     return profile_likelihood(
         runs, refit, values, index, spread.standard_errors[index], spread.residual_variance
     )
+
+
+def _best_of_starts(
+    runs: Runs, problem: Any, starting: Any, stages: dict[str, int]
+) -> tuple[Any, list[Any], list[tuple[np.ndarray, float]], _Optimum]:
+    """The local fits from ``starting``, then, for several series without a given
+    noise, the refit with each series weighted by its residuals' noise; the runs each
+    stage took are added to ``stages``. Returns (problem, the starts' outcomes, the
+    converged ends with their costs, the optimum)."""
+    outcomes, (values, cost, jacobian, residuals) = _from_starts(runs, starting)
+    stages["local fits"] = runs.count - sum(stages.values())
+    best_converged = min(outcomes, key=lambda s: s.cost).converged
+    ends = [(s.end, s.cost) for s in outcomes if s.converged]
+    if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
+        problem, ends, (values, cost, best_converged, _, jacobian, residuals) = _reweighted(
+            runs, problem, values, residuals, ends
+        )
+        stages["refit with the residuals' noise"] = runs.count - sum(stages.values())
+    return problem, outcomes, ends, _Optimum(values, cost, best_converged, jacobian, residuals)
 
 
 def _reweighted(
