@@ -51,9 +51,8 @@ def record(body: cs.Body) -> cs.Record:
     times = np.round(np.arange(0.0, DURATION + 0.5 / RATE, 1.0 / RATE), 10)
     run = cs.simulate(cs.SlidingModel(**TRUTH), body, STATE, DURATION, sample_times=times)
     spin = run.samples.values("spin")
-    return cs.make_record(
-        times, {"spin": spin + np.random.default_rng(0).normal(0, NOISE, spin.size)}
-    )
+    noise = np.random.default_rng(0).normal(0, NOISE, spin.size)
+    return cs.make_record(times, {"spin": spin + BIAS + noise})
 
 
 def machine_cpu() -> float:

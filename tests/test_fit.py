@@ -19,7 +19,7 @@ import celtstone as cs
 from celtstone.cli.main import main
 from celtstone.errors import CeltstoneError
 from celtstone.files.export import read_run
-from celtstone.fitting.problem import FAILED_RESIDUAL, Problem, make_problem
+from celtstone.fitting.problem import FAILED_RESIDUAL, Problem, Settings, make_problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.series import yaw_angle
 
@@ -148,10 +148,7 @@ def _problem(kane_levinson: cs.Body, kl_spin: tuple[np.ndarray, np.ndarray]) -> 
         kane_levinson,
         "sliding",
         ["friction_coefficient", "contact_radius"],
-        fixed={"omega3": -5.0},
-        sensor_bias=False,
-        rtol=1e-8,
-        atol=1e-10,
+        Settings(fixed={"omega3": -5.0}, sensor_bias=False, rtol=1e-8, atol=1e-10),
     )
 
 

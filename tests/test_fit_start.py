@@ -16,7 +16,7 @@ import pytest
 
 import celtstone as cs
 from celtstone.errors import ParameterError
-from celtstone.fitting.problem import SLIP_NAMES, make_problem
+from celtstone.fitting.problem import SLIP_NAMES, Settings, make_problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.solve import FIT_ATOL, FIT_RTOL, _minimise
 from celtstone.simulation.models import initial_vector
@@ -68,11 +68,13 @@ def test_a_record_that_starts_sliding_is_fitted_exactly_with_its_slip_free(
             kane_levinson,
             "sliding",
             list(start),
-            start=start,
-            sigma=dict.fromkeys(RATES, SIGMA),
-            initial_slip=slip_free,
-            rtol=FIT_RTOL,
-            atol=FIT_ATOL,
+            Settings(
+                start=start,
+                sigma=dict.fromkeys(RATES, SIGMA),
+                initial_slip=slip_free,
+                rtol=FIT_RTOL,
+                atol=FIT_ATOL,
+            ),
         )
         assert (SLIP_NAMES[0] in problem.names) is slip_free
         with warnings.catch_warnings(), Runs(problem, workers=2) as runs:
@@ -138,7 +140,7 @@ def test_the_slip_is_free_where_the_run_starts_mid_motion(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", cs.CeltstoneWarning)  # the rates read and held
         problem = make_problem(
-            record, kane_levinson, model, names, fixed=fixed, rtol=1e-8, atol=1e-10
+            record, kane_levinson, model, names, Settings(fixed=fixed, rtol=1e-8, atol=1e-10)
         )
     assert all((name in problem.names) is is_free for name in SLIP_NAMES)
 
@@ -147,4 +149,6 @@ def test_a_slip_with_the_rolling_model_is_refused(kane_levinson: cs.Body) -> Non
     truth = Truth(0.3, 1e-3, 0.0, RATES)
     record = phone_record(kane_levinson, truth, 0.2, seed=0)
     with pytest.raises(ParameterError, match=r"slip_velocity1.*cannot slip"):
-        make_problem(record, kane_levinson, "rolling", ["slip_velocity1"], rtol=1e-8, atol=1e-10)
+        make_problem(
+            record, kane_levinson, "rolling", ["slip_velocity1"], Settings(rtol=1e-8, atol=1e-10)
+        )

@@ -39,11 +39,12 @@ EPILOG = (
     + f"\n  omega1..3, initial_spin start ± {DEFAULT_RATE_SPAN:g} rad/s\n"
     "the record's own numbers (free or --set like the others):\n"
     + "\n".join(
-        f"  {n.name:22s} {n.lower:g}:{n.upper:g} {n.unit}: {n.description}"
+        f"  {n.name:22s} {n.lower:g}:{n.upper:g}{f' {n.unit}' if n.unit else ''}: {n.description}"
         for n in NUISANCES.values()
     )
-    + "\n  (a bias of every rate series is free unless --set or --no-sensor-bias; the initial\n"
-    "  slip_velocity1..2 where the run starts mid-motion, unless --set or --no-initial-slip)\n\n"
+    + "\n  (a bias of every rate series is free unless --set or --no-sensor-bias; a scale error\n"
+    "  is held at 0 unless --free or --set; the initial slip_velocity1..2 is free where the\n"
+    "  run starts mid-motion, unless --set or --no-initial-slip)\n\n"
     "exit status: 0 the fit converged; 3 it did not (converged: false in the summary: the\n"
     "optimiser stopped at its limit, a parameter is at a bound, or the fitted run stopped),\n"
     "or with --strict any warning; 2 bad input; 1 the output could not be written.\n\n"
@@ -410,6 +411,13 @@ def _text(summary: dict) -> str:
             else ""
         )
     )
+    joint = summary.get("joint_region_95")
+    if joint and len(joint["parameters"]) > 1:
+        ends = [
+            f"{name} {e[0]:.6g} .. {e[1]:.6g}" if e is not None else f"{name} not determined"
+            for name, e in joint["simultaneous_intervals_95"].items()
+        ]
+        lines.append(f"  joint 95 % region, its shadow on each axis: {', '.join(ends)}")
     for name, walked in summary.get("profile_intervals", {}).items():
         ends = [
             f"{v:.6g}" + (" (open)" if is_open else "")

@@ -34,6 +34,7 @@ from celtstone.files.ownership import (
     record_files,
     write_manifest,
 )
+from celtstone.fitting.nuisance import sensor_reading
 from celtstone.fitting.result import FitResult
 from celtstone.fitting.series import SERIES
 
@@ -103,8 +104,8 @@ def _figure(result: FitResult, staging: Path, stem: str = _FIGURE, model: str = 
     panels = []
     for name, measured in result.problem.record.series.items():
         series = SERIES[name]
-        # with the fitted (or held) gyroscope bias, as the residuals compare it
-        fitted = series.model(trajectory) + values_used.get(f"bias_{name}", 0.0)
+        # with the fitted (or held) gyroscope bias and scale, as the residuals compare it
+        fitted = sensor_reading(name, series.model(trajectory), values_used)
         if series.is_angle_offset_free:  # drawn with the offset the residuals remove
             fitted = fitted - float((fitted - measured).mean())
         unit = series.plot_unit or series.unit

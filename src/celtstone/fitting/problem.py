@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
@@ -22,7 +22,10 @@ from celtstone.fitting.nuisance import (
     RELEASE_OFFSET,
     bias_name,
     biased_series,
+    gain,
     is_nuisance,
+    scaled_series,
+    sensor_reading,
 )
 from celtstone.fitting.record import Record
 from celtstone.fitting.series import SERIES
@@ -43,15 +46,23 @@ from celtstone.sweep.spec import (
 __all__ = [
     "DEFAULT_BOUNDS",
     "FAILED_RESIDUAL",
+    "FIT_ATOL",
+    "FIT_RTOL",
     "SLIP_NAMES",
     "FreeParameter",
     "Problem",
+    "Settings",
     "current_values",
     "make_problem",
     "noise_scale",
     "parse_bounds",
 ]
 
+# the runs' tolerances: rtol 1e-8 changes the spin of a 3 s K&L sliding run by 2.5e-9
+# rad/s from rtol 1e-10, at half the time (docs/decisions.md); every fit checks it
+# again at its optimum against a run at 1/100 of them (``assess.INTEGRATION_ERROR_LIMIT``)
+FIT_RTOL = 1e-8
+FIT_ATOL = 1e-10
 # weighted residual [1] of a sample a run did not reach (it stopped early or raised): large
 # and finite, so that the optimiser steps back instead of stopping
 FAILED_RESIDUAL = 1e3
@@ -279,23 +290,55 @@ class Problem:
         return self.n_residuals - len(self.free) - offsets
 
     @property
+    def physical_columns(self) -> list[int]:
+        """Columns of the physical numbers: not the sensor's or the record's
+        (``fitting.nuisance``), nor the initial slip (it decays within milliseconds)."""
+        return [
+            j
+            for j, name in enumerate(self.names)
+            if not is_nuisance(name) and name not in SLIP_NAMES
+        ]
+
+    @property
     def is_released(self) -> bool:
         """Whether the run starts at a release ``release_offset`` before the first sample."""
         return RELEASE_OFFSET in self.names or RELEASE_OFFSET in self.fixed
 
     @property
-    def bias_columns(self) -> dict[int, slice]:
-        """Column of each free bias -> the rows of the series it shifts: the residuals are
-        linear in a bias, so its Jacobian column is 1/σ_s there and needs no run."""
+    def series_rows(self) -> dict[str, slice]:
+        """Series name -> its rows in the residual vector (series in the record's order)."""
         rows, start = {}, 0
         for name, measured in self.record.series.items():
             rows[name] = slice(start, start + measured.size)
             start += measured.size
+        return rows
+
+    def _acting_columns(self, series_of: Callable[[str], str | None]) -> dict[int, slice]:
+        """Column of each free number that ``series_of`` maps to a series of the record
+        -> that series' rows."""
+        rows = self.series_rows
         return {
             j: rows[series]
             for j, name in enumerate(self.names)
-            if (series := biased_series(name)) is not None and series in rows
+            if (series := series_of(name)) is not None and series in rows
         }
+
+    @property
+    def bias_columns(self) -> dict[int, slice]:
+        """Column of each free bias -> the rows of the series it shifts: the residuals are
+        linear in a bias, so its Jacobian column is 1/σ_s there and needs no run."""
+        return self._acting_columns(biased_series)
+
+    @property
+    def scale_columns(self) -> dict[int, slice]:
+        """Column of each free scale factor -> the rows of the series it multiplies: the
+        residuals are linear in it too, with the model's series as its Jacobian column."""
+        return self._acting_columns(scaled_series)
+
+    @property
+    def linear_columns(self) -> dict[int, slice]:
+        """The columns whose Jacobian needs no run (biases and scales) -> their rows."""
+        return {**self.bias_columns, **self.scale_columns}
 
     def bias_jacobian(self, column: int) -> np.ndarray:
         """∂r/∂bias of free ``column`` (a bias) [s/rad], shape (m,)."""
@@ -304,6 +347,28 @@ class Problem:
         assert series is not None
         derivative = np.zeros(self.n_residuals)
         derivative[rows] = 1.0 / self.sigma[series]
+        return derivative
+
+    def linear_jacobian(self, column: int, x: np.ndarray, residuals: np.ndarray) -> np.ndarray:
+        """∂r/∂x of a bias's or a scale's ``column`` at ``x`` [1/its unit], shape (m,),
+        exact and without a run: ``residuals`` are those at ``x``.
+
+        Notes
+        -----
+        r = ((1 + k) ω + b − d) / σ on the series' rows, so ∂r/∂b = 1/σ and
+        ∂r/∂k = ω / σ = (r σ + d − b) / ((1 + k) σ): the model's ω from the residuals.
+        """
+        if column in self.bias_columns:
+            return self.bias_jacobian(column)
+        rows = self.scale_columns[column]
+        series = scaled_series(self.names[column])
+        assert series is not None
+        values = self.values(x)
+        sigma = self.sigma[series]
+        measured = self.record.series[series]
+        reading = residuals[rows] * sigma + measured - values.get(bias_name(series), 0.0)
+        derivative = np.zeros(self.n_residuals)
+        derivative[rows] = reading / (gain(series, values) * sigma)
         return derivative
 
     def values(self, x: np.ndarray) -> dict[str, float]:
@@ -340,8 +405,9 @@ class Problem:
         )
 
     def residuals(self, trajectory: Trajectory | None, x: np.ndarray | None = None) -> np.ndarray:
-        """Weighted residuals (model + bias − data) / σ_s of every series, concatenated,
-        shape (m,); the biases of ``x`` (or the fixed ones; none without either).
+        """Weighted residuals (sensor reading − data) / σ_s of every series, concatenated,
+        shape (m,): the reading (1 + scale) model + bias (``nuisance.sensor_reading``) with
+        the biases and scales of ``x`` (or the fixed ones; none without either).
 
         Samples a run did not reach (and all, for ``None``: a run that raised) get
         ``FAILED_RESIDUAL``; an offset-free series (yaw) has its mean removed.
@@ -351,7 +417,7 @@ class Problem:
         for name, measured in self.record.series.items():
             residual = np.full(measured.size, FAILED_RESIDUAL)
             if trajectory is not None:
-                modelled = SERIES[name].model(trajectory.samples) + values.get(bias_name(name), 0.0)
+                modelled = sensor_reading(name, SERIES[name].model(trajectory.samples), values)
                 reached = min(modelled.size, measured.size)
                 residual[:reached] = (modelled[:reached] - measured[:reached]) / self.sigma[name]
                 if SERIES[name].is_angle_offset_free and reached == measured.size:
@@ -360,28 +426,50 @@ class Problem:
         return np.concatenate(parts)
 
 
+@dataclass(frozen=True)
+class Settings:
+    """What a fit is told beside the record, the body, the model and the free names: the
+    keyword arguments of :func:`celtstone.fitting.fit` of the same names (documented
+    there), each mapping empty where not given."""
+
+    bounds: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    start: Mapping[str, float] = field(default_factory=dict)
+    fixed: Mapping[str, float | str] = field(default_factory=dict)
+    sigma: Mapping[str, float] = field(default_factory=dict)
+    sensor_bias: bool = True
+    initial_slip: bool = True
+    rtol: float = FIT_RTOL
+    atol: float = FIT_ATOL
+    method: str | None = None
+
+
+def _check_sensor_names(record: Record, names: Sequence[str], numbers: Sequence[str]) -> None:
+    """Each bias and scale among the free ``names`` and the held ``numbers`` is of a rate
+    series of the record, or ParameterError naming it and those it may be."""
+    for name in [*names, *numbers]:
+        series = NUISANCES[name].series if is_nuisance(name) else None
+        if series is not None and series not in record.series:
+            rates = [s for s in record.series if SERIES[s].is_gyroscope_rate]
+            raise ParameterError(
+                "free" if name in names else "set",
+                name,
+                "a bias or scale of a rate series of the record: "
+                + (
+                    ", ".join(n.name for n in NUISANCES.values() if n.series in rates)
+                    or "none (no rate series)"
+                ),
+            )
+
+
 def make_problem(
-    record: Record,
-    body: Body,
-    model_name: str,
-    free: Sequence[str],
-    *,
-    bounds: Mapping[str, tuple[float, float]] | None = None,
-    start: Mapping[str, float] | None = None,
-    fixed: Mapping[str, float | str] | None = None,
-    sigma: Mapping[str, float] | None = None,
-    sensor_bias: bool = True,
-    initial_slip: bool = True,
-    rtol: float,
-    atol: float,
-    method: str | None = None,
+    record: Record, body: Body, model_name: str, free: Sequence[str], settings: Settings
 ) -> Problem:
     """A checked :class:`Problem` (see :func:`celtstone.fitting.fit` for the arguments)."""
     bounds, start, fixed, sigma = (
-        dict(bounds or {}),
-        dict(start or {}),
-        dict(fixed or {}),
-        dict(sigma or {}),
+        dict(settings.bounds),
+        dict(settings.start),
+        dict(settings.fixed),
+        dict(settings.sigma),
     )
     names = list(dict.fromkeys(free))
     for name in names:
@@ -400,19 +488,8 @@ def make_problem(
                 "a number of the rolling model: its contact cannot slip",
                 "fit the model 'sliding' to a record that starts sliding",
             )
-    for name in [*names, *numbers]:
-        series = biased_series(name)
-        if series is not None and series not in record.series:
-            raise ParameterError(
-                "free" if name in names else "set",
-                name,
-                "a bias of a rate series of the record: "
-                + (
-                    ", ".join(bias_name(s) for s in record.series if SERIES[s].is_gyroscope_rate)
-                    or "none (no rate series)"
-                ),
-            )
-    if sensor_bias:  # every rate series' bias is free unless held or already free
+    _check_sensor_names(record, names, list(numbers))
+    if settings.sensor_bias:  # every rate series' bias is free unless held or already free
         names += [
             bias_name(s)
             for s in record.series
@@ -422,7 +499,7 @@ def make_problem(
     # the record's first samples set the initial state unless given or released earlier;
     # they start a free one
     read = {} if released else _initial_values(record, numbers)
-    if initial_slip and model_name != "rolling" and _starts_mid_motion(read, names):
+    if settings.initial_slip and model_name != "rolling" and _starts_mid_motion(read, names):
         names += [n for n in SLIP_NAMES if n not in {*names, *numbers}]
     if not names:
         raise ParameterError("free", "", "at least one parameter name")
@@ -431,7 +508,8 @@ def make_problem(
             if name not in names:
                 raise ParameterError(option, name, "a free parameter: " + ", ".join(names))
     configured = {**read, **numbers}
-    base = Problem(record, body, model_name, choices, configured, (), {}, rtol, atol, method)
+    tolerances = (settings.rtol, settings.atol, settings.method)
+    base = Problem(record, body, model_name, choices, configured, (), {}, *tolerances)
     model, configured_body, state = base.configuration(np.array([]))  # the fixed part, checked
     current = current_values(model, configured_body, state)
     dropped = {*names, *(("initial_spin",) if "omega3" in names else ())}  # omega3 would lose
@@ -473,9 +551,7 @@ def make_problem(
         MappingProxyType(numbers_held),
         tuple(parameters),
         MappingProxyType(scales),
-        rtol,
-        atol,
-        method,
+        *tolerances,
         MappingProxyType(sources),
         MappingProxyType(fixed_source),
     )

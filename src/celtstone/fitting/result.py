@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from celtstone.fitting.intervals import ProfiledInterval
-from celtstone.fitting.nuisance import NUISANCES, bias_name, is_nuisance
+from celtstone.fitting.nuisance import NUISANCES, bias_name, is_nuisance, scale_name
 from celtstone.fitting.problem import Problem, current_values
 from celtstone.fitting.profile import Profile
 from celtstone.fitting.series import SERIES
-from celtstone.fitting.uncertainty import Uncertainty
+from celtstone.fitting.uncertainty import JointRegion, Uncertainty
 from celtstone.simulation.trajectory import Trajectory
 from celtstone.sweep.spec import PARAMETERS
 
@@ -166,6 +166,18 @@ class FitResult:
         """Correlation matrix of the free numbers [1], shape (p, p)."""
         return self.uncertainty.correlation
 
+    @property
+    def joint_region(self) -> JointRegion:
+        """The joint 95 % region of the physical numbers (``Problem.physical_columns``):
+        it holds all their true values together in 95 % of records, where each one's
+        95 % interval holds its own (``uncertainty.JointRegion``)."""
+        columns = self.problem.physical_columns
+        return JointRegion(
+            tuple(self.names[j] for j in columns),
+            self.values[columns],
+            self.uncertainty.covariance[np.ix_(columns, columns)],
+        )
+
     def series_residuals(self) -> dict[str, np.ndarray]:
         """Split the residuals by series, unweighted.
 
@@ -203,8 +215,8 @@ class FitResult:
         -------
         dict of str to dict
             Name -> value [SI], unit and source: "set" (given), "record's first sample",
-            "default" (the model's, body's or initial state's), a Hertz contact's
-            computed radius, or a bias not fitted.
+            "default" (the model's, body's or initial state's; a gyroscope's scale error:
+            0), a Hertz contact's computed radius, or a bias not fitted.
         """
         problem = self.problem
         model, body, state = problem.configuration(self.values)
@@ -233,9 +245,14 @@ class FitResult:
             if is_nuisance(name):
                 held[name] = {"value": value, "unit": NUISANCES[name].unit, "source": "set"}
         for series in problem.record.series:
-            name = bias_name(series)
-            if SERIES[series].is_gyroscope_rate and name not in {*problem.names, *held}:
-                held[name] = {"value": 0.0, "unit": SERIES[series].unit, "source": "not fitted"}
+            if not SERIES[series].is_gyroscope_rate:
+                continue
+            for name, source in (
+                (bias_name(series), "not fitted"),
+                (scale_name(series), "default"),
+            ):
+                if name not in {*problem.names, *held}:
+                    held[name] = {"value": 0.0, "unit": NUISANCES[name].unit, "source": source}
         return held
 
     def summary(self) -> dict[str, Any]:
@@ -282,6 +299,7 @@ class FitResult:
             ],
             "jacobian_rank": u.rank,
             "condition_number": _number(u.condition_number),
+            "joint_region_95": self.joint_region.summary() if problem.physical_columns else None,
             "standard_errors_widened_by": dict(zip(names, u.widened_by_profile, strict=True))
             if u.widened_by_profile
             else {},

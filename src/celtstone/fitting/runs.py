@@ -149,7 +149,7 @@ class Runs:
         """Weighted residuals at ``x`` (kept for the Jacobian there), run beside the
         Jacobian's first ``columns`` at ``x`` when speculating (one per idle thread)."""
         x = np.asarray(x, dtype=float)
-        linear = self.problem.bias_columns
+        linear = self.problem.linear_columns
         ahead = (
             [j for j in columns if j not in linear][: self.workers - 1] if self.speculate else []
         )
@@ -165,15 +165,16 @@ class Runs:
 
     def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
         """∂r/∂x by forward differences (backward at an upper bound), shape (m, len(columns)),
-        the columns' runs in parallel; a bias's column exactly (``Problem.bias_jacobian``).
+        the columns' runs in parallel; a bias's or a scale's column exactly, from the
+        residuals at ``x`` (``Problem.linear_jacobian``).
 
         r(x) and any columns run ahead are those of the last :meth:`residuals` call at
         ``x`` (least_squares evaluates it first); the rest are run now.
         """
         x = np.asarray(x, dtype=float)
         every = list(range(x.size)) if columns is None else list(columns)
-        linear = self.problem.bias_columns
-        chosen = [j for j in every if j not in linear]  # a bias's column needs no run
+        linear = self.problem.linear_columns
+        chosen = [j for j in every if j not in linear]  # a bias's or scale's needs no run
         steps, vectors = self._shifted(x, chosen)
         last = self._last if self._last is not None and self._last.x == x.tobytes() else None
         ahead = {} if last is None else last.columns
@@ -194,5 +195,8 @@ class Runs:
             for i, (j, step) in enumerate(zip(chosen, steps, strict=True))
         }
         return np.column_stack(
-            [differenced[j] if j in differenced else self.problem.bias_jacobian(j) for j in every]
+            [
+                differenced[j] if j in differenced else self.problem.linear_jacobian(j, x, base)
+                for j in every
+            ]
         ).reshape(base.size, len(every))

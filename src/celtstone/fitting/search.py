@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from celtstone.fitting.nuisance import RELEASE_OFFSET, bias_name
+from celtstone.fitting.nuisance import RELEASE_OFFSET, bias_name, sensor_reading
 from celtstone.fitting.problem import SLIP_NAMES, Problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.series import SERIES
@@ -141,7 +141,8 @@ def _scan_offset(
     share = positions - below
     costs = np.zeros(offsets.size)
     for row, (name, measured) in enumerate(problem.record.series.items()):
-        values = modelled[row]
+        # as the sensor reads it at ``point`` (its bias, free or held, and scale)
+        values = sensor_reading(name, modelled[row], problem.values(point))
         shifted = values[below] * (1.0 - share) + values[below + 1] * share
         residual = _moving(shifted, window) - _moving(measured, window)
         residual *= np.sqrt(window) / problem.sigma[name]  # an average of `window` samples
@@ -214,7 +215,7 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
     below the best few leads a local fit into another minimum, at the cost of a whole
     fit's runs (``starts=1`` fits from it alone)."""
     problem = runs.problem
-    linear = problem.bias_columns
+    linear = problem.linear_columns  # a bias or a scale: held at its start, not drawn
     slid = RELEASE_OFFSET in problem.names
     kept_at_start = _kept_at_start(problem)
     drawn = [j for j in range(len(problem.free)) if j not in linear and j not in kept_at_start]

@@ -44,8 +44,13 @@ from celtstone.fitting.intervals import (
     profiled_intervals,
     quadratic_misfits,
 )
-from celtstone.fitting.nuisance import is_nuisance
-from celtstone.fitting.problem import SLIP_NAMES, Problem, make_problem
+from celtstone.fitting.problem import (
+    FIT_ATOL,
+    FIT_RTOL,
+    Problem,
+    Settings,
+    make_problem,
+)
 from celtstone.fitting.profile import profile_likelihood
 from celtstone.fitting.record import Record
 from celtstone.fitting.result import FitResult, StartOutcome
@@ -66,11 +71,6 @@ __all__ = [
     "reweighted",
 ]
 
-# the runs' tolerances: rtol 1e-8 changes the spin of a 3 s K&L sliding run by 2.5e-9
-# rad/s from rtol 1e-10, at half the time (docs/decisions.md); every fit checks it
-# again at its optimum against a run at 1/100 of them (``assess.INTEGRATION_ERROR_LIMIT``)
-FIT_RTOL = 1e-8
-FIT_ATOL = 1e-10
 MAX_ITERATIONS = 50  # residual evaluations of one start (least_squares' max_nfev)
 MAX_STARTS = 1000  # starts one may ask for
 MAX_WORKERS = 1024  # threads one may ask for
@@ -212,7 +212,8 @@ def fit(
         ``euler_beta`` [deg], ``slip_velocity1..2`` [m/s]), body numbers (``celtstone
         sweep`` names) or the record's own numbers (``fitting.nuisance``:
         ``release_offset`` [s], the time from the release state to the first sample;
-        ``bias_<series>`` [rad/s]).
+        ``bias_<series>`` [rad/s], a gyroscope's bias; ``scale_<series>`` [1], its scale
+        error: the sensor reads (1 + scale) × rate + bias).
     bounds : mapping of str to (float, float), optional
         Name -> (LO, HI) [its unit]; defaults in ``fitting.problem.DEFAULT_BOUNDS`` and
         ``fitting.nuisance.NUISANCES``.
@@ -221,8 +222,9 @@ def fit(
         for the initial rates the record's first sample.
     fixed : mapping of str to float or str, optional
         Name -> value of the numbers and options held (``celtstone sweep --set`` names,
-        and ``bias_<series>``); the initial state defaults to the record's first sample
-        of omega1..3 or spin, or with ``release_offset`` to the model's default state.
+        ``bias_<series>`` and ``scale_<series>``); the initial state defaults to the
+        record's first sample of omega1..3 or spin, or with ``release_offset`` to the
+        model's default state.
     sigma : mapping of str to float, optional
         Series name -> noise scale σ_s weighting it [its SI unit]; default estimated
         from the record's high-frequency part (``fitting.problem.noise_scale``).
@@ -263,21 +265,18 @@ def fit(
     """
     began = time.perf_counter()
     _check_counts(starts, workers, seed)
-    problem = make_problem(
-        record,
-        _body(body),
-        model,
-        free,
-        bounds=bounds,
-        start=start,
-        fixed=fixed,
-        sigma=sigma,
+    settings = Settings(
+        bounds=bounds or {},
+        start=start or {},
+        fixed=fixed or {},
+        sigma=sigma or {},
         sensor_bias=sensor_bias,
         initial_slip=initial_slip,
         rtol=rtol,
         atol=atol,
         method=method,
     )
+    problem = make_problem(record, _body(body), model, free, settings)
     if profile is not None and profile not in problem.names:
         raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
     noise = dict(problem.sigma)  # the model-free noise estimates (or the given σ_s)
@@ -347,11 +346,7 @@ def _checked(
     columns = list(range(len(problem.free)))
     # the initial slip decays within milliseconds: like the sensor's numbers, its interval
     # is the curvature's (profiles of two more numbers would double a fit's runs)
-    physical = [
-        j
-        for j, name in enumerate(problem.names)
-        if not is_nuisance(name) and name not in SLIP_NAMES
-    ]
+    physical = problem.physical_columns
     spread, white = _spread(problem, optimum.jacobian, optimum.residuals, optimum.cost)
     intervals: list[ProfiledInterval] = []
 
@@ -385,10 +380,7 @@ def _spread(
 ) -> tuple[Uncertainty, dict[str, Whiteness]]:
     """The uncertainty, widened by the Newey-West covariance where a series' residuals
     are not white, and each series' whiteness."""
-    blocks, start = {}, 0
-    for name, measured in problem.record.series.items():
-        blocks[name] = slice(start, start + measured.size)
-        start += measured.size
+    blocks = problem.series_rows
     white = {name: whiteness(residuals[rows]) for name, rows in blocks.items()}
     widened = None
     if not all(w.is_white for w in white.values()):
