@@ -13,5 +13,5 @@ from celtstone.explorer.inputs import python_snippet as python_snippet
 from celtstone.explorer.launch import EXTRA_HINT as EXTRA_HINT
 from celtstone.explorer.launch import explore as explore
 from celtstone.explorer.launch import require_panel as require_panel
-from celtstone.explorer.runner import Outcome as Outcome
+from celtstone.explorer.runner import FinishedRun as FinishedRun
 from celtstone.explorer.runner import Runner as Runner

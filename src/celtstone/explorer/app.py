@@ -41,7 +41,7 @@ from celtstone.explorer.inputs import (
     python_snippet,
 )
 from celtstone.explorer.notes import NOTES
-from celtstone.explorer.runner import Outcome, Progress, Runner
+from celtstone.explorer.runner import FinishedRun, Progress, Runner
 from celtstone.simulation import schema
 from celtstone.simulation.models import SETTINGS, settings_of
 
@@ -53,7 +53,7 @@ PLAYER_FRAMES = 200  # frames the play button steps the time cursor through
 PLAYER_INTERVAL_MS = 100  # ms between them: a run plays in 20 s, whatever its t_end
 
 
-def verdict(outcome: Outcome) -> str:
+def verdict(outcome: FinishedRun) -> str:
     """The run in one line: "reverses at 2.86 s; 3 reversals in 20 s"."""
     if outcome.trajectory is None:
         return f"the run failed: {outcome.error}"
@@ -88,8 +88,8 @@ class Explorer:
 
     def __init__(self, inputs: Inputs | None = None, run_first: bool = True) -> None:
         self.runner = Runner()
-        self.outcome: Outcome | None = None
-        self.pinned: Outcome | None = None
+        self.outcome: FinishedRun | None = None
+        self.pinned: FinishedRun | None = None
         first = inputs or Inputs()
         self._build_controls(first)
         self._build_plots()
@@ -404,7 +404,7 @@ class Explorer:
             f"tilt {math.degrees(float(at.tilt)):.3g} deg, energy {float(at.energy):.6g} J"
         )
 
-    def show(self, outcome: Outcome) -> None:
+    def show(self, outcome: FinishedRun) -> None:
         """Draw ``outcome`` (the newest inputs' run) and its verdict."""
         self.outcome = outcome
         self.status.object = f"run of inputs #{outcome.generation} done in {outcome.seconds:.2f} s"

@@ -36,7 +36,7 @@ from celtstone.simulation.models import contact_settings
 if TYPE_CHECKING:  # the run's modules are imported by the first run, not by the page
     from celtstone.simulation.trajectory import Trajectory
 
-__all__ = ["Cancelled", "Outcome", "Progress", "Runner"]
+__all__ = ["Cancelled", "FinishedRun", "Progress", "Runner"]
 
 
 class Cancelled(Exception):
@@ -44,7 +44,7 @@ class Cancelled(Exception):
 
 
 @dataclass(frozen=True)
-class Outcome:
+class FinishedRun:
     """A finished run of one generation of inputs.
 
     Parameters
@@ -130,7 +130,7 @@ class Runner:
         self._lock = threading.Lock()
         self._generation = 0
         self._job: _Job | None = None
-        self._outcome: Outcome | None = None
+        self._outcome: FinishedRun | None = None
         self._dropped = 0
 
     @property
@@ -185,13 +185,13 @@ class Runner:
             seconds=time.perf_counter() - job.started,
         )
 
-    def take(self) -> Outcome | None:
+    def take(self) -> FinishedRun | None:
         """The newest finished outcome not taken yet, or None."""
         with self._lock:
             outcome, self._outcome = self._outcome, None
         return outcome
 
-    def wait(self, generation: int, timeout: float = 60.0) -> Outcome | None:
+    def wait(self, generation: int, timeout: float = 60.0) -> FinishedRun | None:
         """Block until the run of ``generation`` is done; its outcome (tests, notebooks)."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -224,7 +224,7 @@ class Runner:
             error = str(failure)
         except Exception as failure:  # shown on the page as one line, never a traceback
             error = f"{type(failure).__name__}: {failure}"
-        outcome = Outcome(
+        outcome = FinishedRun(
             generation=job.generation,
             inputs=job.inputs,
             trajectory=trajectory,
