@@ -23,6 +23,34 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 BODY_NAMES = sorted(cs.list_bodies())
 
 
+#: The longest single tests of ``make test`` (CPU on a fresh clone, where the first ones
+#: compile what ``celtstone compile`` does not), longest first, by node ID up to the
+#: parameters. ``--dist loadgroup`` hands each worker the groups first (the largest
+#: first), then the other tests one by one in collection order: these go to the front
+#: of those, so that no long test starts last and keeps one worker busy while the other
+#: has nothing left. ``tests/test_xdist_groups.py`` checks that each names a test.
+STARTED_FIRST = (
+    "tests/test_sweep_cuda.py::test_benchmark_stages_run_and_agree_in_the_simulator",
+    "tests/test_sweep_cuda.py::test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator",
+    "tests/test_atlas_fields.py::test_the_atlas_equals_a_reproduction_of_the_same_body",
+    "tests/test_fit.py::test_synthetic_recovery_within_the_standard_errors",
+    "tests/test_sweep_dask.py::test_local_cluster_equals_local_threads",
+    "tests/test_solvers.py::test_agrees_with_scipy_on_the_same_right_hand_side",
+    "tests/e2e/test_explore_browser.py::test_the_explorer_in_chromium",
+    "tests/test_numba_cache.py::test_a_run_from_the_cache_loads_no_compiler_and_a_later",
+    "tests/oracle/test_oracle_selfcheck.py::test_rolling_conserves_energy",
+    "tests/test_compile_scope.py::test_the_diagnostics_of_a_rolling_run_compile_no_other",
+)
+
+
+def _started_first_rank(nodeid: str) -> int:
+    """The place of ``nodeid`` in :data:`STARTED_FIRST`, ``len(STARTED_FIRST)`` if none."""
+    return next(
+        (rank for rank, prefix in enumerate(STARTED_FIRST) if nodeid.startswith(prefix)),
+        len(STARTED_FIRST),
+    )
+
+
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Keep ``make test``'s ``xdist_group`` marks working: with ``--dist loadgroup`` each
@@ -31,7 +59,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     9.2 no longer reads (node IDs are structured), so every group was split across the
     workers and its module and session fixtures computed in both (pytest-xdist issue
     1386). Here the suffix goes into the structured ID, after xdist's own hook and only
-    where that left none."""
+    where that left none. Then the tests of :data:`STARTED_FIRST` go first (every
+    worker sorts alike, so the workers' collections stay the same)."""
     if not getattr(config.option, "loadgroup", False):  # a worker of --dist loadgroup
         return
     from _pytest.nodeid import coerce_node_id
@@ -44,6 +73,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         suffix = "@" + "_".join(names)
         if names and not item.nodeid.endswith(suffix):
             item._id = coerce_node_id(item.nodeid + suffix)  # type: ignore[attr-defined]
+    items.sort(key=lambda item: _started_first_rank(item.nodeid))  # stable: ties keep order
 
 
 @pytest.fixture(scope="session")

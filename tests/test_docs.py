@@ -5,7 +5,8 @@ docstrings in it) into a temporary directory; then, read from the HTML, not from
 sources: every name of ``celtstone.__all__`` has its page and is listed on the API page;
 every command of the CLI has its ``--help`` on the CLI page; every internal link of the
 site points at a page that exists; external names link to their projects' sites through
-the shipped inventories. Without the build: every snippet of the user guide runs.
+the shipped inventories; the explorer's screenshots it took show ``celtstone run``'s
+verdicts. Without the build: every snippet of the user guide runs.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import argparse
 import html
 import importlib.util
+import json
 import re
 import shlex
 import subprocess
@@ -276,6 +278,35 @@ def test_the_front_pages_in_chromium(site: Path, page: str, tmp_path: Path) -> N
     assert widths and min(widths) > 0, widths
     assert errors == []
     assert outside == []
+
+
+def test_the_explorer_screenshots_show_the_runs_of_the_cli(
+    site: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The build's screenshots of the live explorer (``celtstone_docs``, with
+    ``docs/_static/make_explorer_screenshots.py``) are the pictures the site publishes, whole
+    PNGs of the script's size, and the verdict each shows is ``celtstone run``'s."""
+    from tests.e2e.test_explore_browser import _cli_words
+    from tests.test_explore_docs import _script, png_size
+
+    script = _script()
+    lacking = script.missing()
+    if lacking:
+        pytest.skip(f"the build kept the committed screenshots: {lacking}")
+    extension = _docs_module("celtstone_docs", DOCS / "_ext" / "celtstone_docs.py")
+    verdicts = json.loads((site / ".doctrees" / extension.VERDICTS).read_text("utf-8"))
+    first, compare = script.NAMES
+    assert sorted(verdicts) == sorted(script.NAMES)
+    assert main(["run", "--json"]) == 0  # the page's first inputs are the CLI's defaults
+    reversal = json.loads(capsys.readouterr().out)["first_reversal_time"]
+    assert verdicts[first].startswith(f"reverses at {reversal:.3g} s")
+    assert _cli_words("0.15", capsys) in verdicts[compare]
+    size = (script.VIEWPORT["width"], script.VIEWPORT["height"])
+    published = site / "_static" / "explorer"
+    assert all(png_size(published / name) == size for name in script.NAMES)
+    taken = site / ".doctrees" / "explorer-screenshots" / "explorer"
+    for name in script.NAMES:
+        assert (published / name).read_bytes() == (taken / name).read_bytes(), name
 
 
 def test_the_notebook_is_its_paired_script() -> None:

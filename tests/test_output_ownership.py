@@ -89,18 +89,30 @@ def fit_run(tmp_path_factory: pytest.TempPathFactory, kane_levinson: cs.Body) ->
     return {"argv": argv, "data": data, "result": result}
 
 
-def _former_fit(fit_run: dict[str, Any], tmp_path: Path) -> Path:
-    out = tmp_path / "fit"
+@pytest.fixture(scope="module")
+def written_fit(tmp_path_factory: pytest.TempPathFactory, fit_run: dict[str, Any]) -> Path:
+    """The fit of ``fit_run`` written by the CLI into a directory of its own, once."""
+    out = tmp_path_factory.mktemp("written") / "fit"
     assert main([*fit_run["argv"], "--out", str(out)]) == 0
     assert ownership.MANIFEST in {p.name for p in out.iterdir()}
     return out
 
 
+def _former_fit(written_fit: Path, tmp_path: Path) -> Path:
+    """A copy of ``written_fit`` in ``tmp_path``: the manifest names its files relative
+    to the directory, so the copy is celtstone's own fit as much as the original."""
+    return Path(shutil.copytree(written_fit, tmp_path / "fit"))
+
+
 @pytest.mark.parametrize("user_file", ["notes.txt", "input data", "edited summary"])
 def test_fit_overwrite_keeps_a_former_fit_with_user_files(
-    capsys: pytest.CaptureFixture[str], fit_run: dict[str, Any], tmp_path: Path, user_file: str
+    capsys: pytest.CaptureFixture[str],
+    fit_run: dict[str, Any],
+    written_fit: Path,
+    tmp_path: Path,
+    user_file: str,
 ) -> None:
-    out = _former_fit(fit_run, tmp_path)
+    out = _former_fit(written_fit, tmp_path)
     capsys.readouterr()
     argv = fit_run["argv"]
     if user_file == "notes.txt":
@@ -125,9 +137,9 @@ def test_fit_overwrite_keeps_a_former_fit_with_user_files(
 
 
 def test_fit_overwrite_keeps_a_folder_with_only_a_fit_like_summary(
-    capsys: pytest.CaptureFixture[str], fit_run: dict[str, Any], tmp_path: Path
+    capsys: pytest.CaptureFixture[str], fit_run: dict[str, Any], written_fit: Path, tmp_path: Path
 ) -> None:
-    out = _former_fit(fit_run, tmp_path)
+    out = _former_fit(written_fit, tmp_path)
     copy = tmp_path / "copy"
     copy.mkdir()
     shutil.copy(out / "summary.json", copy / "summary.json")
@@ -142,10 +154,10 @@ def test_fit_overwrite_keeps_a_folder_with_only_a_fit_like_summary(
 
 
 def test_fit_overwrite_replaces_its_own_unchanged_fit(
-    capsys: pytest.CaptureFixture[str], fit_run: dict[str, Any], tmp_path: Path
+    capsys: pytest.CaptureFixture[str], fit_run: dict[str, Any], written_fit: Path, tmp_path: Path
 ) -> None:
     """The control: what the rule allows still works, and the manifest lists the files."""
-    out = _former_fit(fit_run, tmp_path)
+    out = _former_fit(written_fit, tmp_path)
     manifest = json.loads((out / ownership.MANIFEST).read_text(encoding="utf-8"))
     first_id = manifest["id"]
     assert sorted(manifest["files"]) == sorted(
@@ -165,11 +177,18 @@ SWEEP = ["sweep", "--t-end", "0.05", "--workers", "1", "--no-progress", "--no-ma
 VARY = ["--vary", "friction_coefficient=0.1,0.3"]
 
 
-@pytest.fixture
-def store(tmp_path: Path) -> Path:
-    path = tmp_path / "s.zarr"
+@pytest.fixture(scope="module")
+def written_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A finished sweep store, written once by the CLI."""
+    path = tmp_path_factory.mktemp("written") / "s.zarr"
     assert main([*SWEEP, *VARY, "--out", str(path)]) == 0
     return path
+
+
+@pytest.fixture
+def store(written_store: Path, tmp_path: Path) -> Path:
+    """A copy of ``written_store`` in ``tmp_path`` (its manifest is relative, as a fit's)."""
+    return Path(shutil.copytree(written_store, tmp_path / "s.zarr"))
 
 
 @pytest.mark.parametrize("where", ["notes.txt", "status/notes.txt", "status/c/notes"])
@@ -424,13 +443,18 @@ def test_reproduce_keeps_results_of_another_body_of_the_same_name(tmp_path: Path
 # ---------------------------------------------------------------------------------------
 
 
-@pytest.fixture
-def run_as_csv(tmp_path: Path) -> Path:
-    """A NetCDF run under a .csv name (the issue's R.csv)."""
-    path = tmp_path / "R.csv"
-    assert main(["run", "--t-end", "0.1", "--out", str(tmp_path / "R.nc")]) == 0
-    os.replace(tmp_path / "R.nc", path)
+@pytest.fixture(scope="module")
+def written_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A short run written once by ``celtstone run``: the input of the commands below."""
+    path = tmp_path_factory.mktemp("written") / "run.nc"
+    assert main(["run", "--t-end", "0.1", "--out", str(path)]) == 0
     return path
+
+
+@pytest.fixture
+def run_as_csv(written_run: Path, tmp_path: Path) -> Path:
+    """A NetCDF run under a .csv name (the issue's R.csv)."""
+    return Path(shutil.copy(written_run, tmp_path / "R.csv"))
 
 
 @pytest.mark.parametrize("spelling", ["same", "dotted", "link", "hard link"])
@@ -537,28 +561,33 @@ def _foreign_file(path: Path) -> None:
     Figure(figsize=(1, 1)).savefig(path)
 
 
-@pytest.mark.parametrize(
-    ("argv", "name"),
-    [
-        (["run", "--t-end", "0.1", "--out", "{target}"], "u.nc"),
-        (["plot", "{run}", "--out", "{target}"], "u.png"),
-        (["plot", "{run}", "--out", "{target}"], "u.svg"),
-        (["friction", "--plot", "{target}"], "u.pdf"),
-        (["friction", "--plot", "{target}"], "u.png"),
-        (["export", "{run}", "--csv", "--out", "{target}"], "u.csv"),
-        (["run", "--t-end", "0.1", "--out", "{target}"], "u.csv"),
-        (["stability", "--spin", "-5:-4:3", "--csv", "{target}"], "u.csv"),
-        (["view", "{run}", "--out", "{target}"], "u.html"),
-        (["animate", "{run}", "--out", "{target}", "--size", "64x48"], "u.gif"),
-        (["animate", "{run}", "--out", "{target}", "--size", "64x48"], "u.mp4"),
-    ],
-)
+SINGLE_FILES = [
+    (["run", "--t-end", "0.1", "--out", "{target}"], "u.nc"),
+    (["plot", "{run}", "--out", "{target}"], "u.png"),
+    (["plot", "{run}", "--out", "{target}"], "u.svg"),
+    (["friction", "--plot", "{target}"], "u.pdf"),
+    (["friction", "--plot", "{target}"], "u.png"),
+    (["export", "{run}", "--csv", "--out", "{target}"], "u.csv"),
+    (["run", "--t-end", "0.1", "--out", "{target}"], "u.csv"),
+    (["stability", "--spin", "-5:-4:3", "--csv", "{target}"], "u.csv"),
+    (["view", "{run}", "--out", "{target}"], "u.html"),
+    (["animate", "{run}", "--out", "{target}", "--size", "64x48"], "u.gif"),
+    (["animate", "{run}", "--out", "{target}", "--size", "64x48"], "u.mp4"),
+]
+"""Each command that writes one file (its ``--out`` or ``--plot``), and the file's name."""
+
+
+@pytest.mark.parametrize(("argv", "name"), SINGLE_FILES)
 @pytest.mark.parametrize("foreign", ["another program's", "bytes"])
 def test_overwrite_keeps_a_file_without_the_mark(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, argv: list[str], name: str, foreign: str
+    capsys: pytest.CaptureFixture[str],
+    written_run: Path,
+    tmp_path: Path,
+    argv: list[str],
+    name: str,
+    foreign: str,
 ) -> None:
-    run = tmp_path / "run.nc"
-    assert main(["run", "--t-end", "0.1", "--out", str(run)]) == 0
+    run = shutil.copy(written_run, tmp_path / "run.nc")
     target = tmp_path / name
     if foreign == "bytes":
         target.write_bytes(b"my data\n")
@@ -571,8 +600,21 @@ def test_overwrite_keeps_a_file_without_the_mark(
     line = _refusal(capsys, main([*command, "--overwrite"]))
     assert f"= '{target}'" in line and "celtstone's mark" in line, line
     assert _snapshot(tmp_path) == before
-    # the control: what celtstone wrote there is replaced
-    target.unlink()
+
+
+@pytest.mark.parametrize(("argv", "name"), SINGLE_FILES)
+def test_overwrite_replaces_a_file_with_the_mark(
+    capsys: pytest.CaptureFixture[str],
+    written_run: Path,
+    tmp_path: Path,
+    argv: list[str],
+    name: str,
+) -> None:
+    """The control of the test above, once per command: what celtstone wrote there
+    carries its mark and is replaced."""
+    run = shutil.copy(written_run, tmp_path / "run.nc")
+    target = tmp_path / name
+    command = [part.format(run=run, target=target) for part in argv]
     assert main(command) == 0
     assert ownership.is_marked_file(target) is True
     assert main([*command, "--overwrite"]) == 0, capsys.readouterr()

@@ -16,6 +16,7 @@ import argparse
 import ast
 import importlib
 import inspect
+import json
 import re
 from pathlib import Path
 from types import ModuleType
@@ -273,6 +274,11 @@ def _tutorial(app: Any) -> None:
     _write_if_changed(out / "tutorial.md", executed_tutorial(source / "tutorial.ipynb", out))
 
 
+#: the explorer screenshots' verdicts, ``{picture: verdict}``, written in the build's
+#: doctree directory: not published
+VERDICTS = "explorer-verdicts.json"
+
+
 def _explorer_screenshots(app: Any) -> None:
     """Screenshots of the live explorer taken now (``_static/make_explorer_screenshots.py``)
     and published in place of the committed ones in ``_static/explorer``; without
@@ -291,7 +297,10 @@ def _explorer_screenshots(app: Any) -> None:
         logging.getLogger(__name__).info(f"explorer screenshots: the committed ones ({lacking})")
         return
     taken = Path(app.doctreedir) / "explorer-screenshots"
-    screenshots.take(taken / "explorer")
+    verdicts = screenshots.take(taken / "explorer")
+    # what each picture shows, for the test that compares it with ``celtstone run``
+    # (tests/test_docs.py)
+    (Path(app.doctreedir) / VERDICTS).write_text(json.dumps(verdicts, indent=1), encoding="utf-8")
     # copied after the source's _static, so these replace the committed pictures
     app.config.html_static_path = [*app.config.html_static_path, str(taken)]
 

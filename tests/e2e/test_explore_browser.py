@@ -190,24 +190,3 @@ def test_the_explorer_in_chromium(
     assert _verdict(page) == kept and _curves(page, "spin") > 0
     page.screenshot(path=str(tmp_path / "explorer.png"))
     assert page.errors == [] and page.outside == []
-
-
-def test_the_guide_screenshots_show_the_runs_of_the_cli(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    """The docs build's screenshots (``docs/_static/make_explorer_screenshots.py``): the
-    verdict each picture shows is ``celtstone run``'s, and each picture is a whole PNG."""
-    pytest.importorskip("panel")
-    pytest.importorskip("playwright.sync_api")
-    from tests.test_explore_docs import _script, png_size
-
-    script = _script()
-    verdicts = script.take(tmp_path)
-    first, compare = script.NAMES
-    argv = ["run", "--json"]  # the page's first inputs are the command line's defaults
-    assert main(argv) == 0
-    reversal = json.loads(capsys.readouterr().out)["first_reversal_time"]
-    assert verdicts[first].startswith(f"reverses at {reversal:.3g} s")
-    assert _cli_words("0.15", capsys) in verdicts[compare]
-    size = (script.VIEWPORT["width"], script.VIEWPORT["height"])
-    assert all(png_size(tmp_path / name) == size for name in script.NAMES)

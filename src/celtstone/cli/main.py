@@ -179,26 +179,31 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Ctrl-C and SIGTERM at any moment, the command's imports included, give exit 130 or
     143 and one line on standard error (``_interrupts``)."""
-    with unwinding() as signals:
-        try:
-            status = _main(argv, signals)
-        except KeyboardInterrupt as stop:
-            return _stopped(stop)
-        except Exception as error:
-            # an interrupt that Python wrapped on its way (a signal while a class is
-            # made: "Error calling __set_name__"), or replaced (a signal while an
-            # extension module is imported: an ImportError), is still the interrupt
-            behind = _interrupt_behind(error) or signals.lost()
-            if behind is None:
-                raise
-            return _stopped(behind)
-        lost = signals.lost()
-        if lost is not None and status not in (EXIT_INTERRUPTED, EXIT_TERMINATED):
-            # the signal's exception was swallowed on its way (a library that took the
-            # replaced ImportError for a missing optional module): the command went on,
-            # but the exit status still says that it was asked to stop
-            return _stopped(lost)
-        return status
+    try:
+        with unwinding() as signals:
+            try:
+                status = _main(argv, signals)
+            except KeyboardInterrupt as stop:
+                return _stopped(stop)
+            except Exception as error:
+                # an interrupt that Python wrapped on its way (a signal while a class is
+                # made: "Error calling __set_name__"), or replaced (a signal while an
+                # extension module is imported: an ImportError), is still the interrupt
+                behind = _interrupt_behind(error) or signals.lost()
+                if behind is None:
+                    raise
+                return _stopped(behind)
+            lost = signals.lost()
+            if lost is not None and status not in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+                # the signal's exception was swallowed on its way (a library that took the
+                # replaced ImportError for a missing optional module): the command went on,
+                # but the exit status still says that it was asked to stop
+                return _stopped(lost)
+            return status
+    except KeyboardInterrupt as stop:
+        # the signal came as the command ended, after its work and before ``unwinding``
+        # put back the handlers that end the process at once
+        return _stopped(stop)
 
 
 def _interrupt_behind(error: BaseException) -> KeyboardInterrupt | None:
