@@ -168,9 +168,11 @@ class FitResult:
 
     @property
     def joint_region(self) -> JointRegion:
-        """The joint 95 % region of the physical numbers (``Problem.physical_columns``):
-        it holds all their true values together in 95 % of records, where each one's
-        95 % interval holds its own (``uncertainty.JointRegion``)."""
+        """The joint 95 % region of the physical numbers (``Problem.physical_columns``).
+
+        It holds all their true values together in 95 % of records, where each one's
+        95 % interval holds its own (``uncertainty.JointRegion``).
+        """
         columns = self.problem.physical_columns
         return JointRegion(
             tuple(self.names[j] for j in columns),

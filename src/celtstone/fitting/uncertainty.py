@@ -223,8 +223,11 @@ class JointRegion:
         return finite and bool(np.all(np.linalg.eigvalsh(self.covariance) > 0.0))
 
     def statistic(self, point: np.ndarray) -> float:
-        """q(``point``) [1]: inside the region where at most :attr:`quantile`; inf where
-        the region is not determined. ``point`` [units of the numbers], shape (k,)."""
+        """q(``point``) [1]: inside the region where at most :attr:`quantile`.
+
+        ``point`` [units of the numbers], shape (k,). inf where the region is not
+        determined.
+        """
         if not self.is_determined:
             return math.inf
         difference = np.asarray(point, dtype=float) - self.values
@@ -239,6 +242,7 @@ class JointRegion:
         }
 
     def summary(self) -> dict[str, object]:
+        """The region as ``summary.json`` writes it (``joint_region_95``)."""
         determined = self.is_determined
         return {
             "parameters": list(self.names),
