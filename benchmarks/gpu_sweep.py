@@ -1,7 +1,7 @@
 """The GPU sweep backend (``Sweep(device="cuda")``) timed on a GPU and checked against the CPU.
 
-One CUDA thread per point runs ``solvers.batch_cuda.run_batch_cuda``: the CPU driver's
-steps, events and reduction compiled for CUDA. The stages, so that only one needs the GPU
+One CUDA thread per point runs ``solvers.batch.run_batch`` with ``device="cuda"``: the
+CPU driver's loop and reduction compiled for CUDA. The stages, so that only one needs the GPU
 machine and it fits one short call there:
 
 ``--prepare DIR`` (any machine): the CPU sweep of ``--model`` (rolling by default)
@@ -106,7 +106,7 @@ def _sweep(n: int, method: str, model: str, device: str = "cpu") -> Any:
 
 
 def _kernel_inputs(sweep: Any) -> dict[str, Any]:
-    """What ``run_batch``/``run_batch_cuda`` take for every point of ``sweep``."""
+    """What ``run_batch`` takes for every point of ``sweep``."""
     from celtstone.kernels.layout import Y_N, Y_OMEGA
     from celtstone.simulation.reversals import reversal_bands
 
@@ -171,7 +171,8 @@ def prepare(directory: Path, n: int, large: int, method: str, model: str, force:
 def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, float]:
     """The points of ``data`` (``prefix`` "large_" for the large grid, tiled ``copies``
     times) on the GPU, in launches that fit its memory; (results, seconds)."""
-    from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points, run_batch_cuda
+    from celtstone.solvers.batch import run_batch
+    from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points
 
     def tiled(name: str) -> np.ndarray:
         values = data[prefix + name]
@@ -188,7 +189,7 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
     for first in range(0, len(params), size):
         part = slice(first, first + size)
         parts.append(
-            run_batch_cuda(
+            run_batch(
                 int(data["model"]),
                 str(data["method"]),
                 params[part],
@@ -200,6 +201,7 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
                 reversal_bands=bands[part],
                 reversal_windows=windows[part],
                 max_steps=int(data["max_steps"]),
+                device="cuda",
             )
         )
     return np.concatenate(parts), time.perf_counter() - start

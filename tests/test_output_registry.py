@@ -158,8 +158,8 @@ def test_every_result_field_is_declared(name: str) -> None:
 def test_the_runner_converts_every_field() -> None:
     """Each field, text included, comes out of the batch driver's columns by name."""
     raw = np.zeros((2, batch.N_FIELDS))
-    raw[:, batch.F_T_STOP] = 0.25
-    raw[1, batch.F_STATUS] = solvers.STATUS_MAX_STEPS
+    raw[:, batch.COLUMN.t_stop] = 0.25
+    raw[1, batch.COLUMN.status] = solvers.STATUS_MAX_STEPS
     fields = _fields(raw)
     assert list(fields) == FIELD_NAMES
     for field in batch.RESULT_FIELDS:
@@ -226,7 +226,7 @@ def test_every_status_has_a_label_message_and_constant(status: solvers.Status) -
     else:
         assert message == f"stopped at t = 1.25 s: {status.message}"
     raw = np.zeros((1, batch.N_FIELDS))
-    raw[0, batch.F_STATUS], raw[0, batch.F_T_STOP] = int(status), 1.25
+    raw[0, batch.COLUMN.status], raw[0, batch.COLUMN.t_stop] = int(status), 1.25
     fields = _fields(raw)
     assert (fields["status"][0], fields["message"][0]) == (status.label, message)
 

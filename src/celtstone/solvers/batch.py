@@ -42,7 +42,7 @@ from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_links, run_ph
 
 call_run_phases = address_call(run_phases)  # neither loop linked in: see ``solvers._linking``
 
-__all__ = ["FIELDS", "RESULT_FIELDS", "ResultField", "reduce_run", "run_batch"]
+__all__ = ["COLUMN", "FIELDS", "RESULT_FIELDS", "Points", "ResultField", "reduce_run", "run_batch"]
 
 
 class ResultField(NamedTuple):
@@ -87,24 +87,14 @@ FIELDS = tuple(sorted(_COLUMNS, key=_COLUMNS.__getitem__))
 N_FIELDS = len(FIELDS)
 
 
-# the column of each outcome ``_reduce`` writes (numba folds each global to its
-# integer); the outcome's unit and meaning are its ``OUTCOMES`` row
-F_FIRST_REVERSAL = _COLUMNS["first_reversal_time"]
-F_REVERSALS = _COLUMNS["reversal_count"]
-F_SPIN_FINAL = _COLUMNS["spin_final"]
-F_ENERGY_LOST = _COLUMNS["energy_lost"]
-F_MAX_TILT = _COLUMNS["max_tilt"]
-F_MIN_NORMAL_FORCE = _COLUMNS["min_normal_force"]
-F_T_STOP = _COLUMNS["t_stop"]
-F_STATUS = _COLUMNS["status"]  # the code (``codes.Status``), stored as its label
-F_ENERGY_INITIAL = _COLUMNS["energy_initial"]
-F_PEAK_REVERSED_SPIN = _COLUMNS["peak_reversed_spin"]
-F_SPIN_CROSSINGS = _COLUMNS["spin_crossing_count"]
-F_BALANCE_ERROR = _COLUMNS["max_energy_balance_error"]
-F_ENERGY_RISE = _COLUMNS["max_energy_rise"]
-F_SPIN_INITIAL = _COLUMNS["spin_initial"]
-F_ENERGY_FINAL = _COLUMNS["energy_final"]
-F_DISSIPATED_WORK = _COLUMNS["dissipated_work"]
+ResultColumns = NamedTuple(  # type: ignore[misc]
+    "ResultColumns", [(name, int) for name in FIELDS]
+)
+# typed Any: its fields are the declaration's names, which a type checker cannot read
+COLUMN: Any = ResultColumns(*range(N_FIELDS))
+"""The column of each outcome in ``run_batch``'s result array, by its name (numba folds
+the global to its integers): ``out[COLUMN.spin_final]``; the outcome's unit and meaning
+are its ``OUTCOMES`` row."""
 
 
 @kernel
@@ -156,22 +146,22 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     if end.status == STATUS_SUCCESS and n_samples > 0:  # at t_end: the run finished
         spin_final = spins[n_samples - 1]
         energy_final = energy(model, samples[n_samples - 1], params)
-    out[F_FIRST_REVERSAL] = first
-    out[F_REVERSALS] = n_reversals
-    out[F_SPIN_FINAL] = spin_final
-    out[F_ENERGY_LOST] = energy_initial - energy_final
-    out[F_MAX_TILT] = max_tilt if n_samples > 0 else np.nan
-    out[F_MIN_NORMAL_FORCE] = min_normal
-    out[F_T_STOP] = end.t_stop
-    out[F_STATUS] = end.status
-    out[F_ENERGY_INITIAL] = energy_initial
-    out[F_PEAK_REVERSED_SPIN] = peak_reversed if n_samples > 0 else np.nan
-    out[F_SPIN_CROSSINGS] = end.n_crossings
-    out[F_BALANCE_ERROR] = budget_error if n_samples > 0 else np.nan
-    out[F_ENERGY_RISE] = energy_rise if n_samples > 0 else np.nan
-    out[F_SPIN_INITIAL] = spin_initial
-    out[F_ENERGY_FINAL] = energy_final
-    out[F_DISSIPATED_WORK] = samples[n_samples - 1][Y_WORK] if n_samples > 0 else np.nan
+    out[COLUMN.first_reversal_time] = first
+    out[COLUMN.reversal_count] = n_reversals
+    out[COLUMN.spin_final] = spin_final
+    out[COLUMN.energy_lost] = energy_initial - energy_final
+    out[COLUMN.max_tilt] = max_tilt if n_samples > 0 else np.nan
+    out[COLUMN.min_normal_force] = min_normal
+    out[COLUMN.t_stop] = end.t_stop
+    out[COLUMN.status] = end.status
+    out[COLUMN.energy_initial] = energy_initial
+    out[COLUMN.peak_reversed_spin] = peak_reversed if n_samples > 0 else np.nan
+    out[COLUMN.spin_crossing_count] = end.n_crossings
+    out[COLUMN.max_energy_balance_error] = budget_error if n_samples > 0 else np.nan
+    out[COLUMN.max_energy_rise] = energy_rise if n_samples > 0 else np.nan
+    out[COLUMN.spin_initial] = spin_initial
+    out[COLUMN.energy_final] = energy_final
+    out[COLUMN.dissipated_work] = samples[n_samples - 1][Y_WORK] if n_samples > 0 else np.nan
 
 
 def _reduce_of(model_code: int) -> Any:
@@ -343,6 +333,7 @@ def run_batch(
     capture_speeds: np.ndarray | None = None,
     stick_method_name: str = "dop853",
     max_phases: int = DEFAULT_MAX_PHASES,
+    device: str = "cpu",
 ) -> np.ndarray:
     """Integrate every row of ``params``/``y0`` and return their result fields.
 
@@ -368,6 +359,8 @@ def run_batch(
         (stick–slip) contact each point's capture speed v_c [m/s], shape (k,)
     stick_method_name : method of the stick phases (hybrid contact)
     max_phases : phase-log capacity of each hybrid run
+    device : "cpu", or "cuda": one GPU thread per point (``batch_cuda.run_points``, the
+        same loop and reduction compiled for CUDA), for the models and methods it runs
 
     Returns
     -------
@@ -377,8 +370,6 @@ def run_batch(
     """
     y0 = np.array(y0, dtype=np.float64, order="C")  # writable: one overload of each loop
     n_points = len(params)
-    output = new_output(sample_times, N_STATE, max_crossings)
-    log = new_phase_log(output.sample_times.shape[0], max_phases)
     speeds = np.zeros(n_points) if capture_speeds is None else capture_speeds
     points = Points(
         params,
@@ -389,6 +380,16 @@ def run_batch(
     )
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])
+    if device == "cuda":
+        from celtstone.solvers.batch_cuda import run_points
+
+        return run_points(
+            int(model), methods, points, float(t_end), controls, sample_times, max_crossings
+        )
+    if device != "cpu":
+        raise ValueError(f"no device {device!r}: cpu or cuda")
+    output = new_output(sample_times, N_STATE, max_crossings)
+    log = new_phase_log(output.sample_times.shape[0], max_phases)
     results = np.empty((n_points, N_FIELDS))
     links = _links(int(model), methods, points, float(t_end), controls, output, log)
     _batch(int(model), methods, points, float(t_end), controls, output, log, links, results)

@@ -1,37 +1,33 @@
-"""The batch driver on a CUDA GPU: one thread per point, the CPU driver's steps and fields.
+"""The batch driver on a CUDA GPU: one thread per point, the CPU driver's loop and fields.
 
-``run_batch_cuda`` takes what ``batch.run_batch`` takes and returns the same result
-array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the rolling model and
-the sliding model without stick phases (``CUDA_MODELS``), with every method
-(``CUDA_METHODS``). Each thread integrates one point with celtstone's own kernels and
-method, compiled by numba for CUDA from the same Python source as the CPU code, so no
-equation or method is written twice:
+``run_points`` is ``batch.run_batch`` with ``device="cuda"``: the same points and the
+same result array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the
+rolling model and the sliding model without stick phases (``CUDA_MODELS``), with every
+method (``CUDA_METHODS``). Each thread integrates one point with the code the CPU runs,
+compiled by numba for CUDA from the same Python source, so no equation, method, loop or
+reduction is written twice:
 
-* the methods' dispatch (``_methods``: ``start``, ``active``, ``attempt``,
-  ``after_step``), so ``auto`` switches between DOP853 and Radau on the thread as on the
-  CPU; each method's ``dense`` (Radau's with a loop for its row copy, ``_radau_dense``);
-  ``kernels.system.rhs`` and the first step of ``driver.first_step``;
-* the events of ``_events`` (``event_table``, ``all_decided_by_ends``,
-  ``locate_events``): spin zero crossings are located inside each step on the method's
-  interpolant as on the CPU, pairs of crossings inside one step included, so the
-  reversal counts agree exactly;
-* the samples, filled from the same interpolant at the sweep's sample times, and the
-  reduction ``batch._reduce`` (reversals with their band and rocking window, final spin,
-  energy lost, tilt, normal force, energy budget).
+* the run loop ``driver.run_loop``, which ``driver.integrate`` runs on the CPU: the
+  methods' dispatch (``_methods``), so ``auto`` switches between DOP853 and Radau on the
+  thread as on the CPU; the events of ``_events``, spin zero crossings located inside
+  each step on the method's interpolant, pairs of crossings inside one step included,
+  so the reversal counts agree exactly; the samples, filled from the same interpolant;
+* the reduction ``batch._reduce`` (reversals with their band and rocking window, final
+  spin, energy lost, tilt, normal force, energy budget).
 
-The thread's loop, ``_integrate_point``, repeats ``driver.integrate``'s: a CUDA thread
-cannot allocate, so its arrays are the thread's local arrays and slices of global arrays
-the launch provides (each point's samples, averaged spin and crossings, Radau's scalars
-and ``auto``'s switching record, set on the host as ``_radau.workspace`` and
-``_auto.workspace`` set them), and slice assignments are loops (numba's CUDA lowering
-has none). Radau's workspace (Jacobian, the real and the complex LU, about 8 kB) is the
+``driver.run_loop`` allocates nothing: ``driver.integrate`` allocates its arrays, a thread takes
+them from its local memory and from the launch's global arrays (``_thread_arrays``:
+each point's samples, averaged spin and crossings, Radau's scalars and ``auto``'s
+switching record, set on the host as ``_radau.workspace`` and ``_auto.workspace`` set
+them). Radau's workspace (Jacobian, the real and the complex LU, about 8 kB) is the
 thread's local memory.
 
 On the CPU the solvers call the right-hand side at its address (``_system``: the run's
 system is the parameter record and a link); a GPU cannot call a CPU address, so while
 the kernel compiles for CUDA the solvers call the kernels' own right-hand side directly
-on the record (``direct_rhs``). numba's simulator runs the CPU's compiled code, and
-there the thread passes the CPU's system, link included.
+on the record (``direct_rhs``); the loop's stop request, which no host thread can make
+of a GPU thread, reads False, and its array copies are loops. numba's simulator runs the
+CPU's compiled code, and there the thread passes the CPU's system, link included.
 
 The sliding model's kernels choose the contact shape at run time, so every sliding
 kernel holds the elliptic contact's table (``kernels.friction_ellipse``, 1.18 MB), which
@@ -68,27 +64,21 @@ try:  # numba's CUDA target: its own (numba-cuda) or the one built into numba
 except ImportError:  # pragma: no cover - a numba without one
     cuda = None  # type: ignore[assignment]
 
-from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import N_STATE, RHS_OK, ModelCode
-from celtstone.solvers import _auto, _dop853, _radau, _system, _vern9
+from celtstone.kernels.layout import N_STATE, ModelCode
+from celtstone.solvers import _auto, _dop853, _radau, _stop, _system, _vern9
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._structures import Controls, RunEnd
-from celtstone.solvers.batch import N_FIELDS, _reduce
+from celtstone.solvers._structures import Controls, Output
+from celtstone.solvers.batch import N_FIELDS, Points, _reduce
 from celtstone.solvers.codes import (
     METHOD_AUTO,
     METHOD_DOP853,
     METHOD_RADAU5,
     METHOD_VERN9,
-    METHODS,
     N_STATS,
-    STATUS_LIFT_OFF,
-    STATUS_MAX_STEPS,
-    STATUS_NOT_FINITE,
-    STATUS_SUCCESS,
 )
-from celtstone.solvers.driver import all_finite, first_step, rhs_failure, sample_inside
+from celtstone.solvers.driver import LoopArrays, copy_into, copy_into_row, run_loop
 
 __all__ = [
     "CUDA_METHODS",
@@ -103,7 +93,7 @@ __all__ = [
     "device_name",
     "in_simulator",
     "launch_points",
-    "run_batch_cuda",
+    "run_points",
 ]
 
 CUDA_MODELS = (int(ModelCode.ROLLING), int(ModelCode.SLIDING))
@@ -153,14 +143,13 @@ SOURCE_KEY = _source_key()
 
 
 class Run(NamedTuple):
-    """What every thread of a launch shares: the duration [s], the tolerances, the
-    step limit, and in numba's simulator the right-hand side's link
-    (``_system.rhs_link``; (0, 0) on a GPU, where the kernels are called directly)."""
+    """What every thread of a launch shares: the duration [s], the controls
+    (``_structures.Controls``: tolerances, step limit), and in numba's simulator the
+    right-hand side's link (``_system.rhs_link``; (0, 0) on a GPU, where the kernels are
+    called directly)."""
 
     t_end: float
-    rtol: float
-    atol: float
-    max_steps: int
+    controls: Controls
     rhs_link: tuple[int, int]
 
 
@@ -200,62 +189,6 @@ class Buffers(NamedTuple):
     switching: Any
 
 
-@inlined
-def _first_check(model, system, y, f, sample_times, samples):
-    """``driver.first_check`` without its ``Output``: f(0, y), the samples at times <= 0,
-    and why the run cannot start; (status, samples written, normal force [N])."""
-    code, normal_force = _system.rhs(model, 0.0, y, system, f)
-    n_samples = 0
-    while n_samples < sample_times.shape[0] and sample_times[n_samples] <= 0.0:
-        for j in range(y.shape[0]):
-            samples[n_samples, j] = y[j]
-        n_samples += 1
-    status = STATUS_SUCCESS
-    if not (all_finite(y) and all_finite(f)):
-        status = STATUS_NOT_FINITE
-    if code != RHS_OK:
-        status = rhs_failure(code)
-    elif normal_force < 0.0:
-        status = STATUS_LIFT_OFF
-    return status, n_samples, normal_force
-
-
-@inlined
-def _fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
-    """``driver.fill_samples`` with loops for its row copies: the samples at times in
-    (t_old, t_limit] from the step's interpolant, ``y_end`` at the step's end."""
-    while n_samples < sample_times.shape[0] and sample_times[n_samples] <= t_limit:
-        time = sample_times[n_samples]
-        row = samples[n_samples]
-        if time == step.t_old + step.h:
-            for j in range(y_end.shape[0]):
-                row[j] = y_end[j]
-        else:
-            x = (time - step.t_old) / step.h
-            methods.interpolate(step.method, step.dense, step.y_old, x, row)
-        n_samples += 1
-    return n_samples
-
-
-@inlined
-def _stop_at(event, model, system, step, x_limit, normal, t_limit, y_end, state, work):
-    """``driver.stop_at`` for a sweep, which keeps no final state: the smallest normal
-    force [N] and its time [s] including the state where the terminal ``event`` stops the
-    run (``state`` receives it), ``normal`` those before; ``work`` is scratch."""
-    min_normal, t_min_normal = normal
-    if event.value == events.VALUE_NORMAL_FORCE:
-        return min(min_normal, 0.0), t_limit
-    if x_limit >= 1.0:
-        for j in range(y_end.shape[0]):
-            state[j] = y_end[j]
-    else:
-        methods.interpolate(step.method, step.dense, step.y_old, x_limit, state)
-    normal_force = _system.spin_and_normal_force(model, state, system, work)[1]
-    if normal_force < min_normal:
-        return normal_force, t_limit
-    return min_normal, t_min_normal
-
-
 class ThreadWorkspace(NamedTuple):
     """The workspace of either explicit method (the fields of ``_vern9.Workspace`` and
     ``_dop853.Workspace``, which read theirs by name), so that one compiled loop takes
@@ -268,143 +201,14 @@ class ThreadWorkspace(NamedTuple):
     error_terms: Any  # (2, N_STATE): DOP853's
 
 
-@inlined
-def _radau_dense(model, params, t, y, y_new, h, work, stats):
-    """``_radau.dense`` with a loop for its row copy (numba's CUDA lowering copies no
-    array into a slice): the collocation polynomial of the accepted step [t, t + h]."""
-    collocation = work.collocation
-    dense = work.dense
-    for j in range(y.shape[0]):
-        for k in range(3):
-            dense[k, j] = (
-                collocation[0, j] * _radau.P[0, k]
-                + collocation[1, j] * _radau.P[1, k]
-                + collocation[2, j] * _radau.P[2, k]
-            )
-    memory = work.memory[0]
-    memory.has_dense = True
-    memory.t_previous = t
-    memory.h_previous = h
-    for j in range(y.shape[0]):
-        work.y_previous[j] = y[j]
-
-
-@inlined
-def _dense(stepper, model, params, t, y, y_new, h, work, stats):
-    """``_methods.dense`` for the thread: the interpolant of the method that took the step."""
-    if stepper == METHOD_DOP853:
-        _dop853.dense(model, params, t, y, y_new, h, work.dop853, stats)
-    elif stepper == METHOD_RADAU5:
-        _radau_dense(model, params, t, y, y_new, h, work.radau5, stats)
-    elif stepper == METHOD_VERN9:
-        _vern9.dense(model, params, t, y, y_new, h, work.vern9, stats)
-
-
-@kernel
-def _integrate_point(model, method, system, y, t_end, controls, table, sample_times, samples,
-                     crossings, local):  # fmt: skip
-    """``driver.integrate`` from ``y`` (overwritten) to ``t_end`` [s], for a sweep (``system``
-    as the driver's, see ``_system_in_simulator``): samples
-    into ``samples``, crossing times into ``crossings``; ``local`` holds the thread's
-    arrays, ``work`` among them a ``_methods.Workspaces`` made of them. Returns the
-    ``RunEnd``."""
-    f, y_new, f_new, point, scratch, values, stats, work = local
-    status, n_samples, normal_old = _first_check(model, system, y, f, sample_times, samples)
-    if status != STATUS_SUCCESS:
-        return RunEnd(status, n_samples, 0, 0.0, normal_old, 0.0)
-    min_normal = normal_old
-    t_min_normal = 0.0
-    events.start_values(table, model, system, y, values, scratch)
-    rate = events.spin_rate(y, f)
-    h = first_step(method, model, system, y, f, controls, scratch, f_new, stats)
-    methods.start(method, model, system, 0.0, y, f, h, controls, work, stats)
-    n_crossings = 0
-    t = 0.0
-    steps = 0
-    while t < t_end:
-        if steps >= controls.max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        steps += 1
-        stepper = methods.active(method, work.auto)  # the method that takes this step
-        status, h_taken, h_next, code, normal_new = methods.attempt(
-            method, stepper, model, system, t, y, f, h, t_end, controls, work, y_new, f_new, stats
-        )
-        if status != STATUS_SUCCESS:
-            break
-        if not all_finite(y_new):
-            status = STATUS_NOT_FINITE
-            break
-        t_new = t_end if h_taken == t_end - t else t + h_taken
-        spin_new = events.spin_of(y_new)
-        rate_new = events.spin_rate(y_new, f_new)
-        if code != RHS_OK:
-            status = rhs_failure(code)
-            break
-        dense = work.radau5.dense if stepper == METHOD_RADAU5 else work.dop853.dense
-        step = events.Step(stepper, dense, y, t, h_taken)
-        all_decided = events.all_decided_by_ends(
-            table, values, spin_new, normal_new, rate, rate_new, h_taken
-        )
-        # the interpolant only where a sample or an event reads it, as on the CPU
-        if (
-            methods.dense_every_step(stepper)
-            or not all_decided
-            or sample_inside(step, t_new, sample_times, n_samples)
-        ):
-            _dense(stepper, model, system, t, y, y_new, h_taken, work, stats)
-        stop_row, x_limit, t_limit, n_crossings = events.locate_events(
-            table,
-            values,
-            spin_new,
-            normal_new,
-            model,
-            system,
-            step,
-            t_new,
-            all_decided,
-            crossings,
-            n_crossings,
-            point,
-            scratch,
-        )
-        n_samples = _fill_samples(step, t_limit, sample_times, samples, n_samples, y_new)
-        if stop_row >= 0:
-            status = table[stop_row].status
-            min_normal, t_min_normal = _stop_at(
-                table[stop_row],
-                model,
-                system,
-                step,
-                x_limit,
-                (min_normal, t_min_normal),
-                t_limit,
-                y_new,
-                point,
-                scratch,
-            )
-            t = t_limit
-            break
-        if normal_new < min_normal:
-            min_normal = normal_new
-            t_min_normal = t_new
-        for j in range(y.shape[0]):
-            y[j] = y_new[j]
-            f[j] = f_new[j]
-        rate = rate_new
-        t = t_new
-        h = h_next
-        if method == METHOD_AUTO:  # as on the CPU: a switching run may change its method
-            methods.after_step(method, model, system, t, y, f, h, controls, work, stats)
-    return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
-
-
-def _thread_workspaces(method, memory, switching):
-    """A ``_methods.Workspaces`` of the thread's local arrays, as ``_methods.workspaces``
-    makes it before a run: the explicit methods share one ``ThreadWorkspace``; Radau's
+def _thread_arrays(method, memory, switching):
+    """The ``driver.LoopArrays`` of a thread, in its local memory, as ``driver.integrate``
+    makes them before a run: the explicit methods share one ``ThreadWorkspace``; Radau's
     arrays are zeroed (CUDA's local arrays start undefined). Radau's scalars ``memory``
     and ``auto``'s switching record ``switching`` (shape (1,) each) are the launch's,
-    set before it (``run_batch_cuda``)."""
+    set before it (``run_points``)."""
+    loop = cuda.local.array((5, N_STATE), float64)  # f, y_new, f_new, point, scratch
+    values = cuda.local.array(MAX_EVENT_ROWS, float64)
     stages = cuda.local.array((MAX_STAGES, N_STATE), float64)
     dense = cuda.local.array((MAX_DENSE_ROWS, N_STATE), float64)
     scratch = cuda.local.array(N_STATE, float64)
@@ -441,37 +245,34 @@ def _thread_workspaces(method, memory, switching):
         radau_dense, vectors[5], memory,
     )  # fmt: skip
     # the explicit methods read their workspace's fields by name, which ThreadWorkspace has
-    return methods.Workspaces(explicit, radau, switching, explicit)  # type: ignore[arg-type]
+    work = methods.Workspaces(explicit, radau, switching, explicit)  # type: ignore[arg-type]
+    # by method code (dop853, radau5, auto, vern9), as ``_methods.dense_arrays``; auto
+    # takes no step itself
+    dense_of = (dense, radau_dense, dense, dense)
+    return LoopArrays(loop[0], loop[1], loop[2], loop[3], loop[4], values, work, dense_of)
 
 
 def _thread(model, method, point, run, buffers):
     """Integrate and reduce point ``point`` of the launch into ``buffers.results[point]``
-    (a CUDA device function; ``model`` and ``method`` are compile-time constants, so
-    only their branches are compiled)."""
+    with the CPU's loop (``driver.run_loop``) and reduction (``batch._reduce``) (a CUDA
+    device function; ``model`` and ``method`` are compile-time constants, so only their
+    branches are compiled)."""
     y = cuda.local.array(N_STATE, float64)
-    f = cuda.local.array(N_STATE, float64)
-    y_new = cuda.local.array(N_STATE, float64)
-    f_new = cuda.local.array(N_STATE, float64)
-    state = cuda.local.array(N_STATE, float64)
-    scratch = cuda.local.array(N_STATE, float64)
-    values = cuda.local.array(MAX_EVENT_ROWS, float64)
+    final_state = cuda.local.array(N_STATE, float64)
     stats = cuda.local.array(N_STATS, int64)
     first_time = cuda.local.array(1, float64)
     for j in range(N_STATS):
         stats[j] = 0
     y0 = buffers.initial_states[point]
-    for j in range(N_STATE):
-        y[j] = y0[j]
+    copy_into(y, y0)
     params = buffers.params[point]
-    system = _system_device(params, run)
-    controls = Controls(run.rtol, run.atol, 0.0, 0.0, run.max_steps, True)
-    samples = buffers.samples[point]
-    crossings = buffers.crossings[point]
-    work = _workspaces_device(method, buffers.radau_memory[point], buffers.switching[point])
-    local = (f, y_new, f_new, state, scratch, values, stats, work)
-    end = _integrate_point(
-        model, method, system, y, run.t_end, controls, buffers.table, buffers.sample_times,
-        samples, crossings, local,
+    output = Output(
+        buffers.sample_times, buffers.samples[point], buffers.crossings[point], stats, final_state
+    )
+    arrays = _arrays_device(method, buffers.radau_memory[point], buffers.switching[point])
+    end = run_loop(
+        model, method, _system_device(params, run), y, run.t_end, run.controls, buffers.table,
+        output, arrays,
     )  # fmt: skip
     reversal = (
         buffers.reversal_bands[point],
@@ -486,11 +287,11 @@ def _thread(model, method, point, run, buffers):
         y0,
         end,
         buffers.sample_times,
-        samples,
-        crossings,
+        output.samples,
+        output.crossings,
         reversal,
         buffers.spins[point],
-        scratch,
+        arrays.scratch,
         buffers.results[point],
     )
 
@@ -513,11 +314,35 @@ def _record_itself(system):
     return system
 
 
+@inlined
+def _copy_by_loop(target, source):
+    """``driver.copy_into`` on a GPU thread: ``target[:] = source`` as a loop."""
+    for j in range(source.shape[0]):
+        target[j] = source[j]
+
+
+@inlined
+def _copy_row_by_loop(rows, row, source):
+    """``driver.copy_into_row`` on a GPU thread: ``rows[row, :] = source`` as a loop."""
+    for j in range(source.shape[0]):
+        rows[row, j] = source[j]
+
+
+@inlined
+def _not_asked(stats):
+    """``_stop.stop_requested`` on a GPU thread: no host thread can ask a thread to stop
+    (its counters ``stats`` are its own local array), and the stop slot's atomic load
+    is a CPU intrinsic."""
+    return False
+
+
 @contextlib.contextmanager
 def direct_rhs() -> Iterator[None]:
     """While a CUDA kernel compiles: the solvers call the kernels' right-hand side
     directly (``kernels.system.rhs``, ``spin_and_normal_force``) with the parameter record
-    as their ``params``, in place of ``_system``'s call at a CPU address.
+    as their ``params``, in place of ``_system``'s call at a CPU address; the loop's stop
+    request reads False (``_not_asked``) and its array copies are loops (``_copy_by_loop``,
+    ``_copy_row_by_loop``).
 
     numba compiles a CPU function for CUDA from its Python source, reading the globals of
     its module as it compiles: each solver module's reference to a ``_system`` function
@@ -533,6 +358,9 @@ def direct_rhs() -> Iterator[None]:
         id(_system.rhs): physics.rhs,
         id(_system.spin_and_normal_force): physics.spin_and_normal_force,
         id(_system.parameters): _record_itself,
+        id(_stop.stop_requested): _not_asked,
+        id(copy_into): _copy_by_loop,
+        id(copy_into_row): _copy_row_by_loop,
     }
     modules = [m for n, m in sorted(sys.modules.items()) if n.startswith("celtstone.solvers")]
     replaced: list[tuple[Any, str, Any]] = []
@@ -562,10 +390,10 @@ def _ensemble_source(model, method, key):  # pragma: no cover - the kernel's tem
     return ensemble
 
 
-# ``_thread``, ``_thread_workspaces`` and the system's maker as CUDA device functions,
+# ``_thread``, ``_thread_arrays`` and the system's maker as CUDA device functions,
 # made by ``_kernel`` (``declare_device_functions``)
 _thread_device: Any = None
-_workspaces_device: Any = None
+_arrays_device: Any = None
 _system_device: Any = None
 
 
@@ -579,12 +407,12 @@ def _kernel(model: int, method: int) -> Any:
 
 def declare_device_functions() -> None:
     """``declare_for_cuda``, and the thread's device functions, once per process."""
-    global _thread_device, _workspaces_device, _system_device
+    global _thread_device, _arrays_device, _system_device
     declare_for_cuda()
     if _thread_device is None:
         making_system = _system_in_simulator if in_simulator() else _system_on_gpu
         _system_device = cuda.jit(device=True)(making_system)
-        _workspaces_device = cuda.jit(device=True)(_thread_workspaces)
+        _arrays_device = cuda.jit(device=True)(_thread_arrays)
         _thread_device = cuda.jit(device=True)(_thread)
 
 
@@ -710,51 +538,41 @@ def bytes_per_point(n_samples: int, crossing_capacity: int) -> int:
     return 8 * floats + records + 1024  # and its parameter record, at most 1 kB
 
 
-def run_batch_cuda(
+def run_points(
     model: int,
-    method_name: str,
-    params: np.ndarray,
-    y0: np.ndarray,
+    methods_of_phases: tuple[int, int],
+    points: Points,
     t_end: float,
-    *,
-    rtol: float,
-    atol: float,
+    controls: Controls,
     sample_times: np.ndarray,
-    reversal_bands: np.ndarray,
-    reversal_windows: np.ndarray | float = 0.0,
-    max_steps: int = 20_000_000,
-    max_crossings: int = KEPT_CROSSINGS,
-    capture_speeds: np.ndarray | None = None,
-    stick_method_name: str = "dop853",
-    max_phases: int = 0,
+    max_crossings: int,
 ) -> np.ndarray:
-    """``batch.run_batch`` on the GPU, one thread per point: the same arguments and the same
-    result array.
+    """``batch.run_batch`` with ``device="cuda"``: its points, one thread each, into the
+    same result array (``batch.FIELDS`` columns), shape (k, N_FIELDS).
 
-    ``model`` must be one of ``CUDA_MODELS`` and ``method_name`` a key of
-    ``CUDA_METHODS``; ``capture_speeds`` (the stick–slip contact), ``stick_method_name``
-    and ``max_phases`` are refused or unused. Each point keeps ``max_crossings`` crossing
-    times only where its rocking window is 0 (the raw spin's reversals are timed by
-    them); elsewhere the count alone is kept, as the CPU reduction reads no more.
-    The caller sizes a launch by ``bytes_per_point``.
+    ``model`` must be one of ``CUDA_MODELS`` and the method (``methods_of_phases[0]``)
+    one of ``CUDA_METHODS``; a point of the stick–slip contact (a capture speed > 0) is
+    refused. Each point keeps ``max_crossings`` crossing times only where its rocking
+    window is 0 (the raw spin's reversals are timed by them); elsewhere the count alone
+    is kept, as the CPU reduction reads no more. The caller sizes a launch by
+    ``bytes_per_point``.
     """
-    if model not in CUDA_MODELS or method_name not in CUDA_METHODS:
-        raise ValueError(f"no CUDA thread for model {model} with {method_name}")
-    if capture_speeds is not None:
+    method = methods_of_phases[0]
+    if model not in CUDA_MODELS or method not in CUDA_METHODS.values():
+        raise ValueError(f"no CUDA thread for model {model} with method code {method}")
+    if np.any(points.capture_speeds > 0.0):
         raise ValueError("the stick-slip contact has no CUDA thread")
-    method = CUDA_METHODS[method_name]
-    assert METHODS[method_name] == method
-    k = len(params)
-    windows = np.ascontiguousarray(np.broadcast_to(reversal_windows, (k,)), dtype=np.float64)
-    bands = np.ascontiguousarray(np.broadcast_to(reversal_bands, (k,)), dtype=np.float64)
+    k = len(points.params)
+    if k == 0:
+        return np.empty((0, N_FIELDS))
     times = np.ascontiguousarray(sample_times, dtype=np.float64)
-    capacity = max(1, int(max_crossings)) if np.any(windows <= 0.0) else 1
+    capacity = max(1, int(max_crossings)) if np.any(points.reversal_windows <= 0.0) else 1
     m = times.shape[0]
     inputs = {
-        "params": np.ascontiguousarray(params),
-        "initial_states": np.ascontiguousarray(y0, dtype=np.float64),
-        "reversal_bands": bands,
-        "reversal_windows": windows,
+        "params": np.ascontiguousarray(points.params),
+        "initial_states": points.initial_states,
+        "reversal_bands": points.reversal_bands,
+        "reversal_windows": points.reversal_windows,
         "table": events.event_table(model, 0.0),
         "sample_times": times,
         # each point's records as a run starts (``_radau.workspace``, ``_auto.workspace``)
@@ -769,12 +587,10 @@ def run_batch_cuda(
         "crossings": (k, capacity),
         "results": (k, N_FIELDS),
     }
-    link = _system.rhs_link(inputs["params"][0]) if in_simulator() and k > 0 else (0, 0)
-    run = Run(float(t_end), float(rtol), float(atol), int(max_steps), link)
+    link = _system.rhs_link(inputs["params"][0]) if in_simulator() else (0, 0)
+    run = Run(float(t_end), controls, link)
     kernel = _kernel(model, method)
     blocks = (k + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-    if k == 0:
-        return np.empty((0, N_FIELDS))
     if in_simulator():  # the simulator takes host arrays in a tuple as they are
         buffers = Buffers(**inputs, **{name: np.zeros(s) for name, s in shapes.items()})
         kernel[blocks, min(THREADS_PER_BLOCK, k)](run, buffers)

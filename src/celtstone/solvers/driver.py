@@ -7,13 +7,14 @@ locates the events of the run's table inside the step (``_events``: lift-off, ph
 change of the hybrid contact, spin zero crossings), fills the output samples that fall
 inside the step from the method's dense output, and stops at t_end, at a terminal
 event, at a singular or off-shape right-hand side, on integrator failure, or when
-another thread asks it to (``_stop``).
+another thread asks it to (``_stop``). Its loop, ``run_loop``, allocates nothing: a sweep's
+CUDA thread runs the same loop on arrays of its own (``batch_cuda``).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba.core.typing.typeof import typeof
@@ -84,13 +85,26 @@ def all_finite(values):
 
 
 @inlined
+def copy_into(target, source):
+    """``target[:] = source`` (1-d arrays). A GPU thread runs the loop too, and numba's CUDA
+    lowering copies no array into a slice: there it is a loop (``batch_cuda.direct_rhs``)."""
+    target[:] = source
+
+
+@inlined
+def copy_into_row(rows, row, source):
+    """``rows[row, :] = source``, as :func:`copy_into` (a loop on a GPU thread)."""
+    rows[row, :] = source
+
+
+@inlined
 def fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
     """Fill the samples with times in (t_old, t_limit] from the step's interpolant, the
     accepted state ``y_end`` exactly at the step's end; returns the new count."""
     while n_samples < sample_times.shape[0] and sample_times[n_samples] <= t_limit:
         time = sample_times[n_samples]
         if time == step.t_old + step.h:
-            samples[n_samples, :] = y_end
+            copy_into_row(samples, n_samples, y_end)
         else:
             x = (time - step.t_old) / step.h
             methods.interpolate(step.method, step.dense, step.y_old, x, samples[n_samples])
@@ -117,11 +131,11 @@ def first_check(model, params, y, f, output):
     """
     code, normal_force = rhs(model, 0.0, y, params, f)
     output.stats[STAT_NFEV] += 1
-    output.final_state[:] = y
+    copy_into(output.final_state, y)
     n_samples = 0
     times = output.sample_times
     while n_samples < times.shape[0] and times[n_samples] <= 0.0:
-        output.samples[n_samples, :] = y
+        copy_into_row(output.samples, n_samples, y)
         n_samples += 1
     status = STATUS_SUCCESS
     if not (all_finite(y) and all_finite(f)):
@@ -150,6 +164,30 @@ def first_step(method, model, params, y, f, controls, scratch, f_scratch, stats)
     return h
 
 
+class LoopArrays(NamedTuple):
+    """The arrays :func:`run_loop` works in besides the state, its caller's (``integrate``
+    allocates them; a GPU thread, which cannot, takes them from its local memory).
+
+    Parameters
+    ----------
+    f, y_new, f_new : dy/dt at the state, the step's new state and its dy/dt, shape (n,)
+    point, scratch : a state on the interpolant and scratch, shape (n,)
+    values : the event table's values at the state, shape (rows,)
+    work : the methods' workspaces (``_methods.Workspaces``)
+    dense_of : every method's interpolant coefficients by method code
+        (``_methods.dense_arrays``), looked up once per run
+    """
+
+    f: np.ndarray
+    y_new: np.ndarray
+    f_new: np.ndarray
+    point: np.ndarray
+    scratch: np.ndarray
+    values: np.ndarray
+    work: Any
+    dense_of: Any
+
+
 @kernel
 def integrate(model, method, params, y0, t_end, controls, table, output, rhs_link):
     """Integrate from t = 0 to ``t_end`` [s]; see the module docstring.
@@ -174,16 +212,33 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
     -------
     ``_structures.RunEnd``
     """
+    n = y0.shape[0]
+    work = methods.workspaces(method, n)
+    # the interpolants' arrays looked up once, and the whole workspace handed only to
+    # the helpers that need it: per step, those lookups and hand-overs cost about 10 %
+    # of a rolling run (docs/decisions.md §43)
+    arrays = LoopArrays(
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(table.shape[0]),
+        work,
+        methods.dense_arrays(work),
+    )
+    system = (params, rhs_link)  # as ``_system.rhs`` takes it: the methods' ``params``
+    return run_loop(model, method, system, y0.copy(), t_end, controls, table, output, arrays)
+
+
+@inlined
+def run_loop(model, method, system, y, t_end, controls, table, output, arrays):
+    """The loop of :func:`integrate` from ``y`` (overwritten) on the run's ``system``
+    (as ``_system.rhs`` takes it) and ``arrays`` (:class:`LoopArrays`), which it does not
+    allocate: a CUDA thread runs it too (``batch_cuda``). Returns the ``RunEnd``."""
+    f, y_new, f_new, point, scratch, values, work, dense_of = arrays
     stats = output.stats
     samples_before = stats[STAT_SAMPLES_WRITTEN]
-    system = (params, rhs_link)  # as ``_system.rhs`` takes it: the methods' ``params``
-    n = y0.shape[0]
-    y = y0.copy()
-    f = np.empty(n)
-    y_new = np.empty(n)
-    f_new = np.empty(n)
-    point = np.empty(n)
-    scratch = np.empty(n)
     status, n_samples, normal_old = first_check(model, system, y, f, output)
     if status == STATUS_SUCCESS and not methods.is_known(method):
         status = STATUS_UNKNOWN_CODE
@@ -192,13 +247,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
         return RunEnd(status, n_samples, 0, 0.0, normal_old, 0.0)
     min_normal = normal_old
     t_min_normal = 0.0
-    values = np.empty(table.shape[0])
     events.start_values(table, model, system, y, values, scratch)
-    work = methods.workspaces(method, n)
-    # the switching record and the interpolants' arrays looked up once, and the whole
-    # workspace handed only to the helpers that need it: per step, those lookups and
-    # hand-overs cost about 10 % of a rolling run (docs/decisions.md §43)
-    dense_of = methods.dense_arrays(work)  # by method code
     switching = work.auto
     rate = events.spin_rate(y, f)
     h = first_step(method, model, system, y, f, controls, scratch, f_new, stats)
@@ -284,8 +333,8 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
         if normal_new < min_normal:
             min_normal = normal_new
             t_min_normal = t_new
-        y[:] = y_new
-        f[:] = f_new
+        copy_into(y, y_new)
+        copy_into(f, f_new)
         rate = rate_new
         t = t_new
         h = h_next
@@ -294,7 +343,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
         if method == METHOD_AUTO:  # only a switching run hands over its workspace here
             methods.after_step(method, model, system, t, y, f, h, controls, work, stats)
     if not stopped:
-        output.final_state[:] = y
+        copy_into(output.final_state, y)
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
 
 
@@ -306,7 +355,7 @@ def stop_at(
     returns the smallest normal force [N] and its time [s] including that state (a
     lift-off root is N = 0)."""
     if x_limit >= 1.0:
-        output.final_state[:] = y_end
+        copy_into(output.final_state, y_end)
     else:
         methods.interpolate(step.method, step.dense, step.y_old, x_limit, output.final_state)
     if event.value == events.VALUE_NORMAL_FORCE:

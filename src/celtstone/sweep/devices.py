@@ -7,9 +7,9 @@ sweep asked to run on the GPU never falls back to the CPU; "auto" takes the GPU 
 it can and says nothing.
 
 ``CudaPool`` gathers the runner's tasks (blocks of points) into launches of
-``solvers.batch_cuda.run_batch_cuda``, one thread per point, as many points at a time
-as the GPU's memory holds (``batch_cuda.launch_points``), and hands each
-task its rows back: the store, its blocks, resuming and the fields are the CPU
+``solvers.batch.run_batch`` on the GPU (``device="cuda"``), one thread per point, as
+many points at a time as the GPU's memory holds (``batch_cuda.launch_points``), and
+hands each task its rows back: the store, its blocks, resuming and the fields are the CPU
 sweep's.
 """
 
@@ -109,7 +109,8 @@ class CudaPool:
 
     def _launch(self) -> None:
         """One launch of every waiting task's points; their rows to ``_done``."""
-        from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points, run_batch_cuda
+        from celtstone.solvers.batch import run_batch
+        from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points
 
         tasks, self._waiting = self._waiting, []
         if not tasks:
@@ -139,7 +140,9 @@ class CudaPool:
             part = slice(start, start + size)
             settings.update({name: values[part] for name, values in per_point.items()})
             parts.append(
-                run_batch_cuda(model, method, params[part], states[part], t_end, **settings)
+                run_batch(
+                    model, method, params[part], states[part], t_end, device="cuda", **settings
+                )
             )
         results = np.concatenate(parts)
         first = 0

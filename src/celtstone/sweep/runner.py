@@ -678,8 +678,8 @@ def _fields(raw: np.ndarray) -> dict[str, np.ndarray]:
     """Result fields by name (``batch.RESULT_FIELDS``) from the batch driver's columns:
     numbers as their stored type; ``status`` as its label and ``message`` as the run's
     stop message (``solvers.Status``), from the status code and ``t_stop``."""
-    codes = raw[:, batch.F_STATUS].astype(int)
-    t_stop = raw[:, batch.F_T_STOP]
+    codes = raw[:, batch.COLUMN.status].astype(int)
+    t_stop = raw[:, batch.COLUMN.t_stop]
     text = {
         "status": np.array([solvers.status_label(c) for c in codes], dtype=object),
         "message": np.array(
