@@ -109,7 +109,7 @@ class Workspace(NamedTuple):
     memory: np.ndarray  # (1,) of MEMORY
 
 
-@kernel
+@inlined
 def workspace(n):
     """A workspace for states of length n, before the first step."""
     memory = np.zeros(1, dtype=MEMORY)
@@ -493,7 +493,8 @@ def dense(model, params, t, y, y_new, h, work, stats):
     memory.has_dense = True
     memory.t_previous = t
     memory.h_previous = h
-    work.y_previous[:] = y
+    for j in range(y.shape[0]):  # a loop: a GPU thread runs it too (``batch_cuda``)
+        work.y_previous[j] = y[j]
 
 
 @inlined
