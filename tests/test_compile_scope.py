@@ -118,6 +118,8 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
     # every method's (empty) workspace is made: the run loop's workspace tuple has one type
     steps = [name for name in names if name.startswith(OTHER_METHODS)]
     assert all(name.endswith(".workspace") for name in steps), steps
+    # every method's interpolant in one function, compiled once (no copy per call site)
+    assert names.count("celtstone.solvers._methods.interpolate_apart") == 1, names
 
 
 class _Terminal(io.StringIO):

@@ -1,9 +1,10 @@
 """The parts of numba's private machinery that celtstone's cache and compiler rely on.
 
 ``_cache`` subclasses numba's cache classes (a locked save, a load without the
-compiler, the linking bitcode parsed when linked) and ``_pruning`` adds a compiler pass
+compiler, the linking bitcode parsed when linked), ``_pruning`` adds a compiler pass
 that calls numba's branch pruning and replaces numba's inlining pass by one that inlines
-a level at a time. Both were written against one numba version
+a level at a time, and ``_jit`` compiles without C-callable wrappers (an option of
+numba's CPU target, ``TARGET_OPTIONS``). All were written against one numba version
 (``TESTED_NUMBA``, the one ``pyproject.toml`` pins) and the private functions listed in
 ``PRIVATE_SIGNATURES``. :func:`internals_changed` names what differs in the numba that
 is installed; where anything does, ``_jit.cached_njit`` uses numba's own cache and
@@ -54,6 +55,10 @@ PRIVATE_SIGNATURES = {
 }
 
 
+# options of numba's CPU target that ``_jit.cached_njit`` passes, private in effect
+TARGET_OPTIONS = ("no_cfunc_wrapper",)
+
+
 def _resolve(dotted: str) -> Any:
     """The object a dotted name names: the longest importable module, then attributes."""
     parts = dotted.split(".")
@@ -82,6 +87,11 @@ def differences(version: str = numba.__version__) -> list[str]:
             continue
         if actual != expected:
             found.append(f"{name}{actual}, expected {name}{expected}")
+    from numba.core.cpu import CPUTargetOptions
+
+    for option in TARGET_OPTIONS:
+        if not hasattr(CPUTargetOptions, option):
+            found.append(f"numba's CPU target has no option {option}")
     return found
 
 

@@ -119,12 +119,17 @@ def cached_njit(**options: Any) -> Callable[[F], F]:
     loading numba's compiler (``_cache``); compiled without the branches on codes that
     its caller passes as constants (``_pruning``). Both rely on numba's private
     functions: with a numba other than the one they were checked with
-    (``_internals``), numba's own cache and compiler."""
+    (``_internals``), numba's own cache and compiler.
+
+    Compiled without numba's C-callable wrapper (the option ``no_cfunc_wrapper`` of its
+    CPU target, ``_internals``), which only a first-class function value would call: it
+    takes about a quarter of the compile of a small function, and a first run compiles a
+    hundred or more. A link calls a kernel's own function (``solvers._linking``)."""
 
     if internals_changed():  # another numba: its own compiler and cache (``_internals``)
         pipeline: dict[str, Any] = {}
     else:
-        pipeline = {"pipeline_class": CodePruningCompiler}
+        pipeline = {"pipeline_class": CodePruningCompiler, "no_cfunc_wrapper": True}
 
     def compile_cached(function: F) -> F:
         dispatcher = njit(cache=True, nogil=True, error_model="numpy", **pipeline, **options)

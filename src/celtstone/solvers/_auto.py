@@ -92,7 +92,7 @@ RECORD = np.dtype(
 )
 
 
-@kernel
+@inlined
 def workspace():
     """The switching record of one run (its ``memory``), before the first step."""
     return np.zeros(1, dtype=RECORD)
@@ -183,41 +183,21 @@ def jacobian_radius(radau):
 def after_step(record, model, params, t, y, f, h_next, controls, work, stats):
     """Between accepted steps, at (t, y) with f = f(t, y) and the proposed next step
     h_next [s]: switch the method that takes it if the tests above say so; ``work`` holds
-    both methods' workspaces (``_methods.Workspaces``)."""
+    both methods' workspaces (``_methods.Workspaces``). What needs a Jacobian, a few
+    steps in a hundred, is compiled apart (:func:`check_explicit`, :func:`refresh_radius`)."""
     if not controls.adaptive:
         return
     state = record[0]
-    radau = work.radau5
     state.steps_since_check += 1
     if state.active == METHOD_DOP853:
         if state.steps_since_check < CHECK_STEPS and (
             state.stiffness <= STABILITY_LIMIT or state.steps_since_check < TRIGGER_SPACING
         ):
             return
-        radau5.evaluate_jacobian(model, params, t, y, f, radau, stats)
-        rho = jacobian_radius(radau)
-        state.spectral_radius = rho
-        state.steps_since_check = 0
-        held = h_next * rho >= HELD_LIMIT
-        state.held_checks = state.held_checks + 1 if held else 0
-        if held and (
-            state.radau_step * rho > BREAK_EVEN * HYSTERESIS or state.held_checks >= HELD_CHECKS
-        ):
-            radau5.resume(controls, radau)  # with the Jacobian just evaluated
-            state.active = METHOD_RADAU5
-            state.calm_count = 0
-            state.held_checks = 0
-            state.radau_step = 0.0  # no Radau step of this stretch yet
-            state.jacobians_seen = stats[STAT_NJEV]
-            stats[STAT_SWITCHES] += 1
+        check_explicit(record, model, params, t, y, f, h_next, controls, work.radau5, stats)
         return
     if state.jacobians_seen != stats[STAT_NJEV] or state.steps_since_check >= REFRESH_STEPS:
-        if state.jacobians_seen == stats[STAT_NJEV]:  # no Jacobian for REFRESH_STEPS steps
-            radau5.evaluate_jacobian(model, params, t, y, f, radau, stats)
-            radau.memory[0].lu_valid = False
-        state.spectral_radius = jacobian_radius(radau)
-        state.jacobians_seen = stats[STAT_NJEV]
-        state.steps_since_check = 0
+        refresh_radius(record, model, params, t, y, f, work.radau5, stats)
     # calm: DOP853 cheaper at this step, and Radau's step no longer growing (its first
     # steps after a start or a switch are short of what accuracy allows)
     settled = h_next <= SETTLED_GROWTH * state.radau_step
@@ -231,3 +211,39 @@ def after_step(record, model, params, t, y, f, h_next, controls, work, stats):
         state.calm_count = 0
         state.steps_since_check = 0
         stats[STAT_SWITCHES] += 1
+
+
+@kernel
+def check_explicit(record, model, params, t, y, f, h_next, controls, radau, stats):
+    """While DOP853 steps, when ρ is due (``after_step``): ρ from a Jacobian into
+    Radau's workspace ``radau``, and the switch to Radau if stability holds DOP853."""
+    state = record[0]
+    radau5.evaluate_jacobian(model, params, t, y, f, radau, stats)
+    rho = jacobian_radius(radau)
+    state.spectral_radius = rho
+    state.steps_since_check = 0
+    held = h_next * rho >= HELD_LIMIT
+    state.held_checks = state.held_checks + 1 if held else 0
+    if held and (
+        state.radau_step * rho > BREAK_EVEN * HYSTERESIS or state.held_checks >= HELD_CHECKS
+    ):
+        radau5.resume(controls, radau)  # with the Jacobian just evaluated
+        state.active = METHOD_RADAU5
+        state.calm_count = 0
+        state.held_checks = 0
+        state.radau_step = 0.0  # no Radau step of this stretch yet
+        state.jacobians_seen = stats[STAT_NJEV]
+        stats[STAT_SWITCHES] += 1
+
+
+@kernel
+def refresh_radius(record, model, params, t, y, f, radau, stats):
+    """While Radau steps, after it evaluated a Jacobian or ``REFRESH_STEPS`` steps without
+    one (then evaluated here): ρ of Radau's Jacobian in ``radau``."""
+    state = record[0]
+    if state.jacobians_seen == stats[STAT_NJEV]:  # no Jacobian for REFRESH_STEPS steps
+        radau5.evaluate_jacobian(model, params, t, y, f, radau, stats)
+        radau.memory[0].lu_valid = False
+    state.spectral_radius = jacobian_radius(radau)
+    state.jacobians_seen = stats[STAT_NJEV]
+    state.steps_since_check = 0

@@ -51,7 +51,7 @@ class Workspace(NamedTuple):
     error_terms: np.ndarray  # (2, n): the 5th- and 3rd-order error estimates of the trial step
 
 
-@kernel
+@inlined
 def workspace(n):
     """A zeroed workspace for states of length n."""
     return Workspace(

@@ -98,7 +98,7 @@ class Step(NamedTuple):
     h: float  # [s]
 
 
-@kernel
+@inlined
 def _set_row(row, value, parameter, direction, terminal, subdivisions, root, end, status):
     row.value = value
     row.parameter = parameter
@@ -241,7 +241,7 @@ def checked_value(event, spin, normal_force):
 @inlined
 def value_at(event, model, params, step, x, point, scratch):
     """The row's value at the fraction x of the step, from the interpolant."""
-    methods.interpolate(step.method, step.dense, step.y_old, x, point)
+    methods.interpolate_apart(step.method, step.dense, step.y_old, x, point)
     return event_value(event, model, params, point, scratch)
 
 
@@ -376,13 +376,47 @@ def locate_events(
     Returns (the terminal row that stops the run or -1, step fraction and time [s]
     where the run stops or the step ends, crossings found in all).
     """
-    t_limit = t_new
-    x_limit = (t_new - step.t_old) / step.h
-    stop_row = -1
     if all_decided:
         for row in range(table.shape[0]):
             values[row] = checked_value(table[row], spin, normal_force)
-        return stop_row, x_limit, t_limit, n_crossings
+        return -1, (t_new - step.t_old) / step.h, t_new, n_crossings
+    return scan_rows(
+        table,
+        values,
+        spin,
+        normal_force,
+        model,
+        params,
+        step,
+        t_new,
+        crossings,
+        n_crossings + 0,  # an int: the loop's count starts as the constant 0, for which
+        point,  # numba would compile scan_rows once more
+        scratch,
+    )
+
+
+@kernel
+def scan_rows(
+    table,
+    values,
+    spin,
+    normal_force,
+    model,
+    params,
+    step,
+    t_new,
+    crossings,
+    n_crossings,
+    point,
+    scratch,
+):
+    """``locate_events`` of a step whose ends do not decide every row: each row scanned on
+    the interpolant. A function of its own, called only then, so that the run loop does
+    not compile every row's scan and root search into itself."""
+    t_limit = t_new
+    x_limit = (t_new - step.t_old) / step.h
+    stop_row = -1
     for terminal in (True, False):  # terminal rows first: a root cuts the step short
         for row in range(table.shape[0]):
             event = table[row]

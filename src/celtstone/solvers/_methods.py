@@ -61,11 +61,14 @@ The contract (in the manner of SciPy's ``OdeSolver``)
 10. **What a method does not do**: sampling, events (spin crossings, lift-off, phase
     changes), the step limit, ``max_step``, finiteness checks and stopping belong to the
     driver (``solvers.driver.integrate``), which is the same for every method.
-11. **Compiling**: ``workspace`` and ``start`` are ``kernels._jit.kernel`` functions;
+11. **Compiling**: ``start`` is a ``kernels._jit.kernel`` function; ``workspace``,
     ``attempt``, ``dense``, ``interpolate`` and the helpers they call once a step are
-    ``_compile.inlined``: numba copies them into the driver, as a separate function
-    every array they take would cost a measurable part of a step
-    (docs/decisions.md §21). Arrays are not sliced per step for the same reason.
+    ``_compile.inlined``: numba copies them into the driver (``workspace`` into
+    :func:`workspaces`), as a separate function every array they take would cost a
+    measurable part of a step (docs/decisions.md §21). Arrays are not sliced per step
+    for the same reason. The driver's samples and stop and the events' root search
+    interpolate through :func:`interpolate_apart`, every method's interpolant compiled
+    once.
 
 Each dispatch below has one branch per registered code and no default: an unknown
 code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
@@ -249,3 +252,11 @@ def interpolate(method, dense, y_old, x, out):
         vern9.interpolate(dense, y_old, x, out)
     else:
         out[:] = np.nan
+
+
+@kernel
+def interpolate_apart(method, dense, y_old, x, out):
+    """:func:`interpolate` as a function of its own, for the driver's samples and stop and
+    the events' root search: inlined, each of them held every method's interpolant
+    (which method took a step is known only then), in the run loop too."""
+    interpolate(method, dense, y_old, x, out)

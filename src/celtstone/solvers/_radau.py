@@ -109,7 +109,7 @@ class Workspace(NamedTuple):
     memory: np.ndarray  # (1,) of MEMORY
 
 
-@kernel
+@inlined
 def workspace(n):
     """A workspace for states of length n, before the first step."""
     memory = np.zeros(1, dtype=MEMORY)

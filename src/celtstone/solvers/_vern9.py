@@ -52,7 +52,7 @@ class Workspace(NamedTuple):
     error_term: np.ndarray  # (n,)
 
 
-@kernel
+@inlined
 def workspace(n):
     """A zeroed workspace for states of length n."""
     return Workspace(

@@ -78,7 +78,7 @@ from celtstone.solvers.codes import (
     METHOD_VERN9,
     N_STATS,
 )
-from celtstone.solvers.driver import LoopArrays, copy_into, copy_into_row, run_loop
+from celtstone.solvers.driver import LoopArrays, copy_into, run_loop
 
 __all__ = [
     "CUDA_METHODS",
@@ -315,20 +315,6 @@ def _record_itself(system):
 
 
 @inlined
-def _copy_by_loop(target, source):
-    """``driver.copy_into`` on a GPU thread: ``target[:] = source`` as a loop."""
-    for j in range(source.shape[0]):
-        target[j] = source[j]
-
-
-@inlined
-def _copy_row_by_loop(rows, row, source):
-    """``driver.copy_into_row`` on a GPU thread: ``rows[row, :] = source`` as a loop."""
-    for j in range(source.shape[0]):
-        rows[row, j] = source[j]
-
-
-@inlined
 def _not_asked(stats):
     """``_stop.stop_requested`` on a GPU thread: no host thread can ask a thread to stop
     (its counters ``stats`` are its own local array), and the stop slot's atomic load
@@ -341,8 +327,7 @@ def direct_rhs() -> Iterator[None]:
     """While a CUDA kernel compiles: the solvers call the kernels' right-hand side
     directly (``kernels.system.rhs``, ``spin_and_normal_force``) with the parameter record
     as their ``params``, in place of ``_system``'s call at a CPU address; the loop's stop
-    request reads False (``_not_asked``) and its array copies are loops (``_copy_by_loop``,
-    ``_copy_row_by_loop``).
+    request reads False (``_not_asked``).
 
     numba compiles a CPU function for CUDA from its Python source, reading the globals of
     its module as it compiles: each solver module's reference to a ``_system`` function
@@ -359,8 +344,6 @@ def direct_rhs() -> Iterator[None]:
         id(_system.spin_and_normal_force): physics.spin_and_normal_force,
         id(_system.parameters): _record_itself,
         id(_stop.stop_requested): _not_asked,
-        id(copy_into): _copy_by_loop,
-        id(copy_into_row): _copy_row_by_loop,
     }
     modules = [m for n, m in sorted(sys.modules.items()) if n.startswith("celtstone.solvers")]
     replaced: list[tuple[Any, str, Any]] = []

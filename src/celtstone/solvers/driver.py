@@ -86,15 +86,18 @@ def all_finite(values):
 
 @inlined
 def copy_into(target, source):
-    """``target[:] = source`` (1-d arrays). A GPU thread runs the loop too, and numba's CUDA
-    lowering copies no array into a slice: there it is a loop (``batch_cuda.direct_rhs``)."""
-    target[:] = source
+    """``target[:] = source`` for 1-d arrays, as a loop: numba's CUDA lowering copies no
+    array into a slice, and a GPU thread runs this loop too (a slice copy on the CPU also
+    compiles numba's shape checks and their messages, some 20 functions, for a first run)."""
+    for j in range(source.shape[0]):
+        target[j] = source[j]
 
 
 @inlined
 def copy_into_row(rows, row, source):
-    """``rows[row, :] = source``, as :func:`copy_into` (a loop on a GPU thread)."""
-    rows[row, :] = source
+    """``rows[row, :] = source``, as :func:`copy_into` (a loop)."""
+    for j in range(source.shape[0]):
+        rows[row, j] = source[j]
 
 
 @inlined
@@ -107,7 +110,7 @@ def fill_samples(step, t_limit, sample_times, samples, n_samples, y_end):
             copy_into_row(samples, n_samples, y_end)
         else:
             x = (time - step.t_old) / step.h
-            methods.interpolate(step.method, step.dense, step.y_old, x, samples[n_samples])
+            methods.interpolate_apart(step.method, step.dense, step.y_old, x, samples[n_samples])
         n_samples += 1
     return n_samples
 
@@ -347,17 +350,17 @@ def run_loop(model, method, system, y, t_end, controls, table, output, arrays):
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
 
 
-@inlined
+@kernel
 def stop_at(
     event, model, params, step, x_limit, t_limit, y_end, output, min_normal, t_min_normal, work
 ):
     """The state where a terminal ``event`` stops the run into ``output.final_state``;
     returns the smallest normal force [N] and its time [s] including that state (a
-    lift-off root is N = 0)."""
+    lift-off root is N = 0). Once a run: compiled apart from the loop."""
     if x_limit >= 1.0:
         copy_into(output.final_state, y_end)
     else:
-        methods.interpolate(step.method, step.dense, step.y_old, x_limit, output.final_state)
+        methods.interpolate_apart(step.method, step.dense, step.y_old, x_limit, output.final_state)
     if event.value == events.VALUE_NORMAL_FORCE:
         return min(min_normal, 0.0), t_limit
     normal_force = spin_and_normal_force(model, output.final_state, params, work)[1]
@@ -374,15 +377,15 @@ call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers.
 
 
 # The methods whose run loops are compiled on their own for a model when the loop for
-# every code is not compiled yet: a first rolling run with vern9 compiles in 20-24 s of
-# CPU, the loop for every code (a first sliding run's) in about 50 s (2-core machine,
+# every code is not compiled yet: a first rolling run with vern9 compiles in about 20 s
+# of CPU, the loop for every code (a first sliding run's) in about 45 s (2-core machine,
 # empty cache). A loop of auto or radau5 holds most of the code of every method and
 # compiles nearly as long on its own (the sliding model with auto: 48.6 s against
 # 52.2 s), so those runs compile the loop for every code, which serves every later run.
 OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
-OWN_LOOP_SECONDS = 25.0
-EVERY_CODE_SECONDS = 55.0
+OWN_LOOP_SECONDS = 20.0
+EVERY_CODE_SECONDS = 45.0
 
 
 def integrate_link(
