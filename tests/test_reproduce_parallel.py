@@ -170,6 +170,26 @@ def test_no_planned_run_starts_once_stopped() -> None:
     assert runs.unclaimed == 6
 
 
+def test_the_workers_wait_once_enough_results_are_held(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(parallel, "RESULTS_AHEAD", 2)
+    calls: list[str] = []
+    runs = parallel.SharedRuns(workers=2)
+    try:
+        for number in range(5):
+            runs.plan(number, _counting(calls, str(number), number))
+        time.sleep(0.3)  # long enough for the workers to compute all five, were they free to
+        assert sorted(c.split("@")[0] for c in calls) == ["0", "1"]
+        assert runs.take(0, _unplanned) == 0  # one result let go: one more run
+        deadline = time.monotonic() + 5.0
+        while len(calls) < 3 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        time.sleep(0.1)
+        assert sorted(c.split("@")[0] for c in calls) == ["0", "1", "2"]
+        assert [runs.take(k, _unplanned) for k in range(1, 5)] == [1, 2, 3, 4]
+    finally:
+        runs.stop()
+
+
 def test_outside_a_reproduction_a_run_is_computed_where_asked() -> None:
     assert parallel.shared_run("k", lambda: threading.current_thread().name) == (
         threading.current_thread().name

@@ -30,6 +30,7 @@ __all__ = [
     "compute_case",
     "provenance",
     "run_cases",
+    "run_figure_cases",
     "save_results",
     "study_identity",
     "summarise",
@@ -121,6 +122,18 @@ def run_cases(
             )
             progress.update(1)
     return datasets, cases
+
+
+def run_figure_cases(
+    target: str, study: Study, models: list[Model], t_end: float, out: Path, progress: Progress
+) -> tuple[Body, str, list[xr.Dataset], list[dict[str, Any]]]:
+    """The start of a figure's target (``fig2``, ``fig3``): the study's body, the target's
+    file stem ``TARGET_KEY``, and :func:`run_cases` of ``models`` to ``t_end`` [s] (their
+    datasets and cases, in the order of ``models``)."""
+    body = study.load_body()
+    stem = f"{target}_{study.key}"
+    datasets, cases = run_cases(study, body, models, t_end, out, stem, progress)
+    return body, stem, datasets, cases
 
 
 def case_key(study: Study, model: Model, t_end: float) -> Hashable:

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import case_name, run_cases, save_results
+from celtstone.reproduce.cases import case_name, run_figure_cases, save_results
 from celtstone.reproduce.ingredients import run_ingredients
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
@@ -52,10 +52,10 @@ def figure2(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     dict
         The numbers the findings are judged by (``data/fig2_KEY.json``).
     """
-    body = study.load_body()
-    stem = f"fig2_{study.key}"
     models = figure2_models(study)
-    runs, cases = run_cases(study, body, models, study.fig2_t_end, out, stem, progress)
+    body, stem, runs, cases = run_figure_cases(
+        "fig2", study, models, study.fig2_t_end, out, progress
+    )
     datasets = {case_name(model): run for model, run in zip(models, runs, strict=True)}
     panels = [[datasets["rolling"]]] + [
         [datasets[case_name(study.sliding(f, load))] for load in study.fig2_loads]

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from celtstone.plotting import plot_energy_budget, plot_spin_comparison, save_figure_formats
-from celtstone.reproduce.cases import run_cases, save_results
+from celtstone.reproduce.cases import run_figure_cases, save_results
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.simulation.models import Model
@@ -40,10 +40,9 @@ def figure3(study: Study, out: Path, progress: Progress) -> dict[str, Any]:
     dict
         The numbers the findings are judged by (``data/fig3_KEY.json``).
     """
-    body = study.load_body()
-    stem = f"fig3_{study.key}"
-    models = figure3_models(study)
-    datasets, cases = run_cases(study, body, models, study.fig3_t_end, out, stem, progress)
+    body, stem, datasets, cases = run_figure_cases(
+        "fig3", study, figure3_models(study), study.fig3_t_end, out, progress
+    )
     title = (
         f"Figure 3 analogue, {study.key}: long run, rolling and sliding f = {study.fig3_friction:g}"
     )

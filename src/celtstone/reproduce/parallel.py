@@ -31,9 +31,11 @@ __all__ = ["SharedRuns", "map_in_threads", "shared_run", "sharing_runs", "thread
 Item = TypeVar("Item")
 Result = TypeVar("Result")
 
-RESULTS_AHEAD = 48
-"""Most finished runs held before the targets ask for them (a 20 s run's samples are about
-1 MB): the workers wait rather than fill the memory while a target writes its files."""
+RESULTS_AHEAD = 256
+"""Most finished runs held before the targets ask for them (a 20 s run's samples are
+0.87 MB: about 220 MB at most). The targets' figures and videos are one thread's work,
+a quarter of a reproduction's CPU: while the Figure 2 targets draw, the workers go on
+with the later targets' runs rather than leave a core idle."""
 
 
 def map_in_threads(function: Callable[[Item], Result], items: Iterable[Item]) -> Iterator[Result]:
