@@ -208,7 +208,9 @@ class Study:
             The friction coefficients [1], shape (count,).
         """
         start, stop, count = self.threshold_grid
-        return np.linspace(start, stop, int(count))
+        # the decimals a person writes (0.35, not linspace's 0.35000000000000003), so that
+        # a grid point equal to a figure's f is the same run, computed once (SharedRuns)
+        return np.round(np.linspace(start, stop, int(count)), 12)
 
     def sliding(self, friction: float, friction_load: str | None = None) -> SlidingModel:
         """Make the study's sliding model at one friction coefficient.
