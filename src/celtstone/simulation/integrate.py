@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -231,6 +232,15 @@ def simulate(
         warnings.warn(str(concern), PlausibilityWarning, stacklevel=2)
     attrs = _run_attributes(model, body, initial_state, t_end, method_name, rtol, atol)
     phase_data: dict[str, np.ndarray] = {}
+    # what the run loop takes alike in one run and in a stick–slip run's phases
+    loop_settings: dict[str, Any] = {
+        "rtol": rtol,
+        "atol": atol,
+        "sample_times": times,
+        "max_crossings": max_crossings,
+        "max_steps": max_steps,
+        "progress": progress,
+    }
     if isinstance(model, HybridModel):
         capture_speed = model.resolved_capture_speed(atol)
         stick_name = str(stick_method_name)  # a stick–slip run always has one
@@ -240,13 +250,8 @@ def simulate(
             t_end,
             slip_method=method_name,
             stick_method=stick_name,
-            rtol=rtol,
-            atol=atol,
             capture_speed=capture_speed,
-            sample_times=times,
-            max_crossings=max_crossings,
-            max_steps=max_steps,
-            progress=progress,
+            **loop_settings,
         )
         attrs.update(capture_speed=capture_speed, stick_method=stick_name)
         attrs["rejected_captures"] = solution.rejected_captures
@@ -259,19 +264,7 @@ def simulate(
         }
         raw: solvers.RawSolution = solution
     else:
-        raw = solvers.solve(
-            model.code,
-            method_name,
-            params,
-            y0,
-            t_end,
-            rtol=rtol,
-            atol=atol,
-            sample_times=times,
-            max_crossings=max_crossings,
-            max_steps=max_steps,
-            progress=progress,
-        )
+        raw = solvers.solve(model.code, method_name, params, y0, t_end, **loop_settings)
     code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
     n_crossings = raw.n_crossings_total
     sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
