@@ -199,6 +199,13 @@ def test_a_scale_error_is_recovered_when_freed(kane_levinson: cs.Body) -> None:
     assert max(abs(d) for d in held.values()) > 4.0, held
 
 
+def _spin_csv(record: cs.Record, path: Path) -> Path:
+    """``record``'s spin as a CSV of ``time (s)`` and ``spin (rad/s)`` at ``path``."""
+    rows = zip(record.times, record.series["spin"], strict=True)
+    path.write_text("time (s),spin (rad/s)\n" + "".join(f"{t},{w}\n" for t, w in rows))
+    return path
+
+
 @NOT_REVERSING
 def test_a_scale_set_on_the_command_line_is_held_and_written(
     kane_levinson: cs.Body, tmp_path: Path, capsys: pytest.CaptureFixture[str]
@@ -207,9 +214,7 @@ def test_a_scale_set_on_the_command_line_is_held_and_written(
     reading is (1 + 0.02) times its spin, so on a record made so f is found."""
     truth = Truth(0.3, 1e-3, 0.0, ("spin",))
     record = phone_record(kane_levinson, truth, 1.0, seed=10, scale=0.02)
-    path = tmp_path / "spin.csv"
-    rows = zip(record.times, record.series["spin"], strict=True)
-    path.write_text("time (s),spin (rad/s)\n" + "".join(f"{t},{w}\n" for t, w in rows))
+    path = _spin_csv(record, tmp_path / "spin.csv")
     arguments = [
         "fit", str(path), "--body", "kane_levinson_1982", "--free", "friction_coefficient",
         "--set", "omega3=-5", "--set", "contact_radius=1e-3", "--set", "scale_spin=0.02",
@@ -350,9 +355,7 @@ def test_cli_exit_3_and_converged_false_at_a_bound(
 ) -> None:
     truth = Truth(0.3, 1e-3, 0.0, ("spin",))
     record = phone_record(kane_levinson, truth, 1.0, seed=7)
-    path = tmp_path / "spin.csv"
-    rows = zip(record.times, record.series["spin"], strict=True)
-    path.write_text("time (s),spin (rad/s)\n" + "".join(f"{t},{w}\n" for t, w in rows))
+    path = _spin_csv(record, tmp_path / "spin.csv")
     arguments = [
         "fit", str(path), "--body", "kane_levinson_1982", "--free", "friction_coefficient",
         "--bounds", "friction_coefficient=0.5:0.9", "--set", "omega3=-5", "--starts", "1",
@@ -561,9 +564,7 @@ def test_compare_models_ranks_the_true_model_first(
     in the comparison, and owned by the folder's manifest."""
     truth = Truth(0.3, 1e-3, 0.0, ("spin",))
     record = phone_record(kane_levinson, truth, 1.0, seed=8, noise=0.005)
-    path = tmp_path / "spin.csv"
-    rows = zip(record.times, record.series["spin"], strict=True)
-    path.write_text("time (s),spin (rad/s)\n" + "".join(f"{t},{w}\n" for t, w in rows))
+    path = _spin_csv(record, tmp_path / "spin.csv")
     arguments = [
         "fit", str(path), "--body", "kane_levinson_1982", "--free",
         "friction_coefficient,contact_radius", "--set", "omega3=-5", "--starts", "1",
