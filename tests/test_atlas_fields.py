@@ -23,6 +23,7 @@ from celtstone.atlas import StoneDesign, atlas_dataset, compute_atlas, judge_des
 from celtstone.atlas.fields import ATLAS_STUDY
 from celtstone.reproduce import reproduce
 from celtstone.reproduce.findings import FINDINGS, JUDGES
+from celtstone.simulation.outcome import OUTCOMES
 
 TOY_DESIGN = StoneDesign(0.1, 0.2, 0.2, 2.2187347030504900)  # the toy (test_atlas_family)
 # a short study: 3 s runs, a 4-point f grid bisected to 0.04 (each finding still judged)
@@ -123,6 +124,15 @@ def test_verdicts_of_hand_made_numbers_are_the_rules() -> None:
         30.0,
     ]
     assert dataset["length"].attrs["units"] == "m"
+    # a field that holds an outcome of the runs has the outcome's declared unit
+    for field, outcome in {
+        "fig2_first_reversal_time": "first_reversal_time",
+        "fig2_energy_final": "energy_final",
+        "fig2_peak_reversed_spin": "peak_reversed_spin",
+        "long_run_spin_crossing_count": "spin_crossing_count",
+        "long_run_spin_final": "spin_final",
+    }.items():
+        assert dataset[field].attrs["units"] == OUTCOMES[outcome].variable.unit, field
 
 
 def _body_file(body: cs.Body, path: Path) -> Path:

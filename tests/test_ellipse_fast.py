@@ -26,7 +26,7 @@ from celtstone.contact.ellipse_table import (
     node_ratios,
     small_slip_stiffness,
 )
-from celtstone.kernels.friction import law_friction, pade_friction
+from celtstone.kernels.friction import contact_friction, pade_friction
 from celtstone.kernels.friction_ellipse import ASPECT_MIN, COEFFICIENTS, elliptic_contact_friction
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
@@ -296,7 +296,7 @@ def test_exact_disk_law_corrected_is_the_exact_elliptic_law() -> None:
 def test_equal_axes_give_the_exact_disk_law_and_unknown_laws_nan() -> None:
     slip, spin = (2e-4, -1e-4, 0.0), 0.7
     force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 1e-3, 1e-9, 1)
-    disk_force, disk_moment = law_friction(
+    disk_force, disk_moment = contact_friction(
         slip, spin, 1e-3, 1e-9, FrictionLaw.EXACT.value, ContactPressure.HERTZ.value
     )
     assert force == disk_force and moment == disk_moment

@@ -452,6 +452,12 @@ def atlas_numbers(
     ]
 
 
+def outcome_units(name: str) -> dict[str, str]:
+    """The attributes of an atlas field that holds the outcome ``name`` of its runs: its
+    unit as declared (``simulation.outcome.OUTCOMES``)."""
+    return {"units": OUTCOMES[name].variable.unit}
+
+
 def _padded(rows: Sequence[Sequence[float]], width: int) -> np.ndarray:
     table = np.full((len(rows), width), np.nan)
     for k, row in enumerate(rows):
@@ -555,13 +561,17 @@ def atlas_dataset(
         "fig2_first_reversal_time": (
             fig2_dims,
             per_case("fig2", "first_reversal_time"),
-            {"units": "s"},
+            outcome_units("first_reversal_time"),
         ),
-        "fig2_energy_final": (fig2_dims, per_case("fig2", "energy_final"), {"units": "J"}),
+        "fig2_energy_final": (
+            fig2_dims,
+            per_case("fig2", "energy_final"),
+            outcome_units("energy_final"),
+        ),
         "fig2_peak_reversed_spin": (
             fig2_dims,
             per_case("fig2", "peak_reversed_spin"),
-            {"units": "rad/s"},
+            outcome_units("peak_reversed_spin"),
         ),
         "energy_rest": (
             design_dim,
@@ -603,9 +613,13 @@ def atlas_dataset(
         "long_run_spin_crossing_count": (
             long_dims,
             per_case("fig3", "spin_crossing_count"),
-            {"units": "1"},
+            outcome_units("spin_crossing_count"),
         ),
-        "long_run_spin_final": (long_dims, per_case("fig3", "spin_final"), {"units": "rad/s"}),
+        "long_run_spin_final": (
+            long_dims,
+            per_case("fig3", "spin_final"),
+            outcome_units("spin_final"),
+        ),
         "long_run_reversal_times": (
             ("design", "long_case", "reversal"),
             np.stack([_padded(pair, width) for pair in long_times])

@@ -42,7 +42,7 @@ from celtstone.atlas.family import (
     highest_height_ratio,
     largest_misalignment,
 )
-from celtstone.atlas.fields import ATLAS_STUDY, _long_runs, hertz_study
+from celtstone.atlas.fields import ATLAS_STUDY, _long_runs, hertz_study, outcome_units
 from celtstone.errors import ParameterError
 from celtstone.reproduce import JUDGES, Study
 
@@ -295,8 +295,12 @@ def search_dataset(
             ),
             {"units": "1", "long_name": "held reversals in the 50 s run (decisions §8)"},
         ),
-        "spin_crossing_count": (case_dim, per_case("spin_crossing_count"), {"units": "1"}),
-        "spin_final": (case_dim, per_case("spin_final"), {"units": "rad/s"}),
+        "spin_crossing_count": (
+            case_dim,
+            per_case("spin_crossing_count"),
+            outcome_units("spin_crossing_count"),
+        ),
+        "spin_final": (case_dim, per_case("spin_final"), outcome_units("spin_final")),
         "reversal_times": (
             ("point", "long_case", "reversal"),
             table,

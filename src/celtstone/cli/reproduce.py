@@ -6,7 +6,7 @@ import argparse
 from collections.abc import Callable
 
 from celtstone.files.path_names import check_path_name
-from celtstone.reproduce.study import (
+from celtstone.reproduce import (
     REALISTIC_STUDIES,
     STUDIES,
     TARGETS,
@@ -98,7 +98,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 def handle(args: argparse.Namespace) -> int:
     """Run the targets; print where the report is."""
     from celtstone.atlas.target import AtlasTarget, atlas_grid
-    from celtstone.reproduce.targets import reproduce
+    from celtstone.reproduce import reproduce
 
     if str(args.out):  # the empty path: refused by reproduce, with its reason
         check_path_name(args.out, "out")  # before any run, not when the files are moved

@@ -67,8 +67,8 @@ class FrictionLawEntry:
         (|V1| [m/s], ε|Ω_n| [m/s], pressure code) -> (F/(fN), M/(fNε)) [1].
     disk : callable or None
         The closed-form kernel ``kernels.friction.contact_friction`` takes for the
-        disk, arguments as ``law_friction`` less the law; None: ``law_friction``, the
-        force and moment from ``functions``.
+        disk, arguments as ``contact_friction`` less the law; None: the force and moment
+        ``contact_friction`` forms from ``functions``.
     stick_limit : callable or None
         The closed form ``kernels.stick.limit_moment`` takes, (φ, pressure code) ->
         μ_max [1]; None: the bisection of ``functions`` (``stick.bisected_limit_moment``).

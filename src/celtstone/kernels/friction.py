@@ -8,7 +8,7 @@ u = |V1| / (ε|Ω_n|), given as the pair of speeds (|V1|, ε|Ω_n|) so that no u
 where it would overflow. :func:`law_functions` is the one compiled dispatch on the law
 code (``layout.FrictionLaw``): a law is a branch there and an entry in
 ``contact.laws.LAWS``. Everything else reads a law through it: the force and moment of
-the disk (:func:`law_friction`), the elliptic contact (``friction_ellipse``, the disk law
+the disk (:func:`contact_friction`), the elliptic contact (``friction_ellipse``, the disk law
 of radius A corrected), the stick limit set (``stick.limit_moment``) and
 :func:`has_friction_law`, by which the right-hand side reports an unknown law code
 (``system.code_status``). Zhuravlev's Padé law keeps closed forms of its own for the
@@ -117,7 +117,53 @@ def has_friction_law(law: int) -> bool:
 
 
 @kernel
-def law_friction(
+def pade_friction(
+    slip_velocity: Vec, spin_rate: float, contact_radius: float, regularisation_speed: float
+) -> tuple[Vec, float]:
+    """Zhuravlev–Padé law for the Hertz pressure, per unit f N (paper eq. 10, 12).
+
+    M0 = 3πfNε/16, b = 8/(3π), a = 15π/16 (:func:`pade_disk_friction` of the Hertz
+    pressure); arguments and returns as :func:`contact_friction`.
+    """
+    return pade_disk_friction(
+        slip_velocity, spin_rate, contact_radius, regularisation_speed, ContactPressure.HERTZ.value
+    )
+
+
+@kernel
+def pade_disk_friction(
+    slip_velocity: Vec,
+    spin_rate: float,
+    contact_radius: float,
+    regularisation_speed: float,
+    pressure: int,
+) -> tuple[Vec, float]:
+    """The Padé law on the disk for a pressure code, in the closed form of paper eq. (10);
+    arguments and returns as :func:`contact_friction`, NaN for an unknown pressure.
+
+    Notes
+    -----
+    Paper eq. (10): F = -F0 V1 / (|V1| + b|εΩn|), M = -M0 εΩn / (|εΩn| + a|V1|),
+    F0 = fN, with the pressure's b, a (:func:`pade_constants`) and M0
+    (:func:`zero_slip_moment`). The regularisation removes the 0/0 of the singular state
+    (eq. 11); see ``docs/decisions.md``.
+    """
+    force_b, moment_a = pade_constants(pressure)
+    speed = regularised_norm(slip_velocity, regularisation_speed)
+    pivot_speed = contact_radius * abs(spin_rate)
+    force = scale(-1.0 / (speed + force_b * pivot_speed), slip_velocity)
+    moment = (
+        -zero_slip_moment(pressure)
+        * contact_radius
+        * contact_radius
+        * spin_rate
+        / (pivot_speed + moment_a * speed)
+    )
+    return force, moment
+
+
+@kernel
+def contact_friction(
     slip_velocity: Vec,
     spin_rate: float,
     contact_radius: float,
@@ -125,8 +171,7 @@ def law_friction(
     law: int,
     pressure: int,
 ) -> tuple[Vec, float]:
-    """Friction force and pivoting moment of any law on the disk, per unit f N, from its
-    functions (:func:`law_functions`).
+    """Friction force and pivoting moment of a law on the disk, per unit f N.
 
     Parameters
     ----------
@@ -143,10 +188,16 @@ def law_friction(
 
     Notes
     -----
-    F = −fN F̂(u) V1/|V1|, M = −fNε M̂(u) sign Ω_n, u = |V1|/(ε|Ω_n|) (paper section 2);
-    ε → contact_radius. The regularisation removes the 0/0 of the singular state
-    (paper eq. 11, ``docs/decisions.md`` §4).
+    F = −fN F̂(u) V1/|V1|, M = −fNε M̂(u) sign Ω_n, u = |V1|/(ε|Ω_n|) (paper section 2),
+    with the law's functions F̂, M̂ (:func:`law_functions`); ε → contact_radius. The Padé
+    law takes its closed form (:func:`pade_disk_friction`, the same functions as paper
+    eq. 10 writes them). An unknown code gives NaN. The regularisation removes the 0/0 of
+    the singular state (paper eq. 11, ``docs/decisions.md`` §4).
     """
+    if law == FrictionLaw.PADE:
+        return pade_disk_friction(
+            slip_velocity, spin_rate, contact_radius, regularisation_speed, pressure
+        )
     speed = regularised_norm(slip_velocity, regularisation_speed)
     pivot_speed = contact_radius * abs(spin_rate)
     force_ratio, moment_ratio = law_functions(law, speed, pivot_speed, pressure)
@@ -155,113 +206,6 @@ def law_friction(
         force = scale(-force_ratio / speed, slip_velocity)
     moment = -math.copysign(moment_ratio * contact_radius, spin_rate) if spin_rate != 0.0 else 0.0
     return force, moment
-
-
-@kernel
-def zhuravlev_pade(
-    slip_velocity: Vec,
-    spin_rate: float,
-    contact_radius: float,
-    regularisation_speed: float,
-    force_b: float,
-    moment_a: float,
-    moment_zero: float,
-) -> tuple[Vec, float]:
-    """Friction force and pivoting moment of a Padé law with constants b, a, M0/(fNε).
-
-    Parameters
-    ----------
-    slip_velocity : V1, sliding velocity of the contact point [m/s]
-    spin_rate : Ω_n = ω · n, angular velocity about the vertical [rad/s]
-    contact_radius : ε, radius of the contact disk [m]
-    regularisation_speed : δ, speed scale replacing |V1| by sqrt(|V1|² + δ²) [m/s]
-    force_b, moment_a : b and a of paper eq. (10) [1]
-    moment_zero : M0 / (f N ε), the pivoting moment without slip [1]
-
-    Returns
-    -------
-    force : F / (f N) [1], antiparallel to V1
-    moment : M / (f N) [m], the moment about n, opposite in sign to Ω_n
-
-    Notes
-    -----
-    Paper eq. (10): F = -F0 V1 / (|V1| + b|εΩn|), M = -M0 εΩn / (|εΩn| + a|V1|),
-    F0 = fN. The regularisation removes the 0/0 of the singular state (eq. 11);
-    see ``docs/decisions.md``.
-    """
-    speed = regularised_norm(slip_velocity, regularisation_speed)
-    pivot_speed = contact_radius * abs(spin_rate)
-    force = scale(-1.0 / (speed + force_b * pivot_speed), slip_velocity)
-    moment = (
-        -moment_zero
-        * contact_radius
-        * contact_radius
-        * spin_rate
-        / (pivot_speed + moment_a * speed)
-    )
-    return force, moment
-
-
-@kernel
-def pade_friction(
-    slip_velocity: Vec, spin_rate: float, contact_radius: float, regularisation_speed: float
-) -> tuple[Vec, float]:
-    """Zhuravlev–Padé law for the Hertz pressure, per unit f N (paper eq. 10, 12).
-
-    M0 = 3πfNε/16, b = 8/(3π), a = 15π/16 (:func:`pade_disk_friction` of the Hertz
-    pressure); arguments and returns as in :func:`zhuravlev_pade`.
-    """
-    return pade_disk_friction(
-        slip_velocity, spin_rate, contact_radius, regularisation_speed, ContactPressure.HERTZ.value
-    )
-
-
-@kernel
-def pade_disk_friction(
-    slip_velocity: Vec,
-    spin_rate: float,
-    contact_radius: float,
-    regularisation_speed: float,
-    pressure: int,
-) -> tuple[Vec, float]:
-    """The Padé law on the disk for a pressure code, in the closed form of paper eq. (10)
-    (:func:`zhuravlev_pade` with the pressure's :func:`pade_constants` and
-    :func:`zero_slip_moment`); arguments and returns as :func:`law_friction`, NaN for an
-    unknown pressure."""
-    force_b, moment_a = pade_constants(pressure)
-    return zhuravlev_pade(
-        slip_velocity,
-        spin_rate,
-        contact_radius,
-        regularisation_speed,
-        force_b,
-        moment_a,
-        zero_slip_moment(pressure),
-    )
-
-
-@kernel
-def contact_friction(
-    slip_velocity: Vec,
-    spin_rate: float,
-    contact_radius: float,
-    regularisation_speed: float,
-    law: int,
-    pressure: int,
-) -> tuple[Vec, float]:
-    """Friction force and moment per unit f N for a law and pressure code.
-
-    The Padé law in its closed form (:func:`pade_disk_friction`), every other law from
-    its functions (:func:`law_friction`); arguments and returns as :func:`law_friction`.
-    An unknown code gives NaN.
-    """
-    if law == FrictionLaw.PADE:
-        return pade_disk_friction(
-            slip_velocity, spin_rate, contact_radius, regularisation_speed, pressure
-        )
-    return law_friction(
-        slip_velocity, spin_rate, contact_radius, regularisation_speed, law, pressure
-    )
 
 
 @kernel

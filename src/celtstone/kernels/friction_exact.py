@@ -23,7 +23,7 @@ power series of ``celtstone.contact.series``. The functions are checked against
 direct quadrature of the Coulomb integrals (``celtstone.contact.quadrature``) to
 about 1e-12 (``tests/physics/test_friction_exact.py``). ``friction.law_functions``
 dispatches to :func:`exact_friction_functions`; the force and moment vectors are
-``friction.law_friction``'s.
+``friction.contact_friction``'s.
 """
 
 from __future__ import annotations
