@@ -43,7 +43,7 @@ event.register("numba:compile", Listing())
 SLIDING_OR_STICK = (
     "celtstone.kernels.dynamics.sliding_acceleration",
     "celtstone.kernels.stick.stick_acceleration",
-    "celtstone.kernels.friction.law_friction",
+    "celtstone.kernels.friction.contact_friction",
     "celtstone.kernels.friction.pade_disk_friction",
     "celtstone.solvers.phases.run_phases",
 )
