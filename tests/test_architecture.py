@@ -32,6 +32,13 @@ def test_the_pictured_layers_are_the_contract_s() -> None:
     assert _pictured_layers() == _contract_layers()
 
 
+def test_no_contract_keeps_an_exception() -> None:
+    """The contracts describe the real floors: no import is ignored for convenience."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    for contract in config["tool"]["importlinter"]["contracts"]:
+        assert not contract.get("ignore_imports"), contract["name"]
+
+
 def test_every_package_init_only_hands_names_on() -> None:
     """No function or class is defined in a package's ``__init__.py``."""
     offenders = [
