@@ -43,7 +43,7 @@ import secrets
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 from celtstone.errors import ParameterError
 
@@ -619,3 +619,22 @@ class WriterLock:
 
     def __del__(self) -> None:
         self.release()
+
+
+class LockedOutput:
+    """An output this process writes while it holds the output's :class:`WriterLock`
+    (``_lock``, or None for an output opened unlocked): :meth:`close`, or the end of a
+    ``with`` block, lets another process write it."""
+
+    _lock: WriterLock | None = None
+
+    def close(self) -> None:
+        """Release the lock (again, or unlocked: nothing)."""
+        if self._lock is not None:
+            self._lock.release()
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

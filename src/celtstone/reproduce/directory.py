@@ -31,6 +31,7 @@ from typing import Any
 from celtstone.errors import ParameterError
 from celtstone.files.export import OVERWRITE_HINT
 from celtstone.files.ownership import (
+    LockedOutput,
     WriterLock,
     file_entry,
     foreign_file,
@@ -60,7 +61,7 @@ def _name_is_taken(out: Path, manifest: Mapping[str, Any]) -> None:
         )
 
 
-class ReproductionDirectory:
+class ReproductionDirectory(LockedOutput):
     """The directory ``out`` of a reproduction, locked while it is written.
 
     Parameters
@@ -104,17 +105,6 @@ class ReproductionDirectory:
         except BaseException:
             self.close()
             raise
-
-    def close(self) -> None:
-        """Release the lock (again: nothing)."""
-        if self._lock is not None:
-            self._lock.release()
-
-    def __enter__(self) -> ReproductionDirectory:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     # -- what is celtstone's -----------------------------------------------------------
 

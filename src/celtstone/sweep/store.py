@@ -46,7 +46,7 @@ import numpy as np
 
 from celtstone.errors import CeltstoneError, ParameterError
 from celtstone.files.export import output_error, replace_directory, temporary_directory
-from celtstone.files.ownership import WriterLock, check_replaceable
+from celtstone.files.ownership import LockedOutput, WriterLock, check_replaceable
 from celtstone.files.path_names import check_path_name
 from celtstone.simulation.outcome import OUTCOMES, RENAMED_OUTCOMES
 from celtstone.solvers import batch
@@ -261,7 +261,7 @@ def _build(
     group.attrs.update({**attrs, "format": FORMAT, "complete": False})
 
 
-class SweepStore:
+class SweepStore(LockedOutput):
     """An open sweep store (see the module docstring)."""
 
     def __init__(
@@ -271,17 +271,6 @@ class SweepStore:
         self.group = group
         self.layout = layout
         self._lock = lock
-
-    def close(self) -> None:
-        """Let another process write the store (release its lock); nothing if unlocked."""
-        if self._lock is not None:
-            self._lock.release()
-
-    def __enter__(self) -> SweepStore:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     @classmethod
     def create(
