@@ -221,12 +221,12 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
     # the helpers that need it: per step, those lookups and hand-overs cost about 10 %
     # of a rolling run (docs/decisions.md §43)
     arrays = LoopArrays(
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(table.shape[0]),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(table.shape[0]),
         work,
         methods.dense_arrays(work),
     )
