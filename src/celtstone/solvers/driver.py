@@ -381,12 +381,12 @@ call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers.
 # CPU on a 2-core machine, empty cache). A loop of auto or radau5 holds most of the code
 # of every method and compiles nearly as long as the model's loop with the method a
 # value, which serves every method of that model: those runs compile that one (the
-# sliding model: about 30 s, where the loop for every code, with every model's branches
+# sliding model: about 35 s, where the loop for every code, with every model's branches
 # and right-hand side, took some 4 s more).
 OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
-OWN_LOOP_SECONDS = 15.0
-MODEL_LOOP_SECONDS = 30.0
+OWN_LOOP_SECONDS = 16.0
+MODEL_LOOP_SECONDS = 35.0
 EVERY_CODE_SECONDS = 45.0
 
 
@@ -414,7 +414,8 @@ def integrate_link(
     if own_loop and MODEL_AND_METHOD:
         model_names = {int(code): code.name.lower() for code in ModelCode}
         subject = f"the {model_names.get(model, model)} model with {names.get(method, method)}"
-        constants, seconds = MODEL_AND_METHOD, OWN_LOOP_SECONDS
+        constants: tuple[int, ...] = MODEL_AND_METHOD
+        seconds = OWN_LOOP_SECONDS
         if method not in OWN_LOOP_METHODS:  # the model's loop, for every method
             constants, seconds = MODEL_AND_METHOD[:1], MODEL_LOOP_SECONDS
         with compiling(subject, seconds):
