@@ -122,6 +122,32 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
     assert names.count("celtstone.solvers._methods.interpolate_apart") == 1, names
 
 
+@pytest.mark.slow
+def test_a_first_sliding_run_compiles_only_the_sliding_model(tmp_path: Path) -> None:
+    """A first sliding run with auto compiles one run loop, for the sliding model as a
+    constant and the method a value (``driver.integrate_link``), and one right-hand side,
+    for the sliding model: none of the rolling or stick models' equations, and each
+    friction law's functions once (one type of pressure code)."""
+    code = """
+import celtstone as cs
+
+body = cs.load_body("kane_levinson_1982")
+state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
+cs.simulate(cs.SlidingModel(0.3, 1e-3), body, state, 0.01, n_samples=3).summary()
+"""
+    compiled = _compiled_in_new_process(code, tmp_path)
+    names = [name for name, _ in compiled]
+    loops = [types for name, types in compiled if name == "celtstone.solvers.driver.integrate"]
+    assert loops == [["Literal[int](1)", "int64", *loops[0][2:]]], (
+        "the run loop compiled once, for the sliding model (1), the method a value"
+    )
+    evaluated = [types for name, types in compiled if name == "celtstone.kernels.system.evaluate"]
+    assert [types[0] for types in evaluated] == ["Literal[int](1)"], evaluated
+    assert "celtstone.kernels.dynamics.rolling_acceleration" not in names
+    assert "celtstone.kernels.stick.stick_acceleration" not in names
+    assert names.count("celtstone.kernels.friction.law_functions") == 1, names
+
+
 class _Terminal(io.StringIO):
     def isatty(self) -> bool:
         return True

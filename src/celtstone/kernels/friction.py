@@ -113,7 +113,9 @@ def law_functions(
 @kernel
 def has_friction_law(law: int) -> bool:
     """Whether :func:`law_functions` has a branch for the code ``law`` (probed at u = 1)."""
-    return not math.isnan(law_functions(law, 1.0, 1.0, ContactPressure.HERTZ)[0])
+    # ``.value``: an int, as the kernels pass the pressure code; the enum member is a
+    # type of its own, for which numba would compile every law's functions once more
+    return not math.isnan(law_functions(law, 1.0, 1.0, ContactPressure.HERTZ.value)[0])
 
 
 @kernel

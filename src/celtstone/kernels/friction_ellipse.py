@@ -166,9 +166,11 @@ def elliptic_ratios(
     s = slip_coordinate(slip_speed, pivot_speed, aspect) * (SLIP_NODES - 1)
     beta = direction_coordinate(slip_major, slip_minor, aspect) * ((DIRECTION_NODES - 1) / HALF_PI)
     q = (log_aspect - LOG_ASPECT_MIN) * ((ASPECT_NODES - 1) / -LOG_ASPECT_MIN)
-    i, a0, a1, a2, a3 = _cubic_bspline(s, SLIP_NODES)
-    j, b0, b1, b2, b3 = _cubic_bspline(beta, DIRECTION_NODES)
-    m, c0, c1, c2, c3 = _cubic_bspline(q, ASPECT_NODES)
+    # ``+ 0``: the node counts as ints, not as numba constants, for which numba would
+    # compile ``_cubic_bspline`` once per count
+    i, a0, a1, a2, a3 = _cubic_bspline(s, SLIP_NODES + 0)
+    j, b0, b1, b2, b3 = _cubic_bspline(beta, DIRECTION_NODES + 0)
+    m, c0, c1, c2, c3 = _cubic_bspline(q, ASPECT_NODES + 0)
     slip_weights = (a0, a1, a2, a3)
     direction_weights = (b0, b1, b2, b3)
     aspect_weights = (c0, c1, c2, c3)

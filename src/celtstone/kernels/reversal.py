@@ -45,7 +45,7 @@ def rocking_average(times, spins, n, window, averaged):
     and last half-window are averaged over a shorter, one-sided window). Times need not
     be uniform. ``window`` <= 0 copies the spin.
     """
-    rocking_average_into(times, spins, n, window, averaged, np.empty(n))
+    rocking_average_into(times, spins, n, window, averaged, np.zeros(n))
 
 
 @kernel
@@ -71,8 +71,10 @@ def rocking_average_into(times, spins, n, window, averaged, cumulative):
         if not high > low:
             averaged[k] = spins[k]
             continue
-        below, low_segment = _integral_at(times, cumulative, spins, n, low, low_segment)
-        above, high_segment = _integral_at(times, cumulative, spins, n, high, high_segment)
+        # ``+ 0``: an int, where the segments start as the constant 0, for which numba
+        # would compile ``_integral_at`` once more
+        below, low_segment = _integral_at(times, cumulative, spins, n, low, low_segment + 0)
+        above, high_segment = _integral_at(times, cumulative, spins, n, high, high_segment + 0)
         averaged[k] = (above - below) / (high - low)
 
 

@@ -55,7 +55,7 @@ class Workspace(NamedTuple):
 def workspace(n):
     """A zeroed workspace for states of length n."""
     return Workspace(
-        np.zeros((N_STAGES_EXTENDED, n)), np.zeros((DENSE_ROWS, n)), np.empty(n), np.empty((2, n))
+        np.zeros((N_STAGES_EXTENDED, n)), np.zeros((DENSE_ROWS, n)), np.zeros(n), np.zeros((2, n))
     )
 
 

@@ -238,7 +238,7 @@ def dense(method, model, params, t, y, y_new, h, work, stats):
 def dense_arrays(work):
     """Every method's interpolant coefficients ``work.<method>.dense`` (contract item 7),
     indexed by method code; an empty array at a code that takes no steps itself (``auto``)."""
-    return (work.dop853.dense, work.radau5.dense, np.full((0, 0), np.nan), work.vern9.dense)
+    return (work.dop853.dense, work.radau5.dense, np.zeros((0, 0)), work.vern9.dense)
 
 
 @inlined

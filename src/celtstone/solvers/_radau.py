@@ -126,12 +126,12 @@ def workspace(n):
         np.zeros((3, n)),
         np.zeros(n),
         np.zeros(n, dtype=np.complex128),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
         np.zeros((DENSE_ROWS, n)),
-        np.empty(n),
+        np.zeros(n),
         memory,
     )
 

@@ -5,7 +5,7 @@ the pair (kernel parameter record, ``rhs_link``), where the methods' contract sa
 ``params`` (``_methods``, item 2: opaque to them, passed on to :func:`rhs`).
 :func:`rhs` calls ``kernels.system.evaluate`` at the address ``rhs_link``
 (``_linking``): compiled for the model code as a constant in a loop compiled for one
-model (``driver.OWN_LOOP_METHODS``: a rolling run's), for every model code in the loop
+model (``driver.integrate_link``: a first run's), for every model code in the loop
 for every code (:func:`rhs_link` makes both, Python side).
 
 numba links each callee's code into its caller and optimises and generates machine

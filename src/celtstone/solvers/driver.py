@@ -221,12 +221,12 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
     # the helpers that need it: per step, those lookups and hand-overs cost about 10 %
     # of a rolling run (docs/decisions.md §43)
     arrays = LoopArrays(
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(table.shape[0]),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(table.shape[0]),
         work,
         methods.dense_arrays(work),
     )
@@ -376,15 +376,17 @@ MODEL_AND_METHOD = () if internals_changed() else (0, 1)
 call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers._linking``
 
 
-# The methods whose run loops are compiled on their own for a model when the loop for
-# every code is not compiled yet: a first rolling run with vern9 compiles in about 20 s
-# of CPU, the loop for every code (a first sliding run's) in about 45 s (2-core machine,
-# empty cache). A loop of auto or radau5 holds most of the code of every method and
-# compiles nearly as long on its own (the sliding model with auto: 48.6 s against
-# 52.2 s), so those runs compile the loop for every code, which serves every later run.
+# The methods whose run loops are compiled for a model and method as constants when the
+# loop for every code is not compiled yet (a first rolling run with vern9: about 16 s of
+# CPU on a 2-core machine, empty cache). A loop of auto or radau5 holds most of the code
+# of every method and compiles nearly as long as the model's loop with the method a
+# value, which serves every method of that model: those runs compile that one (the
+# sliding model: about 35 s, where the loop for every code, with every model's branches
+# and right-hand side, took some 4 s more).
 OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
-OWN_LOOP_SECONDS = 20.0
+OWN_LOOP_SECONDS = 16.0
+MODEL_LOOP_SECONDS = 35.0
 EVERY_CODE_SECONDS = 45.0
 
 
@@ -396,11 +398,11 @@ def integrate_link(
     compiles it, saying so on a terminal when it compiles).
 
     The loop for every model and method code if it is compiled (in this process or
-    numba's cache: ``celtstone compile``, or an earlier run); else, with ``own_loop``
-    and a method of ``OWN_LOOP_METHODS``, the loop compiled for ``arguments``' model
-    and method as constants (``MODEL_AND_METHOD``), which compiles only their
-    branches; else the loop for every code, compiled now (the stick–slip loop's two
-    phases call one loop). Each calls the right-hand side at ``rhs_link``
+    numba's cache: ``celtstone compile``, or an earlier run); else, with ``own_loop``,
+    the loop compiled for ``arguments``' model as a constant and, for a method of
+    ``OWN_LOOP_METHODS``, its method too (``MODEL_AND_METHOD``), which compiles only
+    their branches; else the loop for every code, compiled now (the stick–slip loop's
+    two phases call one loop). Each calls the right-hand side at ``rhs_link``
     (``_system``), compiled for the model as a constant in a loop for one model.
     """
     placeholder = (*arguments, NO_LINK)  # for the argument types
@@ -409,12 +411,16 @@ def integrate_link(
         return every_code, rhs_link(arguments[2])
     model, method = int(arguments[0]), int(arguments[1])
     names = {code: name for name, code in METHODS.items()}
-    if own_loop and MODEL_AND_METHOD and method in OWN_LOOP_METHODS:
+    if own_loop and MODEL_AND_METHOD:
         model_names = {int(code): code.name.lower() for code in ModelCode}
-        subject = f"the {model_names.get(model, model)} model with {names[method]}"
-        with compiling(subject, OWN_LOOP_SECONDS):
+        subject = f"the {model_names.get(model, model)} model with {names.get(method, method)}"
+        constants: tuple[int, ...] = MODEL_AND_METHOD
+        seconds = OWN_LOOP_SECONDS
+        if method not in OWN_LOOP_METHODS:  # the model's loop, for every method
+            constants, seconds = MODEL_AND_METHOD[:1], MODEL_LOOP_SECONDS
+        with compiling(subject, seconds):
             to_rhs = rhs_link(arguments[2], model)
-            return link_to(integrate, placeholder, MODEL_AND_METHOD), to_rhs
+            return link_to(integrate, placeholder, constants), to_rhs
     with compiling("the run loop of every model and method", EVERY_CODE_SECONDS):
         to_rhs = rhs_link(arguments[2])
         return link_to(integrate, placeholder), to_rhs
