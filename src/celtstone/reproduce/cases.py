@@ -16,7 +16,7 @@ from celtstone.reproduce.parallel import map_in_threads, shared_run
 from celtstone.reproduce.progress import Progress
 from celtstone.reproduce.study import Study
 from celtstone.simulation.integrate import simulate, version
-from celtstone.simulation.models import Model
+from celtstone.simulation.models import HybridModel, Model
 from celtstone.simulation.outcome import json_number
 from celtstone.simulation.trajectory import Trajectory
 
@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 __all__ = [
     "case_key",
     "case_name",
+    "compile_run_loop",
     "compute_case",
     "provenance",
     "run_cases",
@@ -162,6 +163,27 @@ def compute_case(study: Study, body: Body, model: Model, t_end: float) -> Trajec
         atol=study.atol,
         progress=_keep_signals_live,
     )
+
+
+WARM_UP_TIME = 0.01
+"""Simulated time [s] of :func:`compile_run_loop`'s run: a few steps reach the loop."""
+
+
+def compile_run_loop(study: Study) -> None:
+    """Compile the run loop for every model and method (or load it from numba's cache)
+    with a short stick–slip run of ``study``'s body, before a reproduction's runs start.
+
+    Every run of a reproduction takes that loop once it is compiled
+    (``solvers.driver.integrate_link``), and its stick–slip runs need it anyway (their
+    phases call one loop). A rolling or sliding run that starts first, on an empty
+    cache, compiles a loop of its own for its model, which the other models cannot use:
+    a reproduction's first rolling run, computed ahead on the other core from its first
+    second, compiled one for nothing, and numba compiles one function at a time in a
+    process, so the other core waited for it too. Results do not change: every loop
+    gives the same numbers.
+    """
+    with quiet_friction_bound():
+        compute_case(study, study.load_body(), HybridModel(), WARM_UP_TIME)
 
 
 def _keep_signals_live(time: float) -> None:

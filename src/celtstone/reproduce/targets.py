@@ -25,7 +25,12 @@ from celtstone.files.export import (
     write_json,
 )
 from celtstone.files.ownership import file_entry
-from celtstone.reproduce.cases import case_key, compute_case, quiet_friction_bound
+from celtstone.reproduce.cases import (
+    case_key,
+    compile_run_loop,
+    compute_case,
+    quiet_friction_bound,
+)
 from celtstone.reproduce.directory import ReproductionDirectory
 from celtstone.reproduce.figure2 import figure2, figure2_models
 from celtstone.reproduce.figure3 import figure3, figure3_models
@@ -359,8 +364,12 @@ def _reproduce(
         bar.note(f"{words}: {duration_words(now - since)} ({duration_words(now - started)} in all)")
 
     # the runs of every study's targets computed ahead on the cores (``parallel``), quiet
-    # as each target's own are (``cases.quiet_friction_bound``: the filters are the process's)
+    # as each target's own are (``cases.quiet_friction_bound``: the filters are the process's),
+    # once the loop that every run can take is compiled (``cases.compile_run_loop``)
     try:
+        if studies:
+            bar.set_description("compiling the run loop (once)")
+            compile_run_loop(studies[0])
         with quiet_friction_bound(), sharing_runs() as runs:
             _plan(runs, chosen, studies)
             for target in _in_run_order(chosen):
