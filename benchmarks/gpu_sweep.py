@@ -38,6 +38,13 @@ the 64 × 64 grid on the GPU alone:
 ``--prepare DIR --model sliding --method auto --grid 12 --large 64 --copies 4``
 (the GPU stage's first compile is longer than the rolling model's: Radau's Newton
 iteration and LU on the thread).
+
+``--model stick_slip`` times the stick–slip contact (a sliding sweep's default) with the
+realistic contact (the Hertz ellipse of E = 3 GPa, ν = 0.35, the exact law, the dynamic
+load, rolling resistance 10 µm: ``reproduce.study.REALISTIC_CONTACT``), slip with
+``--method`` (the issue's row: ``auto``), stick with DOP853; each thread runs the CPU's
+phase loop with a phase log of its own. The issue's row is 64 × 64 points of 10 s:
+``--prepare DIR --model stick_slip --method auto --grid 12 --large 64 --copies 4``.
 """
 
 from __future__ import annotations
@@ -60,8 +67,23 @@ SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
 ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
 T_END = 10.0  # [s]
 COMPUTE_CAPABILITY = (9, 0)  # H100, H200: the --ptx stage's target
-# the sweeps this script times, by --model: the fixed settings of each
-MODELS: dict[str, dict[str, str]] = {"rolling": {}, "sliding": {"contact": "sliding"}}
+# the realistic contact (``reproduce.study.REALISTIC_CONTACT``, here to keep this script's
+# imports to the sweep)
+REALISTIC: dict[str, str | float] = {
+    "contact": "hybrid",
+    "contact_shape": "ellipse",
+    "elastic_modulus": 3e9,  # Pa
+    "poisson_ratio": 0.35,
+    "friction_law": "exact",
+    "rolling_resistance": 1e-5,  # m
+    "friction_load": "dynamic",
+}
+# the sweeps this script times, by --model: the sweep's model and its fixed settings
+MODELS: dict[str, tuple[str, dict[str, str | float]]] = {
+    "rolling": ("rolling", {}),
+    "sliding": ("sliding", {"contact": "sliding"}),
+    "stick_slip": ("sliding", REALISTIC),
+}
 
 
 def _write_whole(path: Path, force: bool, data: bytes) -> None:
@@ -96,13 +118,13 @@ def _grid(n: int) -> dict[str, np.ndarray]:
 
 
 def _sweep(n: int, method: str, model: str, device: str = "cpu") -> Any:
-    """The benchmark's sweep of ``model``: "rolling", or "sliding" on its own (the Padé
-    law on the disk with the default regularisation δ, no stick phases)."""
+    """The benchmark's sweep of ``model``: "rolling", "sliding" on its own (the Padé
+    law on the disk with the default regularisation δ, no stick phases), or
+    "stick_slip" (the realistic contact)."""
     from celtstone.sweep import Sweep
 
-    return Sweep(
-        _grid(n), model=model, t_end=T_END, method=method, device=device, fixed=MODELS[model]
-    )
+    name, fixed = MODELS[model]
+    return Sweep(_grid(n), model=name, t_end=T_END, method=method, device=device, fixed=fixed)
 
 
 def _kernel_inputs(sweep: Any) -> dict[str, Any]:
@@ -113,11 +135,13 @@ def _kernel_inputs(sweep: Any) -> dict[str, Any]:
     points = range(sweep.size)
     params, states = sweep.builder.arrays(points)
     spin = np.einsum("ij,ij->i", states[:, Y_OMEGA : Y_OMEGA + 3], states[:, Y_N : Y_N + 3])
+    captures = sweep.builder.capture_speeds(points) if sweep.is_hybrid else np.zeros(len(params))
     return {
         "params": params,
         "y0": states,
         "reversal_bands": reversal_bands(spin),
         "reversal_windows": sweep.builder.rocking_periods(points),
+        "capture_speeds": captures,  # 0: no stick phases
     }
 
 
@@ -146,6 +170,7 @@ def prepare(directory: Path, n: int, large: int, method: str, model: str, force:
         model=int(sweep.builder.model.code),
         model_name=model,
         method=method,
+        stick_method=sweep.stick_method,
         grid=n,
         t_end=sweep.t_end,
         rtol=sweep.rtol,
@@ -173,6 +198,7 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
     times) on the GPU, in launches that fit its memory; (results, seconds)."""
     from celtstone.solvers.batch import run_batch
     from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points
+    from celtstone.solvers.codes import DEFAULT_MAX_PHASES
 
     def tiled(name: str) -> np.ndarray:
         values = data[prefix + name]
@@ -181,9 +207,11 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
     y0 = tiled("y0")
     params = np.resize(tiled("params"), len(y0))  # the large grid keeps its one body's record
     bands, windows = tiled("reversal_bands"), tiled("reversal_windows")
+    captures = tiled("capture_speeds")
+    is_hybrid = bool(np.any(captures > 0.0))
     samples = data["sample_times"]
     capacity = KEPT_CROSSINGS if np.any(windows <= 0.0) else 1
-    size = launch_points(len(samples), capacity)
+    size = launch_points(len(samples), capacity, DEFAULT_MAX_PHASES if is_hybrid else 0)
     start = time.perf_counter()
     parts = []
     for first in range(0, len(params), size):
@@ -201,6 +229,8 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
                 reversal_bands=bands[part],
                 reversal_windows=windows[part],
                 max_steps=int(data["max_steps"]),
+                capture_speeds=captures[part] if is_hybrid else None,
+                stick_method_name=str(data["stick_method"]),
                 device="cuda",
             )
         )
@@ -211,8 +241,11 @@ def _first_launch(directory: Path) -> float:
     """Seconds of one point's first launch in this process: compiling the kernel, or
     loading it from numba's cache."""
     data = _load(directory / "inputs.npz", "--prepare")
-    one = {k: data[k][:1] for k in ("params", "y0", "reversal_bands", "reversal_windows")}
-    one.update({k: data[k] for k in ("model", "method", "rtol", "atol", "max_steps")})
+    per_point = ("params", "y0", "reversal_bands", "reversal_windows", "capture_speeds")
+    one = {k: data[k][:1] for k in per_point}
+    one.update(
+        {k: data[k] for k in ("model", "method", "stick_method", "rtol", "atol", "max_steps")}
+    )
     one.update(t_end=0.01, sample_times=np.array([0.0, 0.01]))
     return _run(one)[1]
 
@@ -343,23 +376,12 @@ def ptx(directory: Path, methods: list[str], model_name: str) -> None:
         dispatcher.get_current_device = lambda: _Device()  # type: ignore[attr-defined]
     except ImportError:
         raise SystemExit("--ptx needs numba-cuda (pip install numba-cuda[cu12])") from None
-    from celtstone.kernels.layout import N_STATE
-    from celtstone.solvers import _auto, _radau, batch_cuda
-    from celtstone.solvers._events import event_table
-    from celtstone.solvers.batch import N_FIELDS
+    from celtstone.solvers import batch_cuda
+    from celtstone.solvers._structures import Controls
+    from celtstone.solvers.batch import Points
+    from celtstone.solvers.codes import METHODS
 
     directory.mkdir(parents=True, exist_ok=True)
-    sweep = _sweep(1, methods[0], model_name)
-    params, y0 = sweep.builder.arrays([0])
-    model = int(sweep.builder.model.code)
-    zeros = np.zeros
-    buffers = batch_cuda.Buffers(
-        params, y0, zeros(1), zeros(1), event_table(model, 0.0), zeros(3),
-        zeros((1, 3, N_STATE)), zeros((1, 3)), zeros((1, 3)), zeros((1, 3)), zeros((1, 1)),
-        zeros((1, N_FIELDS)), zeros((1, 1), _radau.MEMORY), zeros((1, 1), _auto.RECORD),
-    )  # fmt: skip
-    run = batch_cuda.Run(1.0, 1e-8, 1e-12, 100, (0, 0))
-    signature = types.void(typeof(run), typeof(buffers))
     batch_cuda.declare_device_functions()
     ptxas = shutil.which("ptxas") or next(
         (str(p) for p in Path(sys.prefix).glob("lib/python*/site-packages/nvidia/*/bin/ptxas")),
@@ -367,8 +389,26 @@ def ptx(directory: Path, methods: list[str], model_name: str) -> None:
     )
     summary: dict[str, Any] = {}
     for method in methods:
-        code = batch_cuda.CUDA_METHODS[method]
-        source = batch_cuda._ensemble_source(model, code, batch_cuda.SOURCE_KEY)
+        sweep = _sweep(1, method, model_name)
+        inputs = _kernel_inputs(sweep)
+        points = Points(
+            inputs["params"],
+            inputs["y0"],
+            inputs["reversal_bands"],
+            inputs["reversal_windows"],
+            inputs["capture_speeds"],
+        )
+        launch = batch_cuda.launch_inputs(
+            int(sweep.builder.model.code),
+            (METHODS[method], METHODS[sweep.stick_method]),
+            points,
+            T_END,
+            Controls(sweep.rtol, sweep.atol, 0.0, 0.0, sweep.max_steps, True),
+            sweep.sample_times,
+            batch_cuda.KEPT_CROSSINGS,
+        )
+        signature = types.void(typeof(launch.run), typeof(launch.host_buffers()))
+        source = batch_cuda._ensemble_source(*launch.kernel, batch_cuda.SOURCE_KEY)
         start = time.perf_counter()
         with batch_cuda.direct_rhs():
             text, _ = cuda.compile_ptx(source, signature, cc=COMPUTE_CAPABILITY)
@@ -408,7 +448,8 @@ def main() -> None:
         "--model",
         default="rolling",
         choices=tuple(MODELS),
-        help="rolling (default), or sliding: the Padé law on the disk, no stick phases",
+        help="rolling (default); sliding: the Padé law on the disk, no stick phases; "
+        "stick_slip: the realistic contact",
     )
     parser.add_argument("--grid", type=int, default=32, help="points per axis, CPU and GPU")
     parser.add_argument("--large", type=int, default=256, help="points per axis, GPU only")

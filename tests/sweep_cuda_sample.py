@@ -14,7 +14,12 @@ sliding points (no stick phases) over 2 s, with the Padé law on the disk and th
 friction load, and three with the exact law and the dynamic load: runs that reverse and
 runs that do not, and from none to 19 spin sign changes. (A spin that starts at zero
 chatters about it while the slip decides its sense: with an explicit method that takes
-millions of steps, too many for a test.)
+millions of steps, too many for a test.) The stick–slip points (the sliding model's
+default contact) over 1 s, with the realistic contact (the Hertz ellipse of E = 3 GPa,
+ν = 0.35, the exact law, the dynamic load, rolling resistance 10 µm): runs that stay in
+slip, runs with from 3 to 40 phases and up to 30 rejected captures, one that reverses.
+For them the sample also runs ``solvers.batch.run_batch`` with a phase log too short
+for most (``SHORT_PHASE_LOG``) on both, into ``max_phases.npz``.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 SWEEPS = {
     "rolling": {
@@ -46,8 +52,25 @@ SWEEPS = {
         "fixed": {"contact": "sliding", "friction_law": "exact", "friction_load": "dynamic"},
         "model": "sliding",
     },
+    "stick_slip": {
+        "points": {
+            "initial_spin": [-6.0, -2.0, 0.0, -6.0, -2.0, 0.0],
+            "euler_alpha": [5.0, 5.0, 5.0, 20.0, 20.0, 20.0],
+        },
+        "t_end": 1.0,  # s
+        "fixed": {  # the realistic contact (``reproduce.study.REALISTIC_CONTACT``)
+            "contact_shape": "ellipse",
+            "elastic_modulus": 3e9,  # Pa
+            "poisson_ratio": 0.35,
+            "friction_law": "exact",
+            "rolling_resistance": 1e-5,  # m
+            "friction_load": "dynamic",
+        },
+        "model": "sliding",
+    },
 }
 CHUNK_POINTS = 2  # three blocks: the interruption falls after the first
+SHORT_PHASE_LOG = 4  # phases: the stick–slip points of more stop with status max_phases
 
 
 def main() -> int:
@@ -92,8 +115,38 @@ def main() -> int:
         except ParameterError as error:
             refusals.append(str(error))
     report["refusals"] = refusals
+    if gpu.is_hybrid:
+        _short_phase_log(gpu, directory)
     (directory / "report.json").write_text(json.dumps(report))
     return 0
+
+
+def _short_phase_log(sweep: Any, directory: Path) -> None:
+    """``run_batch`` of the stick–slip points with a phase log of ``SHORT_PHASE_LOG``
+    phases, on the CPU and on the (simulated) GPU, into ``max_phases.npz``."""
+    import numpy as np
+
+    from celtstone.solvers.batch import run_batch
+
+    builder = sweep.builder
+    indices = range(builder.n_points)
+    params, y0 = builder.arrays(indices)
+    settings = {
+        "rtol": sweep.rtol,
+        "atol": sweep.atol,
+        "sample_times": sweep.sample_times,
+        "reversal_bands": np.full(len(params), 0.05),
+        "capture_speeds": builder.capture_speeds(indices),
+        "max_phases": SHORT_PHASE_LOG,
+        "stick_method_name": sweep.stick_method,
+    }
+    t_end = sweep.t_end
+    model, method = int(builder.model.code), sweep.method
+    results = {
+        device: run_batch(model, method, params, y0, t_end, device=device, **settings)
+        for device in ("cpu", "cuda")
+    }
+    np.savez(directory / "max_phases.npz", **results)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@ No GPU is needed. numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) runs the G
 thread's Python with celtstone's kernels as their compiled CPU code, so the oracle is
 the CPU sweep itself: every result field must agree to the last bit and every count
 exactly, the reversals and the spin's zero crossings (located inside each step on both)
-included. The sample (``tests/sweep_cuda_sample.py``) runs in a process of its own,
+included; for the stick–slip contact (the realistic contact: Hertz ellipse, exact law,
+rolling resistance) also with a phase log too short for some points (``max_phases``).
+The sample (``tests/sweep_cuda_sample.py``) runs in a process of its own,
 since the simulator is chosen when numba is imported. On this machine, without a GPU,
 asking for one is a one-line error (exit 2), never a run on the CPU.
 """
@@ -36,7 +38,9 @@ COVERAGE = {
     "rolling": ([0, 1, 1, 0, 0], ["success"] * 4 + ["lift_off"]),
     "sliding": ([0, 0, 1, 1, 0], ["success"] * 5),
     "sliding_exact_dynamic": ([0, 1, 0], ["success"] * 3),
+    "stick_slip": ([0, 0, 0, 0, 0, 3], ["success"] * 6),
 }
+MAX_PHASES = "max_phases"  # the status of a stick–slip run whose phase log is full
 # (sweep of the sample, method): every method on each model; the other sliding sweep takes
 # the default method of a sliding sweep
 RUNS = [
@@ -47,6 +51,7 @@ RUNS = [
     ("sliding", "radau5"),
     ("sliding", "auto"),
     ("sliding_exact_dynamic", "auto"),
+    ("stick_slip", "auto"),
 ]
 
 
@@ -96,6 +101,21 @@ def test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator(
     workers, scheduler = report["refusals"]
     assert workers.startswith("workers = 2 is not allowed: expected no value with device cuda")
     assert scheduler.startswith("scheduler = 'tcp://127.0.0.1:1' is not allowed")
+    if sweep == "stick_slip":
+        _assert_same_with_a_short_phase_log(tmp_path)
+
+
+def _assert_same_with_a_short_phase_log(directory: Path) -> None:
+    """The stick–slip points with a phase log too short for three of them: the GPU's
+    result array is the CPU's, bit for bit, those three stopped with ``max_phases``."""
+    from celtstone.solvers.batch import COLUMN
+    from celtstone.solvers.codes import status_label
+
+    results = np.load(directory / "max_phases.npz")
+    cpu, gpu = results["cpu"], results["cuda"]
+    statuses = [status_label(int(code)) for code in cpu[:, COLUMN.status]]
+    assert statuses.count(MAX_PHASES) == 3 and statuses.count("success") == 3, statuses
+    np.testing.assert_array_equal(gpu, cpu, strict=True)
 
 
 def test_cuda_without_a_gpu_is_one_line_and_exit_2(tmp_path: Path) -> None:
@@ -117,15 +137,27 @@ def test_cuda_without_a_gpu_is_one_line_and_exit_2(tmp_path: Path) -> None:
 
 
 def test_auto_takes_the_cpu_where_the_gpu_cannot_run() -> None:
-    sweep = Sweep({"initial_spin": [-5.0]}, model="sliding", device="auto")
-    assert sweep.device == "cpu"
-    if not _gpu_here():
-        assert Sweep({"initial_spin": [-5.0]}, model="rolling", device="auto").device == "cpu"
+    if _gpu_here():
+        pytest.skip("a CUDA GPU is here: auto takes it")
+    for model in ("rolling", "sliding"):
+        assert Sweep({"initial_spin": [-5.0]}, model=model, device="auto").device == "cpu"
 
 
-def test_cuda_names_what_the_gpu_cannot_run() -> None:
-    with pytest.raises(ParameterError, match=r"the stick-slip contact \(contact=hybrid, a sli"):
-        Sweep({"initial_spin": [-5.0]}, model="sliding", device="cuda")
+@pytest.mark.parametrize("fixed", [{}, {"contact": "hybrid", "stick_method": "vern9"}])
+def test_cuda_takes_the_stick_slip_contact(fixed: dict[str, str]) -> None:
+    """A sliding sweep's default contact, stick–slip: only the missing GPU refuses it."""
+    if _gpu_here():
+        pytest.skip("a CUDA GPU is here: the sweep would run on it")
+    stick_method = fixed.pop("stick_method", None) if fixed else None
+    with pytest.raises(ParameterError, match="no CUDA GPU") as refused:
+        Sweep(
+            {"initial_spin": [-5.0]},
+            model="sliding",
+            fixed=fixed,
+            stick_method=stick_method,
+            device="cuda",
+        )
+    assert "not allowed" in str(refused.value) and "runs on the cpu" not in str(refused.value)
 
 
 @pytest.mark.parametrize("method", ["vern9", "dop853", "radau5", "auto"])

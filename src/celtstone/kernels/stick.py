@@ -268,7 +268,8 @@ def capture_state(y, params, out) -> None:
     slip = (y[Y_SLIP], y[Y_SLIP + 1], y[Y_SLIP + 2])
     r, _ = contact(n, (0.0, 0.0, 0.0), params)
     omega_after = stick_projection(n, omega, slip, r, params)
-    out[:] = y
+    for j in range(y.shape[0]):  # a loop: a GPU thread runs this too (no slice copy in CUDA)
+        out[j] = y[j]
     for k in range(3):
         out[Y_OMEGA + k] = omega_after[k]
         out[Y_SLIP + k] = 0.0

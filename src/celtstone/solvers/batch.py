@@ -360,7 +360,8 @@ def run_batch(
     stick_method_name : method of the stick phases (hybrid contact)
     max_phases : phase-log capacity of each hybrid run
     device : "cpu", or "cuda": one GPU thread per point (``batch_cuda.run_points``, the
-        same loop and reduction compiled for CUDA), for the models and methods it runs
+        same loops and reduction compiled for CUDA), for the models and methods it runs,
+        the hybrid contact included
 
     Returns
     -------
@@ -384,7 +385,14 @@ def run_batch(
         from celtstone.solvers.batch_cuda import run_points
 
         return run_points(
-            int(model), methods, points, float(t_end), controls, sample_times, max_crossings
+            int(model),
+            methods,
+            points,
+            float(t_end),
+            controls,
+            sample_times,
+            max_crossings,
+            max_phases,
         )
     if device != "cpu":
         raise ValueError(f"no device {device!r}: cpu or cuda")

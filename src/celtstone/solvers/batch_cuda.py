@@ -2,16 +2,23 @@
 
 ``run_points`` is ``batch.run_batch`` with ``device="cuda"``: the same points and the
 same result array (``batch.FIELDS`` columns, ``batch._reduce``'s numbers), for the
-rolling model and the sliding model without stick phases (``CUDA_MODELS``), with every
-method (``CUDA_METHODS``). Each thread integrates one point with the code the CPU runs,
-compiled by numba for CUDA from the same Python source, so no equation, method, loop or
-reduction is written twice:
+rolling model and the sliding model (``CUDA_MODELS``), the stick–slip contact
+included, with every method (``CUDA_METHODS``). Each thread integrates one point with
+the code the CPU runs, compiled by numba for CUDA from the same Python source, so no
+equation, method, loop or reduction is written twice:
 
 * the run loop ``driver.run_loop``, which ``driver.integrate`` runs on the CPU: the
   methods' dispatch (``_methods``), so ``auto`` switches between DOP853 and Radau on the
   thread as on the CPU; the events of ``_events``, spin zero crossings located inside
   each step on the method's interpolant, pairs of crossings inside one step included,
   so the reversal counts agree exactly; the samples, filled from the same interpolant;
+* for the stick–slip contact, the phase loop ``phases.phase_loop``, which
+  ``phases.run_phases`` runs on the CPU: its phase log (one per point, its capacity
+  ``max_phases``, so ``STATUS_MAX_PHASES`` where the CPU has it), its capture impulses
+  and rejected captures; each phase runs ``driver.run_loop`` on the thread's arrays
+  (``_phase_on_thread``, in place of ``phases.integrate_phase``, which calls
+  ``driver.integrate`` at a CPU address), its methods' workspaces set as
+  ``driver.integrate`` makes them for a phase (``_fresh_workspaces``);
 * the reduction ``batch._reduce`` (reversals with their band and rocking window, final
   spin, energy lost, tilt, normal force, energy budget).
 
@@ -27,7 +34,8 @@ system is the parameter record and a link); a GPU cannot call a CPU address, so 
 the kernel compiles for CUDA the solvers call the kernels' own right-hand side directly
 on the record (``direct_rhs``); the loop's stop request, which no host thread can make
 of a GPU thread, reads False, and its array copies are loops. numba's simulator runs the
-CPU's compiled code, and there the thread passes the CPU's system, link included.
+CPU's compiled code, and there the thread passes the CPU's system, link included;
+there the phase loop's integrator is replaced for the launch alone (``_phases_on_thread``).
 
 The sliding model's kernels choose the contact shape at run time, so every sliding
 kernel holds the elliptic contact's table (``kernels.friction_ellipse``, 1.18 MB), which
@@ -65,13 +73,14 @@ except ImportError:  # pragma: no cover - a numba without one
     cuda = None  # type: ignore[assignment]
 
 from celtstone.kernels.layout import N_STATE, ModelCode
-from celtstone.solvers import _auto, _dop853, _radau, _stop, _system, _vern9
+from celtstone.solvers import _auto, _dop853, _radau, _stop, _system, _vern9, phases
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._structures import Controls, Output
+from celtstone.solvers._structures import Controls, HybridSettings, Output, PhaseLog
 from celtstone.solvers.batch import N_FIELDS, Points, _reduce
 from celtstone.solvers.codes import (
+    DEFAULT_MAX_PHASES,
     METHOD_AUTO,
     METHOD_DOP853,
     METHOD_RADAU5,
@@ -85,19 +94,24 @@ __all__ = [
     "CUDA_MODELS",
     "CUDA_MODEL_NAMES",
     "KEPT_CROSSINGS",
+    "ONE_MODEL",
     "THREADS_PER_BLOCK",
     "Buffers",
+    "Launch",
+    "PhaseArrays",
     "Run",
     "bytes_per_point",
     "cuda_unavailable_reason",
     "device_name",
     "in_simulator",
+    "launch_inputs",
     "launch_points",
     "run_points",
 ]
 
 CUDA_MODELS = (int(ModelCode.ROLLING), int(ModelCode.SLIDING))
-"""Model codes a GPU thread runs: rolling, and sliding on its own (no stick phases)."""
+"""Model codes a GPU thread runs: rolling, and sliding, on its own or in the stick–slip
+contact's slip phases (its stick phases run ``MODEL_STICK``)."""
 CUDA_MODEL_NAMES = tuple(ModelCode(code).name.lower() for code in CUDA_MODELS)
 """Their names, as ``Sweep(model=...)`` takes them."""
 CUDA_METHODS = {
@@ -115,6 +129,7 @@ THREADS_PER_BLOCK = 64  # 32 to 256 made no difference (docs/decisions.md §44)
 CONSTANT_MEMORY_LIMIT = 16_384  # [bytes]: a larger frozen array goes to global memory
 KEPT_CROSSINGS = 100_000  # crossing times a point keeps where they time reversals, as on the CPU
 MAX_EVENT_ROWS = 3  # lift-off, phase change, spin crossing (``_events.event_table``)
+ONE_MODEL = -1  # the stick method of a launch without stick phases (``_kernel``)
 # the thread's workspace arrays, sized for the larger of the two methods
 MAX_STAGES = max(_vern9.N_STAGES_EXTENDED, _dop853.N_STAGES_EXTENDED)
 MAX_DENSE_ROWS = max(_vern9.DENSE_ROWS, _dop853.DENSE_ROWS)
@@ -168,9 +183,12 @@ class Buffers(NamedTuple):
     spins, averaged, cumulative : each point's ``_reduce`` buffers, shape (k, m)
     crossings : each point's spin zero crossing times [s], shape (k, capacity)
     results : each point's result fields (``batch.FIELDS``), shape (k, N_FIELDS)
-    radau_memory : each point's Radau scalars (``_radau.MEMORY``), shape (k, 1), as
-        ``_radau.workspace`` sets them before a run
+    radau_memory : each point's Radau scalars (``_radau.MEMORY``), shape (k, 1)
+    radau_start : Radau's scalars as ``_radau.workspace`` sets them before a run or a
+        phase, shape (1,)
     switching : each point's ``auto`` switching record (``_auto.RECORD``), shape (k, 1)
+    phases : the stick–slip contact's arrays (:class:`PhaseArrays`; one row, unread,
+        in a launch without stick phases)
     """
 
     params: Any
@@ -186,7 +204,38 @@ class Buffers(NamedTuple):
     crossings: Any
     results: Any
     radau_memory: Any
+    radau_start: Any
     switching: Any
+    phases: Any
+
+
+class PhaseArrays(NamedTuple):
+    """A launch's arrays of the stick–slip contact, k points of m samples, each with a
+    phase log of capacity c (``_structures.PhaseLog``, ``phases.PhaseBuffers``).
+
+    Parameters
+    ----------
+    capture_speeds : each point's v_c [m/s], shape (k,)
+    slip_tables : each point's events of slip, the capture event at its v_c, shape
+        (k, rows) (``_events.event_table``)
+    stick_table : the events of stick, shape (rows,)
+    phase_times : each point's sample times of a phase in its own time [s], shape (k, m)
+    log_sample_times, log_sample_phase : each point's ``PhaseLog.sample_times`` [s] and
+        ``sample_phase`` (int8), shape (k, m)
+    log_kind, log_start, log_end, log_energy_jump : each point's ``PhaseLog.kind``
+        (int8), ``start``, ``end`` [s] and ``energy_jump`` [J], shape (k, c)
+    """
+
+    capture_speeds: Any
+    slip_tables: Any
+    stick_table: Any
+    phase_times: Any
+    log_sample_times: Any
+    log_sample_phase: Any
+    log_kind: Any
+    log_start: Any
+    log_end: Any
+    log_energy_jump: Any
 
 
 class ThreadWorkspace(NamedTuple):
@@ -201,12 +250,12 @@ class ThreadWorkspace(NamedTuple):
     error_terms: Any  # (2, N_STATE): DOP853's
 
 
-def _thread_arrays(method, memory, switching):
+def _thread_arrays(memory, switching):
     """The ``driver.LoopArrays`` of a thread, in its local memory, as ``driver.integrate``
-    makes them before a run: the explicit methods share one ``ThreadWorkspace``; Radau's
-    arrays are zeroed (CUDA's local arrays start undefined). Radau's scalars ``memory``
-    and ``auto``'s switching record ``switching`` (shape (1,) each) are the launch's,
-    set before it (``run_points``)."""
+    makes them before a run: the explicit methods share one ``ThreadWorkspace``. Radau's
+    scalars ``memory`` and ``auto``'s switching record ``switching`` (shape (1,) each)
+    are the launch's. CUDA's local arrays start undefined: :func:`_fresh_workspaces` sets
+    them before each run or phase."""
     loop = cuda.local.array((5, N_STATE), float64)  # f, y_new, f_new, point, scratch
     values = cuda.local.array(MAX_EVENT_ROWS, float64)
     stages = cuda.local.array((MAX_STAGES, N_STATE), float64)
@@ -224,21 +273,6 @@ def _thread_arrays(method, memory, switching):
     vectors = cuda.local.array((6, N_STATE), float64)
     complex_rhs = cuda.local.array(N_STATE, complex128)
     radau_dense = cuda.local.array((RADAU_DENSE_ROWS, N_STATE), float64)
-    if method == METHOD_RADAU5 or method == METHOD_AUTO:
-        for i in range(N_STATE):
-            for j in range(N_STATE):
-                jacobian[i, j] = 0.0
-                lu_real[i, j] = 0.0
-                lu_complex[i, j] = 0.0
-            pivots[0, i] = 0
-            pivots[1, i] = 0
-            for k in range(3):
-                collocation[k, i] = 0.0
-                transformed[k, i] = 0.0
-                stage_rates[k, i] = 0.0
-                radau_dense[k, i] = 0.0
-            vectors[0, i] = 0.0  # the real right-hand side
-            complex_rhs[i] = 0.0
     radau = _radau.Workspace(
         jacobian, lu_real, lu_complex, pivots[0], pivots[1], collocation, transformed,
         stage_rates, vectors[0], complex_rhs, vectors[1], vectors[2], vectors[3], vectors[4],
@@ -252,11 +286,56 @@ def _thread_arrays(method, memory, switching):
     return LoopArrays(loop[0], loop[1], loop[2], loop[3], loop[4], values, work, dense_of)
 
 
-def _thread(model, method, point, run, buffers):
+@inlined
+def _fresh_workspaces(method, work, radau_start):
+    """Set a thread's workspaces ``work`` (:func:`_thread_arrays`) for a run or a phase of
+    ``method`` as ``_methods.workspaces`` makes them for ``driver.integrate``: the arrays
+    it zeroes zeroed, Radau's scalars from ``radau_start`` (``_radau.workspace``'s);
+    ``auto``'s switching record is set by its ``start``."""
+    if method != METHOD_RADAU5:  # DOP853 (auto's too) or Verner: one shared workspace
+        explicit = work.dop853
+        for j in range(explicit.stages.shape[1]):
+            for k in range(explicit.stages.shape[0]):
+                explicit.stages[k, j] = 0.0
+            for k in range(explicit.dense.shape[0]):
+                explicit.dense[k, j] = 0.0
+    if method == METHOD_RADAU5 or method == METHOD_AUTO:
+        radau = work.radau5
+        for i in range(radau.jacobian.shape[0]):
+            for j in range(radau.jacobian.shape[1]):
+                radau.jacobian[i, j] = 0.0
+                radau.lu_real[i, j] = 0.0
+                radau.lu_complex[i, j] = 0.0
+            radau.pivots_real[i] = 0
+            radau.pivots_complex[i] = 0
+            for k in range(3):
+                radau.collocation[k, i] = 0.0
+                radau.transformed[k, i] = 0.0
+                radau.stage_rates[k, i] = 0.0
+            for k in range(radau.dense.shape[0]):
+                radau.dense[k, i] = 0.0
+            radau.real_rhs[i] = 0.0
+            radau.complex_rhs[i] = 0.0
+        radau.memory[0] = radau_start[0]
+
+
+@inlined
+def _phase_on_thread(integrator, kind, model, method, params, y, t_end, controls, table, output):
+    """``phases.integrate_phase`` on a thread: ``driver.run_loop`` from ``y`` (overwritten)
+    on the thread's arrays, its workspaces set first as ``driver.integrate`` sets a
+    phase's. ``integrator`` is (``driver.LoopArrays``, the run's system, Radau's
+    scalars before a run); the record ``params`` is the system's own."""
+    arrays, system, radau_start = integrator
+    _fresh_workspaces(method, arrays.work, radau_start)
+    return run_loop(model, method, system, y, t_end, controls, table, output, arrays)
+
+
+def _thread(model, method, stick_method, point, run, buffers):
     """Integrate and reduce point ``point`` of the launch into ``buffers.results[point]``
-    with the CPU's loop (``driver.run_loop``) and reduction (``batch._reduce``) (a CUDA
-    device function; ``model`` and ``method`` are compile-time constants, so only their
-    branches are compiled)."""
+    with the CPU's loops (``driver.run_loop``; with a ``stick_method``, the stick–slip
+    contact's ``phases.phase_loop``) and reduction (``batch._reduce``) (a CUDA device
+    function; ``model``, ``method`` and ``stick_method`` are compile-time constants, so
+    only their branches are compiled)."""
     y = cuda.local.array(N_STATE, float64)
     final_state = cuda.local.array(N_STATE, float64)
     stats = cuda.local.array(N_STATS, int64)
@@ -269,11 +348,19 @@ def _thread(model, method, point, run, buffers):
     output = Output(
         buffers.sample_times, buffers.samples[point], buffers.crossings[point], stats, final_state
     )
-    arrays = _arrays_device(method, buffers.radau_memory[point], buffers.switching[point])
-    end = run_loop(
-        model, method, _system_device(params, run), y, run.t_end, run.controls, buffers.table,
-        output, arrays,
-    )  # fmt: skip
+    arrays = _arrays_device(buffers.radau_memory[point], buffers.switching[point])
+    system = _system_device(params, run)
+    times = buffers.sample_times
+    if stick_method == ONE_MODEL:
+        _fresh_workspaces(method, arrays.work, buffers.radau_start)
+        end = run_loop(
+            model, method, system, y, run.t_end, run.controls, buffers.table, output, arrays
+        )
+    else:
+        end = _phases_device(
+            method, stick_method, point, params, system, y, run, buffers, output, arrays
+        )
+        times = buffers.phases.log_sample_times[point]
     reversal = (
         buffers.reversal_bands[point],
         buffers.reversal_windows[point],
@@ -286,7 +373,7 @@ def _thread(model, method, point, run, buffers):
         params,
         y0,
         end,
-        buffers.sample_times,
+        times,
         output.samples,
         output.crossings,
         reversal,
@@ -294,6 +381,38 @@ def _thread(model, method, point, run, buffers):
         arrays.scratch,
         buffers.results[point],
     )
+
+
+def _phases(method, stick_method, point, params, system, y, run, buffers, output, arrays):
+    """The stick–slip contact's run of point ``point`` from ``y`` (its initial state) by
+    the CPU's phase loop ``phases.phase_loop``, slip with ``method``, stick with
+    ``stick_method``, into ``output`` and the point's phase log; returns the ``RunEnd``
+    (a CUDA device function)."""
+    captured = cuda.local.array(N_STATE, float64)
+    spare_crossings = cuda.local.array(1, float64)
+    arrays_of = buffers.phases
+    hybrid = HybridSettings(method, stick_method, arrays_of.capture_speeds[point])
+    log = PhaseLog(
+        arrays_of.log_sample_times[point],
+        arrays_of.log_sample_phase[point],
+        arrays_of.log_kind[point],
+        arrays_of.log_start[point],
+        arrays_of.log_end[point],
+        arrays_of.log_energy_jump[point],
+    )
+    phase_buffers = phases.PhaseBuffers(
+        y,
+        captured,
+        arrays_of.phase_times[point],
+        spare_crossings,
+        arrays_of.slip_tables[point],
+        arrays_of.stick_table,
+    )
+    integrator = (arrays, system, buffers.radau_start)
+    end, _, _ = phases.phase_loop(
+        params, run.t_end, hybrid, run.controls, output, log, phase_buffers, integrator
+    )
+    return end
 
 
 def _system_in_simulator(params, run):
@@ -327,7 +446,8 @@ def direct_rhs() -> Iterator[None]:
     """While a CUDA kernel compiles: the solvers call the kernels' right-hand side
     directly (``kernels.system.rhs``, ``spin_and_normal_force``) with the parameter record
     as their ``params``, in place of ``_system``'s call at a CPU address; the loop's stop
-    request reads False (``_not_asked``).
+    request reads False (``_not_asked``); the stick–slip phase loop integrates each
+    phase with ``driver.run_loop`` on the thread's arrays (``_phase_on_thread``).
 
     numba compiles a CPU function for CUDA from its Python source, reading the globals of
     its module as it compiles: each solver module's reference to a ``_system`` function
@@ -344,58 +464,82 @@ def direct_rhs() -> Iterator[None]:
         id(_system.spin_and_normal_force): physics.spin_and_normal_force,
         id(_system.parameters): _record_itself,
         id(_stop.stop_requested): _not_asked,
+        id(phases.integrate_phase): _phase_on_thread,
     }
+    with global_compiler_lock, _replaced(direct):
+        yield
+
+
+@contextlib.contextmanager
+def _phases_on_thread() -> Iterator[None]:
+    """In numba's simulator, for a launch of the stick–slip contact: the phase loop
+    integrates its phases with ``driver.run_loop`` on the thread's arrays
+    (``_phase_on_thread`` in place of ``phases.integrate_phase``), compiled for the CPU
+    as the thread's code first calls it. The simulator runs each thread in a Python
+    thread that compiles what it calls, so numba's compiler lock is not held here: a
+    stick–slip run compiled for the first time in another thread of this process during
+    the launch would see the replacement too, and fail to compile (its links are not
+    the thread's arrays)."""
+    with _replaced({id(phases.integrate_phase): _phase_on_thread}):
+        yield
+
+
+@contextlib.contextmanager
+def _replaced(direct: dict[int, Any]) -> Iterator[None]:
+    """Each solver module's reference to a function whose ``id`` is a key of ``direct``
+    replaced by its value, and restored after."""
     modules = [m for n, m in sorted(sys.modules.items()) if n.startswith("celtstone.solvers")]
     replaced: list[tuple[Any, str, Any]] = []
-    with global_compiler_lock:
-        try:
-            for module in modules:
-                for name, value in list(vars(module).items()):
-                    if id(value) in direct:
-                        replaced.append((module, name, value))
-                        setattr(module, name, direct[id(value)])
-            yield
-        finally:
-            for module, name, value in replaced:
-                setattr(module, name, value)
+    try:
+        for module in modules:
+            for name, value in list(vars(module).items()):
+                if id(value) in direct:
+                    replaced.append((module, name, value))
+                    setattr(module, name, direct[id(value)])
+        yield
+    finally:
+        for module, name, value in replaced:
+            setattr(module, name, value)
 
 
-def _ensemble_source(model, method, key):  # pragma: no cover - the kernel's template
-    """The kernel of ``model`` and ``method`` as a Python closure over three integers
-    (numba's cache keys a closure on its cells, which must pickle the same in every
-    process: ``key`` is ``SOURCE_KEY``)."""
+def _ensemble_source(model, method, stick_method, key):  # pragma: no cover - the template
+    """The kernel of ``model``, ``method`` and ``stick_method`` (``ONE_MODEL``: no stick
+    phases) as a Python closure over four integers (numba's cache keys a closure on its
+    cells, which must pickle the same in every process: ``key`` is ``SOURCE_KEY``)."""
 
     def ensemble(run, buffers):
         point: int = cuda.grid(1)  # type: ignore[call-arg]
         if key >= 0 and point < buffers.initial_states.shape[0]:
-            _thread_device(model, method, point, run, buffers)
+            _thread_device(model, method, stick_method, point, run, buffers)
 
     return ensemble
 
 
-# ``_thread``, ``_thread_arrays`` and the system's maker as CUDA device functions,
-# made by ``_kernel`` (``declare_device_functions``)
+# ``_thread``, ``_thread_arrays``, ``_phases`` and the system's maker as CUDA device
+# functions, made by ``_kernel`` (``declare_device_functions``)
 _thread_device: Any = None
 _arrays_device: Any = None
 _system_device: Any = None
+_phases_device: Any = None
 
 
 @functools.cache
-def _kernel(model: int, method: int) -> Any:
-    """The CUDA kernel of ``model`` and ``method``, compiled at its first launch or loaded
-    from numba's cache."""
+def _kernel(model: int, method: int, stick_method: int = ONE_MODEL) -> Any:
+    """The CUDA kernel of ``model`` and ``method`` (with a ``stick_method``, the
+    stick–slip contact's), compiled at its first launch or loaded from numba's cache."""
     declare_device_functions()
-    return cuda.jit(cache=True)(_ensemble_source(model, method, SOURCE_KEY))
+    return cuda.jit(cache=True)(_ensemble_source(model, method, stick_method, SOURCE_KEY))
 
 
 def declare_device_functions() -> None:
     """``declare_for_cuda``, and the thread's device functions, once per process."""
-    global _thread_device, _arrays_device, _system_device
+    global _thread_device, _arrays_device, _system_device, _phases_device
     declare_for_cuda()
     if _thread_device is None:
         making_system = _system_in_simulator if in_simulator() else _system_on_gpu
         _system_device = cuda.jit(device=True)(making_system)
         _arrays_device = cuda.jit(device=True)(_thread_arrays)
+        _phases_device = cuda.jit(device=True)(_phases)
         _thread_device = cuda.jit(device=True)(_thread)
 
 
@@ -502,26 +646,88 @@ def device_name() -> str:
     return name.decode() if isinstance(name, bytes) else str(name)
 
 
-def launch_points(n_samples: int, crossing_capacity: int) -> int:
+def launch_points(n_samples: int, crossing_capacity: int, phase_capacity: int = 0) -> int:
     """Points in one launch: what ``MEMORY_FRACTION`` of the GPU's free memory holds
     (``bytes_per_point``), at most ``MAX_LAUNCH_POINTS`` (``SIMULATOR_LAUNCH_POINTS`` in
     the simulator)."""
     if in_simulator():
         return SIMULATOR_LAUNCH_POINTS
     free, _ = cuda.current_context().get_memory_info()
-    fitting = int(MEMORY_FRACTION * free) // bytes_per_point(n_samples, crossing_capacity)
+    size = bytes_per_point(n_samples, crossing_capacity, phase_capacity)
+    fitting = int(MEMORY_FRACTION * free) // size
     return max(1, min(MAX_LAUNCH_POINTS, fitting))
 
 
-def bytes_per_point(n_samples: int, crossing_capacity: int) -> int:
+def bytes_per_point(n_samples: int, crossing_capacity: int, phase_capacity: int = 0) -> int:
     """GPU memory [bytes] a point of a launch takes: its samples, its ``_reduce``
-    buffers, its crossings, its inputs, its method's records and its results."""
+    buffers, its crossings, its inputs, its method's records and its results; with a
+    ``phase_capacity`` (the stick–slip contact), its phase log (:class:`PhaseArrays`)."""
     floats = n_samples * (N_STATE + 3) + crossing_capacity + N_STATE + 2 + N_FIELDS
     records = _radau.MEMORY.itemsize + _auto.RECORD.itemsize
+    if phase_capacity > 0:  # phase times, the log's times and kinds; its phases; v_c
+        floats += 2 * n_samples + 3 * phase_capacity + 1
+        records += n_samples + phase_capacity + MAX_EVENT_ROWS * events.EVENT.itemsize
     return 8 * floats + records + 1024  # and its parameter record, at most 1 kB
 
 
-def run_points(
+def _phase_arrays(
+    points: Points, n_samples: int, max_phases: int, is_hybrid: bool
+) -> tuple[dict[str, np.ndarray], dict[str, tuple[tuple[int, ...], Any]]]:
+    """:class:`PhaseArrays` of a launch: the inputs made here, and the shape and type of
+    each array the threads fill. One row each, unread, without stick phases."""
+    k, m, capacity = len(points.params), n_samples, max(1, int(max_phases))
+    if not is_hybrid:
+        k, m, capacity = 1, 1, 1
+    speeds = points.capture_speeds[:k] if is_hybrid else np.ones(1)
+    slip = [events.event_table(int(ModelCode.SLIDING), float(v)) for v in speeds]
+    inputs: dict[str, np.ndarray] = {
+        "capture_speeds": np.ascontiguousarray(speeds, dtype=np.float64),
+        "slip_tables": np.stack(slip),
+        "stick_table": events.event_table(int(ModelCode.STICK), 0.0),
+    }
+    shapes: dict[str, tuple[tuple[int, ...], Any]] = {
+        "phase_times": ((k, m), np.float64),
+        "log_sample_times": ((k, m), np.float64),
+        "log_sample_phase": ((k, m), np.int8),
+        "log_kind": ((k, capacity), np.int8),
+        "log_start": ((k, capacity), np.float64),
+        "log_end": ((k, capacity), np.float64),
+        "log_energy_jump": ((k, capacity), np.float64),
+    }
+    return inputs, shapes
+
+
+class Launch(NamedTuple):
+    """What a launch of k points takes (:func:`launch_inputs`), on the host.
+
+    Parameters
+    ----------
+    kernel : (model, method, stick method or ``ONE_MODEL``): its kernel (``_kernel``)
+    run : :class:`Run`
+    inputs : the arrays of :class:`Buffers` made on the host, by name
+    shapes : the arrays of :class:`Buffers` the threads fill, by name: their shapes
+    phase_inputs, phase_shapes : the same of :class:`PhaseArrays`, the shapes with
+        their types
+    """
+
+    kernel: tuple[int, int, int]
+    run: Run
+    inputs: dict[str, np.ndarray]
+    shapes: dict[str, tuple[int, ...]]
+    phase_inputs: dict[str, np.ndarray]
+    phase_shapes: dict[str, tuple[tuple[int, ...], Any]]
+
+    def host_buffers(self) -> Buffers:
+        """:class:`Buffers` of host arrays, those the threads fill zeroed."""
+        phase_arrays = PhaseArrays(
+            **self.phase_inputs,
+            **{name: np.zeros(*shape) for name, shape in self.phase_shapes.items()},
+        )
+        filled = {name: np.zeros(shape) for name, shape in self.shapes.items()}
+        return Buffers(**self.inputs, **filled, phases=phase_arrays)
+
+
+def launch_inputs(
     model: int,
     methods_of_phases: tuple[int, int],
     points: Points,
@@ -529,37 +735,35 @@ def run_points(
     controls: Controls,
     sample_times: np.ndarray,
     max_crossings: int,
-) -> np.ndarray:
-    """``batch.run_batch`` with ``device="cuda"``: its points, one thread each, into the
-    same result array (``batch.FIELDS`` columns), shape (k, N_FIELDS).
-
-    ``model`` must be one of ``CUDA_MODELS`` and the method (``methods_of_phases[0]``)
-    one of ``CUDA_METHODS``; a point of the stick–slip contact (a capture speed > 0) is
-    refused. Each point keeps ``max_crossings`` crossing times only where its rocking
-    window is 0 (the raw spin's reversals are timed by them); elsewhere the count alone
-    is kept, as the CPU reduction reads no more. The caller sizes a launch by
-    ``bytes_per_point``.
-    """
-    method = methods_of_phases[0]
+    max_phases: int = DEFAULT_MAX_PHASES,
+) -> Launch:
+    """What :func:`run_points` launches for these arguments (its docstring), made on
+    the host; raises ``ValueError`` for a model, method or mix of points no thread runs."""
+    method, stick_method = methods_of_phases
     if model not in CUDA_MODELS or method not in CUDA_METHODS.values():
         raise ValueError(f"no CUDA thread for model {model} with method code {method}")
-    if np.any(points.capture_speeds > 0.0):
-        raise ValueError("the stick-slip contact has no CUDA thread")
+    hybrid_points = points.capture_speeds > 0.0
+    is_hybrid = bool(np.any(hybrid_points))
+    if is_hybrid and not (np.all(hybrid_points) and model == int(ModelCode.SLIDING)):
+        raise ValueError("a launch runs the stick-slip contact at every point of it or none")
+    if is_hybrid and stick_method not in CUDA_METHODS.values():
+        raise ValueError(f"no CUDA thread for the stick method code {stick_method}")
     k = len(points.params)
-    if k == 0:
-        return np.empty((0, N_FIELDS))
     times = np.ascontiguousarray(sample_times, dtype=np.float64)
     capacity = max(1, int(max_crossings)) if np.any(points.reversal_windows <= 0.0) else 1
     m = times.shape[0]
+    params = np.ascontiguousarray(points.params)
     inputs = {
-        "params": np.ascontiguousarray(points.params),
+        "params": params,
         "initial_states": points.initial_states,
         "reversal_bands": points.reversal_bands,
         "reversal_windows": points.reversal_windows,
         "table": events.event_table(model, 0.0),
         "sample_times": times,
-        # each point's records as a run starts (``_radau.workspace``, ``_auto.workspace``)
+        # each point's records (``_radau.workspace``, ``_auto.workspace``), and Radau's
+        # as every run and phase starts
         "radau_memory": np.tile(_radau.workspace(0).memory, (k, 1)),
+        "radau_start": _radau.workspace(0).memory,
         "switching": np.tile(_auto.workspace(), (k, 1)),
     }
     shapes = {
@@ -570,19 +774,59 @@ def run_points(
         "crossings": (k, capacity),
         "results": (k, N_FIELDS),
     }
-    link = _system.rhs_link(inputs["params"][0]) if in_simulator() else (0, 0)
+    phase_inputs, phase_shapes = _phase_arrays(points, m, max_phases, is_hybrid)
+    link = _system.rhs_link(params[0]) if in_simulator() and k > 0 else (0, 0)
+    kernel = (model, method, stick_method if is_hybrid else ONE_MODEL)
     run = Run(float(t_end), controls, link)
-    kernel = _kernel(model, method)
+    return Launch(kernel, run, inputs, shapes, phase_inputs, phase_shapes)
+
+
+def run_points(
+    model: int,
+    methods_of_phases: tuple[int, int],
+    points: Points,
+    t_end: float,
+    controls: Controls,
+    sample_times: np.ndarray,
+    max_crossings: int,
+    max_phases: int = DEFAULT_MAX_PHASES,
+) -> np.ndarray:
+    """``batch.run_batch`` with ``device="cuda"``: its points, one thread each, into the
+    same result array (``batch.FIELDS`` columns), shape (k, N_FIELDS).
+
+    ``model`` must be one of ``CUDA_MODELS`` and the methods (``methods_of_phases``: of
+    slip, of stick) of ``CUDA_METHODS``. Points with a capture speed > 0 run the
+    stick–slip contact (``model`` sliding), each with a phase log of capacity
+    ``max_phases``, as ``batch.run_batch`` runs them; a launch runs either those or
+    none. Each point keeps ``max_crossings`` crossing times only where its rocking
+    window is 0 (the raw spin's reversals are timed by them); elsewhere the count alone
+    is kept, as the CPU reduction reads no more. The caller sizes a launch by
+    ``bytes_per_point``.
+    """
+    launch = launch_inputs(
+        model, methods_of_phases, points, t_end, controls, sample_times, max_crossings, max_phases
+    )
+    k = len(points.params)
+    if k == 0:
+        return np.empty((0, N_FIELDS))
+    kernel = _kernel(*launch.kernel)
+    is_hybrid = launch.kernel[2] != ONE_MODEL
     blocks = (k + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     if in_simulator():  # the simulator takes host arrays in a tuple as they are
-        buffers = Buffers(**inputs, **{name: np.zeros(s) for name, s in shapes.items()})
-        kernel[blocks, min(THREADS_PER_BLOCK, k)](run, buffers)
+        buffers = launch.host_buffers()
+        with _phases_on_thread() if is_hybrid else contextlib.nullcontext():
+            kernel[blocks, min(THREADS_PER_BLOCK, k)](launch.run, buffers)
         return np.asarray(buffers.results)
+    phase_arrays = PhaseArrays(
+        **{name: cuda.to_device(values) for name, values in launch.phase_inputs.items()},
+        **{name: cuda.device_array(*shape) for name, shape in launch.phase_shapes.items()},
+    )
     device = Buffers(
-        **{name: cuda.to_device(values) for name, values in inputs.items()},
-        **{name: cuda.device_array(s) for name, s in shapes.items()},
+        **{name: cuda.to_device(values) for name, values in launch.inputs.items()},
+        **{name: cuda.device_array(s) for name, s in launch.shapes.items()},
+        phases=phase_arrays,
     )
     with direct_rhs():  # the first launch compiles the kernel (or loads it from the cache)
-        kernel[blocks, THREADS_PER_BLOCK](run, device)
+        kernel[blocks, THREADS_PER_BLOCK](launch.run, device)
     cuda.synchronize()
     return device.results.copy_to_host()

@@ -20,9 +20,19 @@ needs one more phase stops with ``STATUS_MAX_PHASES`` where that phase would sta
 A stop request (``_stop``) ends the phase under way with ``STATUS_STOPPED``, and so
 the run.
 The function releases the GIL, so sweeps run it on threads and Dask workers.
+
+The loop itself, ``phase_loop``, allocates nothing: ``run_phases`` allocates its
+buffers (:class:`PhaseBuffers`) and calls it, as ``driver.integrate`` calls
+``driver.run_loop``; a sweep's CUDA thread calls it on arrays of its own
+(``batch_cuda``). Each phase is integrated by :func:`integrate_phase`: on the CPU,
+``driver.integrate`` at its link (``solvers._linking``); on a thread, ``driver.run_loop``
+on the thread's arrays, which ``batch_cuda`` puts in its place while the thread's code
+compiles, as it puts the kernels' right-hand side in place of ``_system``'s.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -30,6 +40,7 @@ from celtstone.kernels._jit import kernel
 from celtstone.kernels.layout import MODEL_SLIDING, MODEL_STICK, Y_WORK
 from celtstone.kernels.stick import capture_state, slip_spin_speed
 from celtstone.kernels.system import energy, phase_value
+from celtstone.solvers._compile import inlined
 from celtstone.solvers._events import event_table
 from celtstone.solvers._structures import Controls, HybridSettings, Output, RunEnd
 from celtstone.solvers.codes import DEFAULT_MAX_PHASES as DEFAULT_MAX_PHASES
@@ -42,7 +53,7 @@ from celtstone.solvers.codes import (
     STATUS_SUCCESS,
     PhaseKind,
 )
-from celtstone.solvers.driver import call_integrate, integrate_link
+from celtstone.solvers.driver import call_integrate, copy_into, integrate_link
 
 # the compiled loop reads plain ints (a global folds to its integer)
 SLIP = int(PhaseKind.SLIP)
@@ -91,34 +102,73 @@ def first_phase(params, y, capture_speed, captured):
     if slip_spin_speed(y, params) <= capture_speed:
         jump, margin = capture(params, y, captured)
         if margin >= 0.0:
-            y[:] = captured
+            copy_into(y, captured)
             return STICK, jump
     return SLIP, 0.0
 
 
+class PhaseBuffers(NamedTuple):
+    """The arrays :func:`phase_loop` works in besides the run's output and phase log, its
+    caller's (``run_phases`` allocates them; a GPU thread, which cannot, takes them from its
+    local and global memory).
+
+    Parameters
+    ----------
+    y : the state, shape (n,); holds the initial state when the loop starts
+    captured : the state after a capture impulse, shape (n,)
+    phase_times : a phase's sample times in its own time [s], shape (m,) (m samples)
+    spare_crossings : a phase's crossings once the run's are full, shape (1,)
+    slip_table, stick_table : the events of slip (the capture event at v_c) and of stick
+        (``_events.event_table``)
+    """
+
+    y: np.ndarray
+    captured: np.ndarray
+    phase_times: np.ndarray
+    spare_crossings: np.ndarray
+    slip_table: np.ndarray
+    stick_table: np.ndarray
+
+
+@inlined
+def integrate_phase(integrator, kind, model, method, params, y, t_end, controls, table, output):
+    """Integrate a phase of ``kind`` (its ``model`` and ``method``) from ``y`` over
+    [0, t_end] [s] into ``output`` with ``driver.integrate`` at its link: ``integrator``
+    holds the links of :func:`integrate_links` (slip, stick, right-hand side). Returns
+    the ``RunEnd``. (A GPU thread's twin calls ``driver.run_loop`` on its own arrays:
+    ``batch_cuda``.)"""
+    link = integrator[1] if kind == STICK else integrator[0]
+    arguments = (model, method, params, y, t_end, controls, table, output, integrator[2])
+    return call_integrate(link, arguments)
+
+
 @kernel
 def run_phase(
-    params, y, t0, t_end, kind, hybrid, controls, output, first_sample, first_crossing, links
-):
+    params, y, t0, t_end, kind, hybrid, controls, output, first_sample, first_crossing, buffers,
+    integrator,
+):  # fmt: skip
     """Integrate one phase of ``kind`` from state ``y`` at t0 [s] in its own time from 0,
-    with ``controls`` (the phase's: ``max_steps`` the steps left to the run), with
-    ``driver.integrate`` at its link of ``links`` (slip, stick, right-hand side); its
-    samples go to ``output`` from ``first_sample``, its crossings from ``first_crossing``
-    (to a spare buffer once ``output.crossings`` is full). Returns (``RunEnd``, its
-    shifted sample times, its crossing buffer)."""
+    with ``controls`` (the phase's: ``max_steps`` the steps left to the run), by
+    :func:`integrate_phase` with ``integrator``; its samples go to ``output`` from
+    ``first_sample``, its crossings from ``first_crossing`` (to ``buffers``' spare once
+    ``output.crossings`` is full). Returns (``RunEnd``, its shifted sample times, its
+    crossing buffer)."""
     model = MODEL_STICK if kind == STICK else MODEL_SLIDING
     method = hybrid.stick_method if kind == STICK else hybrid.slip_method
-    times = output.sample_times[first_sample:] - t0
-    crossings = np.empty(1)  # a spare: the run's crossings are full
+    n_times = output.sample_times.shape[0] - first_sample
+    times = buffers.phase_times[:n_times]
+    for i in range(n_times):
+        times[i] = output.sample_times[first_sample + i] - t0
+    crossings = buffers.spare_crossings  # the run's crossings are full
     if first_crossing < output.crossings.shape[0]:
         crossings = output.crossings[first_crossing:]
     phase_output = Output(
         times, output.samples[first_sample:], crossings, output.stats, output.final_state
     )
-    table = event_table(model, hybrid.capture_speed if kind == SLIP else 0.0)
-    arguments = (model, method, params, y, t_end - t0, controls, table, phase_output, links[2])
-    link = links[1] if kind == STICK else links[0]
-    end = call_integrate(link, arguments)
+    table = buffers.stick_table if kind == STICK else buffers.slip_table
+    end = integrate_phase(
+        integrator, kind, model, method, params, y, t_end - t0, controls, table, phase_output
+    )
     return end, times, crossings
 
 
@@ -143,9 +193,27 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
     -------
     (``RunEnd`` of the whole run, phases logged, rejected captures)
     """
+    n = y0.shape[0]
+    buffers = PhaseBuffers(
+        y0.copy(),
+        np.empty(n),
+        np.empty(output.sample_times.shape[0]),
+        np.empty(1),
+        event_table(MODEL_SLIDING, hybrid.capture_speed),
+        event_table(MODEL_STICK, 0.0),
+    )
+    return phase_loop(params, t_end, hybrid, controls, output, log, buffers, integrate_links)
+
+
+@inlined
+def phase_loop(params, t_end, hybrid, controls, output, log, buffers, integrator):
+    """The loop of :func:`run_phases` from the state ``buffers.y`` (overwritten) in the
+    caller's ``buffers`` (:class:`PhaseBuffers`), which it does not allocate, each phase
+    integrated by :func:`integrate_phase` with ``integrator``: a CUDA thread runs it too
+    (``batch_cuda``). Returns (``RunEnd``, phases logged, rejected captures)."""
     stats = output.stats
-    y = y0.copy()
-    captured = np.empty(y0.shape[0])
+    y = buffers.y
+    captured = buffers.captured
     kind, jump = first_phase(params, y, hybrid.capture_speed, captured)
     t0 = 0.0
     t_stop = 0.0
@@ -185,7 +253,8 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
             output,
             n_samples,
             n_stored,
-            integrate_links,
+            buffers,
+            integrator,
         )
         for i in range(end.n_samples):
             log.sample_times[n_samples + i] = times[i] + t0
@@ -213,7 +282,7 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
             status = end.status
             break
         t0 = t_stop
-        y[:] = output.final_state
+        copy_into(y, output.final_state)
         jump = 0.0
         if t0 >= t_end:
             break
@@ -222,7 +291,7 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
             continue
         capture_jump, margin = capture(params, y, captured)
         if margin >= 0.0:
-            y[:] = captured
+            copy_into(y, captured)
             kind = STICK
             jump = capture_jump
         else:

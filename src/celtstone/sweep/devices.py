@@ -2,9 +2,10 @@
 
 ``resolve_device`` turns the user's ``device`` ("cpu", "cuda" or "auto") into the one
 that runs, and refuses "cuda" in one line where the GPU cannot run the sweep: no CUDA
-GPU here, or a contact that has no GPU thread yet (the stick–slip contact's phases). A
-sweep asked to run on the GPU never falls back to the CPU; "auto" takes the GPU where
-it can and says nothing.
+GPU here, or a model or method that has no GPU thread. A sweep asked to run on the GPU
+never falls back to the CPU; "auto" takes the GPU where it can and says nothing. The GPU
+runs the rolling and the sliding model, the stick–slip contact included, with every
+method.
 
 ``CudaPool`` gathers the runner's tasks (blocks of points) into launches of
 ``solvers.batch.run_batch`` on the GPU (``device="cuda"``), one thread per point, as
@@ -30,14 +31,10 @@ DEVICES = ("cpu", "cuda", "auto")
 
 
 def _gpu_refusal(model: str, method: str, is_hybrid: bool) -> str | None:
-    """Why the GPU cannot run this sweep, or None."""
+    """Why the GPU cannot run this sweep (of the stick–slip contact if ``is_hybrid``), or
+    None."""
     from celtstone.solvers import batch_cuda
 
-    if is_hybrid:
-        return (
-            "the GPU runs the rolling model, and the sliding model with contact=sliding; "
-            "the stick-slip contact (contact=hybrid, a sliding sweep's default) runs on the cpu"
-        )
     if model not in batch_cuda.CUDA_MODEL_NAMES:
         return f"the GPU runs the {' and '.join(batch_cuda.CUDA_MODEL_NAMES)} models, not {model}"
     if method not in batch_cuda.CUDA_METHODS:
@@ -89,7 +86,7 @@ class CudaPool:
         from celtstone.solvers.batch_cuda import launch_points
 
         self.n_samples = n_samples
-        self.points_per_launch = launch_points(n_samples, 1)
+        self.points_per_launch = launch_points(n_samples, 1)  # at most: see ``_launch``
         self.slots = max(1, self.points_per_launch // (4 * task_points))
         self._waiting: list[tuple[int, tuple[Any, ...], dict[str, Any]]] = []
         self._done: deque[tuple[int, np.ndarray]] = deque()
@@ -111,6 +108,7 @@ class CudaPool:
         """One launch of every waiting task's points; their rows to ``_done``."""
         from celtstone.solvers.batch import run_batch
         from celtstone.solvers.batch_cuda import KEPT_CROSSINGS, launch_points
+        from celtstone.solvers.codes import DEFAULT_MAX_PHASES
 
         tasks, self._waiting = self._waiting, []
         if not tasks:
@@ -118,6 +116,10 @@ class CudaPool:
         model, method, _, _, t_end = tasks[0][1]
         settings = dict(tasks[0][2])
         counts = [len(args[2]) for _, args, _ in tasks]
+        is_hybrid = settings.get("capture_speeds") is not None  # the stick-slip contact
+        per_point_names: tuple[str, ...] = ("reversal_bands", "reversal_windows")
+        if is_hybrid:
+            per_point_names += ("capture_speeds",)
         per_point = {
             name: np.concatenate(
                 [
@@ -125,16 +127,17 @@ class CudaPool:
                     for (_, _, kw), n in zip(tasks, counts, strict=True)
                 ]
             )
-            for name in ("reversal_bands", "reversal_windows")
+            for name in per_point_names
         }
         params = np.concatenate([args[2] for _, args, _ in tasks])
         states = np.concatenate([args[3] for _, args, _ in tasks])
         if not self._announced:
             self._announce()
         # as many as fit at once; points whose rocking window is 0 keep their crossing
-        # times, and fewer of them fit
+        # times, and fewer of them fit, as do points with a phase log
         kept = bool(np.any(per_point["reversal_windows"] <= 0.0))
-        size = launch_points(self.n_samples, KEPT_CROSSINGS if kept else 1)
+        phase_capacity = settings.get("max_phases", DEFAULT_MAX_PHASES) if is_hybrid else 0
+        size = launch_points(self.n_samples, KEPT_CROSSINGS if kept else 1, phase_capacity)
         parts = []
         for start in range(0, len(params), size):
             part = slice(start, start + size)
