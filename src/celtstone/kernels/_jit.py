@@ -45,7 +45,7 @@ _SIGNATURE = types.void(types.float64, types.float64, types.float64, types.CPoin
 
 
 COMPILING_NOTICE = (
-    "celtstone: compiling the numerical kernels for this machine, once (a few minutes; "
+    "celtstone: compiling the numerical kernels for this machine, once (up to a minute; "
     "later runs read them from numba's cache)"
 )
 
