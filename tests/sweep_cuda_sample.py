@@ -58,14 +58,7 @@ SWEEPS = {
             "euler_alpha": [5.0, 5.0, 5.0, 20.0, 20.0, 20.0],
         },
         "t_end": 1.0,  # s
-        "fixed": {  # the realistic contact (``reproduce.study.REALISTIC_CONTACT``)
-            "contact_shape": "ellipse",
-            "elastic_modulus": 3e9,  # Pa
-            "poisson_ratio": 0.35,
-            "friction_law": "exact",
-            "rolling_resistance": 1e-5,  # m
-            "friction_load": "dynamic",
-        },
+        "fixed": "realistic",  # ``reproduce.study.REALISTIC_CONTACT``, read in main()
         "model": "sliding",
     },
 }
@@ -90,6 +83,10 @@ def main() -> int:
     from celtstone.sweep import Sweep
 
     sweep = dict(SWEEPS[model])
+    if sweep.get("fixed") == "realistic":
+        from celtstone.reproduce.study import REALISTIC_CONTACT
+
+        sweep["fixed"] = dict(REALISTIC_CONTACT)
     points = sweep.pop("points")
     settings = {"model": sweep.pop("model", model), "method": method, **sweep}
     cpu = Sweep(points=points, **settings)
