@@ -424,6 +424,11 @@ def _text(summary: dict) -> str:
             for v, is_open in zip(walked["interval_95"], walked["open"], strict=True)
         ]
         lines.append(f"  95 % profile-likelihood interval of {name}: {ends[0]} .. {ends[1]}")
+    for moved in summary.get("optimum_moved_by_profile", []):
+        lines.append(
+            f"  a profile's walk found a lower cost than the optimum ({moved['from_cost']:.6g}):"
+            f" fitted again from there (cost {moved['to_cost']:.6g})"
+        )
     if summary["profile"] is not None:
         low, high = summary["profile"]["interval_95"]
         text = [f"{v:.6g}" if v is not None else "open" for v in (low, high)]

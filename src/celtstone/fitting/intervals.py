@@ -1,5 +1,5 @@
 """Each physical number's 95 % interval from its profile likelihood where the cost is not
-quadratic about the optimum.
+quadratic about the optimum, or where the record cannot be trusted to make it so.
 
 The curvature's interval θ̂ ± 1.96 σ holds for a quadratic cost. A spin-only record's
 cost has several minima a few σ apart (the rocking's phase against the spin's decay):
@@ -7,12 +7,16 @@ there the curvature at one of them is too narrow. So each physical number's cost
 checked at ± ``CHECK_STEPS`` σ along its linearised profile (the number moved, the others
 to their linearised conditional optimum; one run each, all in parallel): where the
 statistic 2 Δcost / s² there is off the quadratic's ``CHECK_STEPS``² by more than
-``QUADRATIC_TOLERANCE`` of it, or where the caller asks (other minima were found), the
-profile is walked out from the optimum in steps of ``WALK_STEP`` σ, the others refitted
-at each, until the statistic crosses ``CHI2_95`` (the end, interpolated linearly in its
-square root, which is linear in θ for a quadratic cost) or a bound is met (the end
-there). A walk that finds a cost below the optimum's stops: the optimum was not the
-minimum, and the caller fits again from there.
+``QUADRATIC_TOLERANCE`` of it, or where the caller asks (other minima were found, or a
+record of one series), the profile is walked out from the optimum in steps of
+``WALK_STEP`` σ, the others refitted at each, until the statistic crosses the joint
+region's level χ²_k(0.95) (k the physical numbers; ``CHI2_95`` for one), or a bound is
+met (the end there). Each crossing is interpolated linearly in the statistic's square
+root, which is linear in θ for a quadratic cost. The crossing of ``CHI2_95`` is the
+number's 95 % interval; that of χ²_k(0.95) is the shadow on its axis of the joint 95 %
+likelihood region of the k numbers (the profile's minimum over the others is the
+region's projection). A walk that finds a cost below the optimum's stops: the optimum
+was not the minimum, and the caller fits again from there.
 
 With Gaussian noise the region where the statistic stays below ``CHI2_95`` is the
 likelihood-ratio 95 % interval (Wilks' theorem; Venzon & Moolgavkar 1988,
@@ -24,7 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -68,6 +72,9 @@ class ProfiledInterval:
     lower, upper : the interval's ends [its unit]
     lower_open, upper_open : whether that end is a bound or the walk's last point, not a
         crossing of ``CHI2_95`` (the interval may reach further)
+    joint_lower, joint_upper : the ends of the crossing of the joint level χ²_k(0.95)
+        [its unit] (equal to ``lower``, ``upper`` for k = 1; a bound or the walk's last
+        point where it was not crossed)
     values : the profile's points, the optimum included [its unit]
     statistic : 2 Δcost / s² at each [1]
     """
@@ -80,14 +87,19 @@ class ProfiledInterval:
     upper_open: bool
     values: tuple[float, ...]
     statistic: tuple[float, ...]
+    joint_lower: float
+    joint_upper: float
+    joint_level: float = CHI2_95
 
     def summary(self) -> dict[str, Any]:
         return {
             "interval_95": [self.lower, self.upper],
             "open": [self.lower_open, self.upper_open],
+            "joint_region_shadow_95": [self.joint_lower, self.joint_upper],
             "values": list(self.values),
             "statistic": list(self.statistic),
             "threshold": CHI2_95,
+            "joint_threshold": self.joint_level,
         }
 
 
@@ -130,13 +142,26 @@ def quadratic_misfits(
     return misfits
 
 
-def _crossing(inside: tuple[float, float], outside: tuple[float, float]) -> float:
-    """θ where the statistic reaches CHI2_95 between a point below it and one above:
+def _crossing(
+    inside: tuple[float, float], outside: tuple[float, float], level: float = CHI2_95
+) -> float:
+    """θ where the statistic reaches ``level`` between a point below it and one above:
     linear in the statistic's square root (exact for a quadratic cost)."""
     (a, qa), (b, qb) = inside, outside
     ra, rb = math.sqrt(max(qa, 0.0)), math.sqrt(qb)
-    share = (math.sqrt(CHI2_95) - ra) / (rb - ra)
+    share = (math.sqrt(level) - ra) / (rb - ra)
     return a + share * (b - a)
+
+
+class _End(NamedTuple):
+    """One side of a profile: the crossings of ``CHI2_95`` and of the joint level [unit of
+    the number] (a bound or the walk's last point where not crossed), whether the first
+    is open, and the points walked (θ, statistic)."""
+
+    marginal: float
+    marginal_open: bool
+    joint: float
+    walked: list[tuple[float, float]]
 
 
 def _walk(
@@ -147,9 +172,10 @@ def _walk(
     spread: Uncertainty,
     j: int,
     side: float,
-) -> tuple[float, bool, list[tuple[float, float]]] | LowerMinimum:
-    """One side of number j's profile: (end, whether open, the points walked (θ, statistic)),
-    or the lower minimum a refit found."""
+    joint_level: float,
+) -> _End | LowerMinimum:
+    """One side of number j's profile, walked until the statistic crosses ``joint_level``
+    (>= ``CHI2_95``); or the lower minimum a refit found."""
     problem = runs.problem
     variance = spread.residual_variance
     others = [k for k in range(values.size) if k != j]
@@ -159,6 +185,7 @@ def _walk(
     x = values.copy()
     previous = (float(values[j]), 0.0)
     walked: list[tuple[float, float]] = []
+    marginal: tuple[float, bool] | None = None
     for k in range(1, MAX_WALK_STEPS + 1):
         target = float(values[j]) + side * k * step
         at_bound = side * (target - bound) >= 0.0
@@ -172,12 +199,17 @@ def _walk(
         walked.append((target, statistic))
         if refitted < cost - 0.5 * LOWER_BY * variance:
             return LowerMinimum(x.copy(), refitted)
-        if statistic >= CHI2_95:
-            return _crossing(previous, (target, statistic)), False, walked
+        if marginal is None and statistic >= CHI2_95:
+            marginal = (_crossing(previous, (target, statistic)), False)
+        if statistic >= joint_level:
+            assert marginal is not None  # joint_level >= CHI2_95
+            joint = _crossing(previous, (target, statistic), joint_level)
+            return _End(*marginal, joint, walked)
         if at_bound:
-            return target, True, walked
+            break
         previous = (target, statistic)
-    return previous[0], True, walked
+    end = walked[-1][0]
+    return _End(*(marginal or (end, True)), end, walked)
 
 
 def _cost(runs: Runs, x: np.ndarray) -> float:
@@ -192,14 +224,17 @@ def profiled_intervals(
     cost: float,
     spread: Uncertainty,
     columns: Sequence[int],
+    joint_level: float = CHI2_95,
 ) -> list[ProfiledInterval] | LowerMinimum:
     """The profile-likelihood 95 % interval of each of ``columns`` about the optimum
-    ``values`` (cost ``cost``), walked out both ways (see the module); or the first lower
-    minimum a refit finds.
+    ``values`` (cost ``cost``), walked out both ways until the statistic crosses
+    ``joint_level`` (at least ``CHI2_95``; see the module); or the first lower minimum a
+    refit finds.
 
     ``refit(x, free_columns)`` minimises over ``free_columns`` from ``x`` and returns the
     optimum and its cost.
     """
+    joint_level = max(joint_level, CHI2_95)
     problem = runs.problem
     found = []
     for j in columns:
@@ -208,23 +243,26 @@ def profiled_intervals(
         ends = []
         points = [(float(values[j]), 0.0)]
         for side in (-1.0, 1.0):
-            walked = _walk(runs, refit, values, cost, spread, j, side)
-            if isinstance(walked, LowerMinimum):
-                return walked
-            ends.append(walked[:2])
-            points.extend(walked[2])
+            end = _walk(runs, refit, values, cost, spread, j, side, joint_level)
+            if isinstance(end, LowerMinimum):
+                return end
+            ends.append(end)
+            points.extend(end.walked)
         points.sort()
-        (lower, lower_open), (upper, upper_open) = ends
+        low, high = ends
         found.append(
             ProfiledInterval(
                 problem.names[j],
                 j,
-                lower,
-                upper,
-                lower_open,
-                upper_open,
+                low.marginal,
+                high.marginal,
+                low.marginal_open,
+                high.marginal_open,
                 tuple(p[0] for p in points),
                 tuple(p[1] for p in points),
+                low.joint,
+                high.joint,
+                joint_level,
             )
         )
     return found

@@ -120,8 +120,12 @@ class FitResult:
         The profile likelihood of one parameter, if asked for.
     intervals : tuple of ProfiledInterval
         The profile-likelihood 95 % intervals of the physical numbers whose cost is not
-        quadratic about the optimum (``fitting.intervals``); their standard errors are
-        widened to hold them.
+        quadratic about the optimum, or of every record of one series
+        (``fitting.intervals``); their standard errors are widened to hold them, and the
+        joint region to hold their crossings of its level.
+    moved_by_profile : tuple of float
+        The costs [1] of the optima a profile's walk moved away from, having found a lower
+        cost beside them (the fit was made again from there); empty when none.
     warnings : tuple of str
         The warnings issued (identifiability and fit quality).
     assessment : Assessment or None
@@ -143,6 +147,7 @@ class FitResult:
     trajectory: Trajectory
     profile: Profile | None = None
     intervals: tuple[ProfiledInterval, ...] = ()
+    moved_by_profile: tuple[float, ...] = ()
     warnings: tuple[str, ...] = ()
     assessment: Assessment | None = None
 
@@ -171,13 +176,16 @@ class FitResult:
         """The joint 95 % region of the physical numbers (``Problem.physical_columns``).
 
         It holds all their true values together in 95 % of records, where each one's
-        95 % interval holds its own (``uncertainty.JointRegion``).
+        95 % interval holds its own (``uncertainty.JointRegion``); where profiles were
+        walked, widened to hold their crossings of its level.
         """
         columns = self.problem.physical_columns
+        u = self.uncertainty
+        covariance = u.covariance if u.joint_covariance is None else u.joint_covariance
         return JointRegion(
             tuple(self.names[j] for j in columns),
             self.values[columns],
-            self.uncertainty.covariance[np.ix_(columns, columns)],
+            covariance[np.ix_(columns, columns)],
         )
 
     def series_residuals(self) -> dict[str, np.ndarray]:
@@ -332,5 +340,8 @@ class FitResult:
             "atol": problem.atol,
             "profile": None if self.profile is None else self.profile.summary(),
             "profile_intervals": {i.name: i.summary() for i in self.intervals},
+            "optimum_moved_by_profile": [
+                {"from_cost": c, "to_cost": self.cost} for c in self.moved_by_profile
+            ],
             **({} if checks is None else checks.summary()),
         }

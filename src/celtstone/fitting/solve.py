@@ -57,6 +57,7 @@ from celtstone.fitting.result import FitResult, StartOutcome
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.search import draw_starts, screened_starts
 from celtstone.fitting.uncertainty import (
+    JOINT_LEVEL,
     Uncertainty,
     autocorrelation_consistent,
     uncertainty,
@@ -289,7 +290,7 @@ def fit(
         )
         stages = {"screening": runs.count}
         problem, outcomes, ends, optimum = _best_of_starts(runs, problem, starting, stages)
-        optimum, spread, whiteness, intervals = _checked(runs, optimum, ends)
+        optimum, spread, whiteness, intervals, moved_from = _checked(runs, optimum, ends)
         values, best_converged = optimum.values, optimum.converged
         stages["interval checks and profiles"] = runs.count - sum(stages.values())
         profiled = None if profile is None else _profile(runs, values, spread, profile)
@@ -319,6 +320,7 @@ def fit(
         trajectory=trajectory,
         profile=profiled,
         intervals=tuple(intervals),
+        moved_by_profile=tuple(moved_from),
         warnings=(*spread.warnings(problem.names), *assessment.warnings),
         assessment=assessment,
     )
@@ -334,21 +336,41 @@ class _Optimum(NamedTuple):
     residuals: np.ndarray
 
 
-def _checked(
-    runs: Runs, optimum: _Optimum, ends: list[tuple[np.ndarray, float]]
-) -> tuple[_Optimum, Uncertainty, dict[str, Whiteness], list[ProfiledInterval]]:
+class _Checked(NamedTuple):
+    """What :func:`_checked` found: the optimum, its uncertainty, the residuals'
+    whiteness, the profiled intervals and the costs of the optima the profiles moved
+    away from (lower minima found beside them)."""
+
+    optimum: _Optimum
+    spread: Uncertainty
+    whiteness: dict[str, Whiteness]
+    intervals: list[ProfiledInterval]
+    moved_from: list[float]
+
+
+def _checked(runs: Runs, optimum: _Optimum, ends: list[tuple[np.ndarray, float]]) -> _Checked:
     """The optimum, its uncertainty (each physical number's error widened to hold its
-    profile's 95 % interval where the cost is not quadratic or other minima the data cannot
-    reject were found, ``fitting.intervals``, and to hold those minima, ``ends``), the
-    residuals' whiteness and the profiled intervals. A profile that finds a lower cost
-    moves the optimum there (fitted again, at most ``MAX_REFITS`` times)."""
+    profile's 95 % interval and the other minima the data cannot reject, ``ends``; the
+    joint region's covariance widened to hold the profile's crossing of the joint level
+    and the minima below it, ``fitting.intervals``), the residuals' whiteness and the
+    profiled intervals. A profile that finds a lower cost moves the optimum there (fitted
+    again, at most ``MAX_REFITS`` times; the costs it left are returned).
+
+    The profiles are walked where the cost is not quadratic, where other minima the
+    data cannot reject were found, and on every record of one series: there (a spin
+    record) the fit can sit in a minimum whose curvature understates the distance to a
+    neighbouring one that the quadratic check does not reach.
+    """
     problem = runs.problem
     columns = list(range(len(problem.free)))
     # the initial slip decays within milliseconds: like the sensor's numbers, its interval
     # is the curvature's (profiles of two more numbers would double a fit's runs)
     physical = problem.physical_columns
+    level = joint_level(len(physical))
+    always = len(problem.record.series) == 1
     spread, white = _spread(problem, optimum.jacobian, optimum.residuals, optimum.cost)
     intervals: list[ProfiledInterval] = []
+    moved_from: list[float] = []
 
     def loose_refit(x: np.ndarray, others: list[int]) -> tuple[np.ndarray, float]:
         optimum, cost = _minimise(runs, x, others, PROFILE_COST_TOLERANCE)[:2]
@@ -356,23 +378,48 @@ def _checked(
 
     for _ in range(MAX_REFITS):
         values, cost = optimum.values, optimum.cost
-        misfits = quadratic_misfits(runs, values, cost, spread, physical)
-        others = _other_minima(spread, values, cost, ends, physical)
-        chosen = [j for j in physical if others or misfits.get(j, 0.0) > QUADRATIC_TOLERANCE]
-        walked = profiled_intervals(runs, loose_refit, values, cost, spread, chosen)
+        if always:
+            chosen = list(physical)
+        else:
+            misfits = quadratic_misfits(runs, values, cost, spread, physical)
+            others = _other_minima(spread, values, cost, ends, physical, level)
+            chosen = [j for j in physical if others or misfits.get(j, 0.0) > QUADRATIC_TOLERANCE]
+        walked = profiled_intervals(runs, loose_refit, values, cost, spread, chosen, level)
         if not isinstance(walked, LowerMinimum):
             intervals = walked
             break
         # a lower cost beside the optimum: fitted from there, it is the optimum
         ends.append((values, cost))
+        moved_from.append(cost)
         x, cost, converged, _, jacobian, residuals = _minimise(runs, walked.values, columns)
         optimum = _Optimum(x, cost, converged, jacobian, residuals)
         spread, white = _spread(problem, jacobian, residuals, cost)
+    values, cost = optimum.values, optimum.cost
+    marginal = {i.column: (i.lower, i.upper) for i in intervals}
     factors = np.maximum(
-        _minima_factors(spread, optimum.values, optimum.cost, ends),
-        _profile_factors(spread, optimum.values, intervals),
+        _minima_factors(spread, values, cost, ends, walked=marginal),
+        _profile_factors(spread, values, intervals),
     )
-    return optimum, _widened(spread, factors), white, intervals
+    shadows = {i.column: (i.joint_lower, i.joint_upper) for i in intervals}
+    joint = np.maximum.reduce(
+        [
+            factors * Z_95 / math.sqrt(level),  # the shadow holds each 95 % interval
+            _minima_factors(spread, values, cost, ends, level, shadows),
+            _profile_factors(spread, values, intervals, joint=True),
+        ]
+    )
+    widened = _widened(spread, factors)
+    widened = replace(widened, joint_covariance=spread.covariance * np.outer(joint, joint))
+    return _Checked(optimum, widened, white, intervals, moved_from)
+
+
+def joint_level(count: int) -> float:
+    """χ²_k(0.95) [1] of ``count`` = k numbers (``CHI2_95`` for one or none)."""
+    from scipy.stats import chi2
+
+    from celtstone.fitting.profile import CHI2_95
+
+    return float(chi2.ppf(JOINT_LEVEL, count)) if count > 1 else CHI2_95
 
 
 def _spread(
@@ -404,17 +451,16 @@ def _other_minima(
     cost: float,
     minima: Sequence[tuple[np.ndarray, float]],
     columns: Sequence[int],
+    level: float,
 ) -> list[tuple[np.ndarray, float]]:
-    """The ``minima`` the data cannot reject (2 Δcost / s² below ``CHI2_95``) that lie
-    apart from the optimum (by half a standard error or more in one of ``columns``)."""
-    from celtstone.fitting.profile import CHI2_95
-
+    """The ``minima`` the joint region cannot reject (2 Δcost / s² below ``level``) that
+    lie apart from the optimum (by half a standard error or more in one of ``columns``)."""
     errors = spread.standard_errors[list(columns)]
     found = []
     for x, other in minima:
         statistic = 2.0 * (other - cost) / spread.residual_variance
         distance = np.abs(x - values)[list(columns)]
-        if statistic < CHI2_95 and np.any(distance > 0.5 * errors):
+        if statistic < level and np.any(distance > 0.5 * errors):
             found.append((x, other))
     return found
 
@@ -424,44 +470,63 @@ def _minima_factors(
     values: np.ndarray,
     cost: float,
     minima: Sequence[tuple[np.ndarray, float]],
+    level: float | None = None,
+    walked: Mapping[int, tuple[float, float]] | None = None,
 ) -> np.ndarray:
-    """Each standard error's factor [1] that makes the 95 % interval hold every other
-    minimum the data cannot reject (2 Δcost / s² below ``CHI2_95``) with the part of its
-    own interval below the threshold.
+    """Each standard error's factor [1] that makes the region of 2 Δcost / s² below
+    ``level`` (default ``CHI2_95``: the 95 % interval) hold every other minimum the data
+    cannot reject at that level, with the part of its own region below it; a number
+    whose profile was walked over the minimum (``walked``: column -> the ends of its
+    profile's region at that level) has the profile's region there instead.
 
     Notes
     -----
-    The region of 2 Δcost / s² < 3.84 is the union of the optimum's ± 1.96 errors and,
-    about a minimum at statistic q and distance Δ_j, ± sqrt(3.84 − q) errors: its half-width
-    about the optimum is max(1.96 σ_j, |Δ_j| + sqrt(3.84 − q) σ_j), reported as 1.96 σ'_j.
+    The region of 2 Δcost / s² < L is the union of the optimum's ± sqrt(L) errors and,
+    about a minimum at statistic q and distance Δ_j, ± sqrt(L − q) errors: its half-width
+    about the optimum is max(sqrt(L) σ_j, |Δ_j| + sqrt(L − q) σ_j), reported as
+    sqrt(L) σ'_j (1.96 σ'_j for L = 3.84).
     """
     from celtstone.fitting.profile import CHI2_95
 
+    level = CHI2_95 if level is None else level
     errors = spread.standard_errors
     factors = np.ones(errors.size)
     for x, other in minima:
         statistic = 2.0 * (other - cost) / spread.residual_variance
-        if not statistic < CHI2_95:
+        if not statistic < level:
             continue
-        reach = np.abs(x - values) + np.sqrt(CHI2_95 - max(statistic, 0.0)) * errors
+        reach = np.abs(x - values) + np.sqrt(level - max(statistic, 0.0)) * errors
         with np.errstate(invalid="ignore", divide="ignore"):
-            ratio = np.where(np.isfinite(errors) & (errors > 0), reach / (Z_95 * errors), 1.0)
+            ratio = np.where(
+                np.isfinite(errors) & (errors > 0), reach / (math.sqrt(level) * errors), 1.0
+            )
+        for j, (low, high) in (walked or {}).items():
+            if low <= x[j] <= high:
+                ratio[j] = 1.0
         factors = np.maximum(factors, ratio)
     return factors
 
 
 def _profile_factors(
-    spread: Uncertainty, values: np.ndarray, intervals: Sequence[ProfiledInterval]
+    spread: Uncertainty,
+    values: np.ndarray,
+    intervals: Sequence[ProfiledInterval],
+    joint: bool = False,
 ) -> np.ndarray:
     """Each standard error's factor [1] that makes ± 1.96 errors hold the profile's 95 %
-    interval of ``intervals`` (its farther end from the optimum); 1 for a number not
+    interval of ``intervals`` (its farther end from the optimum), or with ``joint`` that
+    makes ± sqrt(L) errors hold its crossing of the joint level L; 1 for a number not
     profiled. ``intervals`` are of ``values``' columns, in order (``column``)."""
     factors = np.ones(values.size)
     for interval in intervals:
         j, error = interval.column, spread.standard_errors[interval.column]
         if np.isfinite(error) and error > 0.0:
-            reach = max(values[j] - interval.lower, interval.upper - values[j])
-            factors[j] = max(1.0, reach / (Z_95 * error))
+            if joint:
+                low, high = interval.joint_lower, interval.joint_upper
+                half = math.sqrt(interval.joint_level) * error
+            else:
+                low, high, half = interval.lower, interval.upper, Z_95 * error
+            factors[j] = max(1.0, max(values[j] - low, high - values[j]) / half)
     return factors
 
 

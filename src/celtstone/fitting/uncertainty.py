@@ -55,6 +55,9 @@ class Uncertainty:
     strongly_correlated : (name, name, correlation) of the pairs above the limit
     widened_by_profile : each standard error's factor that makes the 95 % interval hold
         the other minima the data cannot reject (``fitting.solve``), empty when none
+    joint_covariance : the covariance whose ellipsoid is the joint 95 % region
+        [unit_i unit_j], shape (p, p): widened to hold the profiles' crossings of the
+        joint level and the minima below it (``fitting.solve``); None: ``covariance``
     """
 
     covariance: np.ndarray
@@ -65,6 +68,7 @@ class Uncertainty:
     condition_number: float
     strongly_correlated: tuple[tuple[str, str, float], ...]
     widened_by_profile: tuple[float, ...] = ()
+    joint_covariance: np.ndarray | None = None
 
     def warnings(self, names: Sequence[str]) -> list[str]:
         """One sentence per identifiability problem (for ``IdentifiabilityWarning``)."""
