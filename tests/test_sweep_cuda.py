@@ -28,6 +28,10 @@ from celtstone.cli.main import main
 from celtstone.errors import ParameterError
 from celtstone.sweep import Sweep, open_sweep
 
+# one worker runs them in turn: each simulator process then loads the thread code that an
+# earlier one compiled into numba's cache, where two at once would both compile it
+pytestmark = pytest.mark.xdist_group("cuda_simulator")
+
 SAMPLE = Path(__file__).resolve().parent / "sweep_cuda_sample.py"
 SKIPPED = 77  # the sample's exit status where the simulator is unavailable
 # what each of the sample's sweeps covers, so that the comparison reads every branch of the
