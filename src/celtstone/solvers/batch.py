@@ -382,17 +382,19 @@ def run_batch(
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])
     if device == "cuda":
-        from celtstone.solvers.batch_cuda import run_points
+        from celtstone.solvers.batch_cuda import launch_inputs, run_points
 
         return run_points(
-            int(model),
-            methods,
-            points,
-            float(t_end),
-            controls,
-            sample_times,
-            max_crossings,
-            max_phases,
+            launch_inputs(
+                int(model),
+                methods,
+                points,
+                float(t_end),
+                controls,
+                sample_times,
+                max_crossings,
+                max_phases,
+            )
         )
     if device != "cpu":
         raise ValueError(f"no device {device!r}: cpu or cuda")

@@ -737,8 +737,11 @@ def launch_inputs(
     max_crossings: int,
     max_phases: int = DEFAULT_MAX_PHASES,
 ) -> Launch:
-    """What :func:`run_points` launches for these arguments (its docstring), made on
-    the host; raises ``ValueError`` for a model, method or mix of points no thread runs."""
+    """What :func:`run_points` launches, made on the host: ``points`` run with ``model``
+    (one of ``CUDA_MODELS``) and the methods ``methods_of_phases`` (of slip, of stick; of
+    ``CUDA_METHODS``) to ``t_end`` [s] with ``controls``, sampled at ``sample_times`` [s],
+    with ``max_crossings`` crossing times and ``max_phases`` phases a point kept; raises
+    ``ValueError`` for a model, method or mix of points no thread runs."""
     method, stick_method = methods_of_phases
     if model not in CUDA_MODELS or method not in CUDA_METHODS.values():
         raise ValueError(f"no CUDA thread for model {model} with method code {method}")
@@ -781,32 +784,19 @@ def launch_inputs(
     return Launch(kernel, run, inputs, shapes, phase_inputs, phase_shapes)
 
 
-def run_points(
-    model: int,
-    methods_of_phases: tuple[int, int],
-    points: Points,
-    t_end: float,
-    controls: Controls,
-    sample_times: np.ndarray,
-    max_crossings: int,
-    max_phases: int = DEFAULT_MAX_PHASES,
-) -> np.ndarray:
-    """``batch.run_batch`` with ``device="cuda"``: its points, one thread each, into the
-    same result array (``batch.FIELDS`` columns), shape (k, N_FIELDS).
+def run_points(launch: Launch) -> np.ndarray:
+    """``batch.run_batch`` with ``device="cuda"``: the points of ``launch``
+    (:func:`launch_inputs`), one thread each, into the same result array
+    (``batch.FIELDS`` columns), shape (k, N_FIELDS).
 
-    ``model`` must be one of ``CUDA_MODELS`` and the methods (``methods_of_phases``: of
-    slip, of stick) of ``CUDA_METHODS``. Points with a capture speed > 0 run the
-    stick–slip contact (``model`` sliding), each with a phase log of capacity
-    ``max_phases``, as ``batch.run_batch`` runs them; a launch runs either those or
-    none. Each point keeps ``max_crossings`` crossing times only where its rocking
+    Points with a capture speed > 0 run the stick–slip contact, each with a phase log of
+    capacity ``max_phases``, as ``batch.run_batch`` runs them; a launch runs either those
+    or none. Each point keeps ``max_crossings`` crossing times only where its rocking
     window is 0 (the raw spin's reversals are timed by them); elsewhere the count alone
     is kept, as the CPU reduction reads no more. The caller sizes a launch by
     ``bytes_per_point``.
     """
-    launch = launch_inputs(
-        model, methods_of_phases, points, t_end, controls, sample_times, max_crossings, max_phases
-    )
-    k = len(points.params)
+    k = len(launch.inputs["params"])
     if k == 0:
         return np.empty((0, N_FIELDS))
     kernel = _kernel(*launch.kernel)
