@@ -340,14 +340,29 @@ def _new_temporary(target: Path, make: Callable[[Path], None]) -> Iterator[Path]
         yield temporary
     finally:
         if temporary is not None:
-            # a write still under way would make it again, even if not there now (Zarr
-            # empties a store's folder before its first write)
-            settle_zarr_writes()
-            if temporary.is_dir():
-                shutil.rmtree(temporary, ignore_errors=True)
-            else:
-                with contextlib.suppress(OSError):
-                    temporary.unlink(missing_ok=True)
+            _remove_temporary(temporary)
+
+
+def _remove_temporary(temporary: Path) -> None:
+    """Remove ``temporary`` (a file or a store's folder), once Zarr's writes under way
+    have settled: a write still under way would make it again, even if not there now
+    (Zarr empties a store's folder before its first write). A signal that interrupts
+    this (one sent as the output is moved into place) still leaves nothing: the removal
+    is made again before the interrupt goes on."""
+    try:
+        settle_zarr_writes()
+        _remove_now(temporary)
+    except BaseException:
+        _remove_now(temporary)
+        raise
+
+
+def _remove_now(temporary: Path) -> None:
+    if temporary.is_dir():
+        shutil.rmtree(temporary, ignore_errors=True)
+    else:
+        with contextlib.suppress(OSError):
+            temporary.unlink(missing_ok=True)
 
 
 _SETTLE_TIMEOUT = 30.0  # s: Zarr's writes of one block or of an empty store take far less
