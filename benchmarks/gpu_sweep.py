@@ -5,7 +5,7 @@ CPU driver's loop and reduction compiled for CUDA. The stages, so that only one 
 machine and it fits one short call there:
 
 ``--prepare DIR`` (any machine): the CPU sweep of ``--model`` (rolling by default)
-over initial spin × Euler angle α (``--grid`` points per axis, 10 s), timed on every
+over initial spin × Euler angle α (``--grid`` points per axis, ``--t-end`` 10 s), timed on every
 core; its kernel inputs, its result fields and the initial states of a larger grid
 (``--large``) go to ``DIR/inputs.npz``.
 
@@ -65,7 +65,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 SPIN = (-8.0, 8.0)  # initial spin ω0 · n0 [rad/s]
 ALPHA = (0.1, 5.0)  # initial Euler angle α [deg]; β stays at the default 0.5°
-T_END = 10.0  # [s]
+T_END = 10.0  # [s] the default of --t-end
 COMPUTE_CAPABILITY = (9, 0)  # H100, H200: the --ptx stage's target
 # the realistic contact (``reproduce.study.REALISTIC_CONTACT``, here to keep this script's
 # imports to the sweep)
@@ -113,18 +113,30 @@ def _load(path: Path, stage: str) -> Any:
     return np.load(path, allow_pickle=False)
 
 
+def _parameter_records(values: np.ndarray) -> np.ndarray:
+    """``values`` (parameter records read back from ``inputs.npz``) with the kernels' own
+    dtype, ``kernels.layout.PARAMETERS``: ``np.load`` returns the same fields and offsets
+    without the aligned-struct flag, and numba compiles a record type that differs in that
+    flag alone as a kernel of its own, which ``Sweep(device="cuda")`` would not share."""
+    from celtstone.kernels.layout import PARAMETERS
+
+    if values.dtype != PARAMETERS:
+        raise SystemExit("inputs.npz holds other parameter records: run --prepare again")
+    return values.view(PARAMETERS)
+
+
 def _grid(n: int) -> dict[str, np.ndarray]:
     return {"initial_spin": np.linspace(*SPIN, n), "euler_alpha": np.linspace(*ALPHA, n)}
 
 
-def _sweep(n: int, method: str, model: str, device: str = "cpu") -> Any:
+def _sweep(n: int, method: str, model: str, device: str = "cpu", t_end: float = T_END) -> Any:
     """The benchmark's sweep of ``model``: "rolling", "sliding" on its own (the Padé
     law on the disk with the default regularisation δ, no stick phases), or
     "stick_slip" (the realistic contact)."""
     from celtstone.sweep import Sweep
 
     name, fixed = MODELS[model]
-    return Sweep(_grid(n), model=name, t_end=T_END, method=method, device=device, fixed=fixed)
+    return Sweep(_grid(n), model=name, t_end=t_end, method=method, device=device, fixed=fixed)
 
 
 def _kernel_inputs(sweep: Any) -> dict[str, Any]:
@@ -145,17 +157,19 @@ def _kernel_inputs(sweep: Any) -> dict[str, Any]:
     }
 
 
-def prepare(directory: Path, n: int, large: int, method: str, model: str, force: bool) -> None:
+def prepare(
+    directory: Path, n: int, large: int, method: str, model: str, t_end: float, force: bool
+) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     if (directory / "inputs.npz").exists() and not force:  # before the sweep's minutes
         raise SystemExit(f"{directory / 'inputs.npz'} exists: pass --force to replace it")
-    sweep = _sweep(n, method, model)
-    _sweep(1, method, model).run()  # compiled before the timing
+    sweep = _sweep(n, method, model, t_end=t_end)
+    _sweep(1, method, model, t_end=t_end).run()  # compiled before the timing
     start = time.perf_counter()
     results = sweep.run()
     seconds = time.perf_counter() - start
     inputs = _kernel_inputs(sweep)
-    big = _kernel_inputs(_sweep(large, method, model))
+    big = _kernel_inputs(_sweep(large, method, model, t_end=t_end))
     records = big["params"]
     if not all(records[k].tobytes() == records[0].tobytes() for k in range(len(records))):
         raise SystemExit("the large grid's parameter records differ: this script keeps one")
@@ -205,7 +219,8 @@ def _run(data: Any, prefix: str = "", copies: int = 1) -> tuple[np.ndarray, floa
         return np.tile(values, (copies,) + (1,) * (values.ndim - 1))
 
     y0 = tiled("y0")
-    params = np.resize(tiled("params"), len(y0))  # the large grid keeps its one body's record
+    # the large grid keeps its one body's record
+    params = _parameter_records(np.resize(tiled("params"), len(y0)))
     bands, windows = tiled("reversal_bands"), tiled("reversal_windows")
     captures = tiled("capture_speeds")
     is_hybrid = bool(np.any(captures > 0.0))
@@ -293,7 +308,11 @@ def gpu(directory: Path, copies: int, force: bool) -> None:
     figures["large_statuses"] = {str(int(c)): int((status == c).sum()) for c in np.unique(status)}
     try:  # the whole backend: Sweep(device="cuda"), where celtstone.sweep imports here
         sweep = _sweep(
-            int(data["grid"]), str(data["method"]), str(data["model_name"]), device="cuda"
+            int(data["grid"]),
+            str(data["method"]),
+            str(data["model_name"]),
+            device="cuda",
+            t_end=float(data["t_end"]),
         )
         start = time.perf_counter()
         sweep.run()
@@ -454,17 +473,24 @@ def main() -> None:
     parser.add_argument("--grid", type=int, default=32, help="points per axis, CPU and GPU")
     parser.add_argument("--large", type=int, default=256, help="points per axis, GPU only")
     parser.add_argument("--copies", type=int, default=4, help="the large grid repeated")
+    parser.add_argument(
+        "--t-end", type=float, default=T_END, help=f"simulated time of each point [s] ({T_END:g})"
+    )
     parser.add_argument("--force", action="store_true", help="replace DIR's earlier output")
     args = parser.parse_args()
     for name in ("grid", "large", "copies"):
         if getattr(args, name) < 1:
             parser.error(f"--{name} must be a whole number >= 1, not {getattr(args, name)}")
+    if not args.t_end > 0.0:
+        parser.error(f"--t-end must be a time > 0 s, not {args.t_end}")
     if args.method not in ("vern9", "dop853", "radau5", "auto"):
         parser.error(f"--method must be vern9, dop853, radau5 or auto, not {args.method!r}")
     if args.first_launch:
         print(_first_launch(args.first_launch))
     if args.prepare:
-        prepare(args.prepare, args.grid, args.large, args.method, args.model, args.force)
+        prepare(
+            args.prepare, args.grid, args.large, args.method, args.model, args.t_end, args.force
+        )
     if args.gpu:
         gpu(args.gpu, args.copies, args.force)
     if args.report:

@@ -6,6 +6,9 @@ a key of ``SWEEPS``. Writes to
 DIR: ``cpu.zarr``, the CPU sweep; ``cuda.zarr``, the same sweep on the (simulated) GPU,
 stopped by Ctrl-C after its first block and resumed; ``report.json``, what the test
 checks besides the stores. Exits 77 where the simulator is unavailable, saying why.
+``NUMBA_ENABLE_CUDASIM=1 python tests/sweep_cuda_sample.py --calmed SCRIPT ARGS...`` runs
+another script (the GPU benchmark) in the same simulator. The simulator waits for its
+threads instead of polling them in a busy loop (``calm_simulator``).
 
 The rolling points are five initial states of the Kane & Levinson body over 3 s that
 cover what the loop and the reduction read: runs that reverse and runs that do not, raw
@@ -19,7 +22,8 @@ default contact) over 1 s, with the realistic contact (the Hertz ellipse of E = 
 ν = 0.35, the exact law, the dynamic load, rolling resistance 10 µm): runs that stay in
 slip, runs with from 3 to 40 phases and up to 30 rejected captures, one that reverses.
 For them the sample also runs ``solvers.batch.run_batch`` with a phase log too short
-for most (``SHORT_PHASE_LOG``) on both, into ``max_phases.npz``.
+for most (``SHORT_PHASE_LOG``) on both, reversals read from the raw spin, into
+``max_phases.npz``.
 """
 
 from __future__ import annotations
@@ -63,6 +67,8 @@ SWEEPS = {
     },
 }
 CHUNK_POINTS = 2  # three blocks: the interruption falls after the first
+CALMED = "--calmed"  # ``--calmed SCRIPT ARGS...``: SCRIPT run in the calmed simulator
+POLL_WAIT = 0.001  # [s] the simulator's wait on each live thread per poll (calm_simulator)
 SHORT_PHASE_LOG = 4  # phases: the stick–slip points of more stop with status max_phases
 
 
@@ -79,6 +85,7 @@ def main() -> int:
     except Exception as error:
         print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
         return 77
+    calm_simulator()
     from celtstone.errors import ParameterError
     from celtstone.sweep import Sweep
 
@@ -118,6 +125,35 @@ def main() -> int:
     return 0
 
 
+def calm_simulator() -> None:
+    """Let numba's simulator wait for its threads instead of spinning.
+
+    A launch polls its threads' ``is_alive`` in a loop with no wait until all have ended
+    (``numba.cuda.simulator.kernel.BlockManager.run``). celtstone's compiled code releases
+    the GIL (``nogil``), so while the threads integrate (and at a first launch compile
+    the thread's code), that loop keeps a core busy: as much CPU as the launch's wall
+    time, taken from the other test worker. Here each poll
+    first waits up to ``POLL_WAIT`` for the thread to end (``join`` with a timeout, which
+    sleeps): the same threads, run and checked as before, only fewer polls. Where numba
+    has no such class, the simulator polls as it does."""
+    try:
+        from numba.cuda.simulator import kernel
+    except ImportError:
+        return
+
+    thread = getattr(kernel, "BlockThread", None)
+    if thread is None or getattr(thread, "_celtstone_calm", False):
+        return
+    alive = thread.is_alive
+
+    def is_alive(self: Any) -> bool:
+        self.join(POLL_WAIT)
+        return alive(self)
+
+    thread.is_alive = is_alive  # type: ignore[method-assign]
+    thread._celtstone_calm = True  # type: ignore[attr-defined]
+
+
 def _short_phase_log(sweep: Any, directory: Path) -> None:
     """``run_batch`` of the stick–slip points with a phase log of ``SHORT_PHASE_LOG``
     phases, on the CPU and on the (simulated) GPU, into ``max_phases.npz``."""
@@ -133,6 +169,9 @@ def _short_phase_log(sweep: Any, directory: Path) -> None:
         "atol": sweep.atol,
         "sample_times": sweep.sample_times,
         "reversal_bands": np.full(len(params), 0.05),
+        # an array as the sweep passes (run_batch reads it back read-only): one compiled
+        # batch loop for both; zero, the raw spin's reversals, which the sweep leaves out
+        "reversal_windows": np.zeros(len(params)),
         "capture_speeds": builder.capture_speeds(indices),
         "max_phases": SHORT_PHASE_LOG,
         "stick_method_name": sweep.stick_method,
@@ -147,4 +186,11 @@ def _short_phase_log(sweep: Any, directory: Path) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    if sys.argv[1:2] == [CALMED]:  # another script (the GPU benchmark) in the simulator
+        import runpy
+
+        calm_simulator()
+        sys.argv = sys.argv[2:]
+        runpy.run_path(sys.argv[0], run_name="__main__")
+    else:
+        sys.exit(main())

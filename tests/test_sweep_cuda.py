@@ -34,6 +34,7 @@ pytestmark = pytest.mark.xdist_group("cuda_simulator")
 
 SAMPLE = Path(__file__).resolve().parent / "sweep_cuda_sample.py"
 SKIPPED = 77  # the sample's exit status where the simulator is unavailable
+CALMED = "--calmed"  # the sample's option that runs another script in the calmed simulator
 # what each of the sample's sweeps covers, so that the comparison reads every branch of the
 # loop and the reduction (from the CPU sweep, checked before the GPU's is compared):
 # reversal counts, statuses; every sweep has spin crossing counts of 3 or more values,
@@ -189,11 +190,15 @@ BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu_sweep.py"
 
 
 def _benchmark(*arguments: str, simulator: bool = False) -> subprocess.CompletedProcess[str]:
+    """The benchmark run with ``arguments``; with ``simulator``, in numba's CUDA simulator,
+    started by the sample (``CALMED``: the simulator waits for its threads)."""
     environment = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    starter: list[str] = []
     if simulator:
         environment["NUMBA_ENABLE_CUDASIM"] = "1"
+        starter = [str(SAMPLE), CALMED]
     return subprocess.run(
-        [sys.executable, str(BENCHMARK), *arguments],
+        [sys.executable, *starter, str(BENCHMARK), *arguments],
         env=environment,
         capture_output=True,
         text=True,
@@ -201,7 +206,11 @@ def _benchmark(*arguments: str, simulator: bool = False) -> subprocess.Completed
 
 
 @pytest.mark.parametrize(
-    "sweep", [(), ("--model", "sliding", "--method", "auto")], ids=["rolling", "sliding"]
+    "sweep",
+    # the benchmark's default rolling sweep; the sliding one over 3 s, not 10 s (each of its
+    # stages runs the grid in the simulator), in which two of its four points reverse
+    [(), ("--model", "sliding", "--method", "auto", "--t-end", "3")],
+    ids=["rolling", "sliding"],
 )
 def test_benchmark_stages_run_and_agree_in_the_simulator(
     tmp_path: Path, sweep: tuple[str, ...]
@@ -228,6 +237,8 @@ def test_benchmark_stages_run_and_agree_in_the_simulator(
     assert summary["points"] == 4
     for count in ("status_agrees", "reversal_count_agree", "spin_crossing_count_agree"):
         assert summary[count] == 4, count
-    assert summary["differences"]["spin_final"]["max"] == 0.0  # the simulator: the CPU's code
+    # the simulator runs the CPU's code: equal to the last bit, the reversals' times too
+    assert summary["differences"]["spin_final"]["max"] == 0.0
+    assert summary["differences"]["first_reversal_time"]["max"] == 0.0  # not None: one reverses
     assert summary["gpu"]["device"] == "numba's CUDA simulator"
     assert summary["gpu"]["model"] == ("sliding" if sweep else "rolling")
