@@ -57,13 +57,15 @@ STEPPER = ("workspace", "start", "attempt", "dense", "interpolate")  # contract 
 def test_every_registered_method_has_a_module_and_known_orders() -> None:
     """The registry, the compiled dispatch and the Python view of it agree."""
     assert set(_methods.MODULES) == set(solvers.METHODS.values())
-    for code in solvers.METHODS.values():
+    for entry in solvers.METHOD_ENTRIES.values():
+        code = entry.code
         assert _methods.is_known(code)
         module = _methods.MODULES[code]
+        assert module.__name__ == entry.module
         assert _methods.error_order(code) == module.ERROR_ORDER
         assert _methods.dense_every_step(code) == module.DENSE_EVERY_STEP
         # a switching method (auto) routes its steps to the others
-        names = ("workspace", "start", "after_step") if code == codes.METHOD_AUTO else STEPPER
+        names = ("workspace", "start", "after_step") if entry.switches_among else STEPPER
         for name in names:
             assert callable(getattr(module, name)), name
     assert not _methods.is_known(max(solvers.METHODS.values()) + 1)
@@ -73,14 +75,12 @@ def test_the_interpolants_arrays_are_indexed_by_method_code() -> None:
     """The driver picks a step's interpolant as ``dense_arrays(work)[code]``: only the run's
     own method (both of auto's) has one sized to the state."""
     n = 16
-    for code in solvers.METHODS.values():
-        arrays = _methods.dense_arrays(_methods.workspaces(code, n))
+    for entry in solvers.METHOD_ENTRIES.values():
+        arrays = _methods.dense_arrays(_methods.workspaces(entry.code, n))
         assert len(arrays) == len(solvers.METHODS)
         sized = {i for i, array in enumerate(arrays) if array.shape[-1] == n}
-        expected = (
-            {codes.METHOD_DOP853, codes.METHOD_RADAU5} if code == codes.METHOD_AUTO else {code}
-        )
-        assert sized == expected
+        switched = {solvers.METHODS[name] for name in entry.switches_among}
+        assert sized == (switched or {entry.code})
 
 
 @pytest.mark.parametrize("method", METHOD_NAMES)

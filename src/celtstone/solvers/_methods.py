@@ -1,12 +1,15 @@
-"""The integrator contract, and the compiled registry that routes a method code to its module.
+"""The integrator contract, and the compiled dispatch that routes a method code to its module.
 
 The contract (in the manner of SciPy's ``OdeSolver``)
 -----------------------------------------------------
-1. **A method is one module** ``solvers/_<name>.py``, registered by one entry in
-   ``codes.METHODS`` (name -> code) and one branch in each function of this module.
-   Tests parametrised over ``solvers.METHODS`` then run it: convergence slope, agreement
-   with SciPy, events, failures. Every function below is compiled by numba and takes
-   numbers, arrays and NamedTuples of them only (item 11).
+1. **A method is one module** ``solvers/_<name>.py`` and one entry in the registry
+   ``codes.METHOD_ENTRIES`` (name, code, words, module, traits). The compiled dispatch on
+   a method code, the functions this module hands on, is generated from the registry
+   into ``solvers/_dispatch.py`` (``python src/celtstone/solvers/_generate.py``; a test fails
+   while the checked-in file is not the registry's). Tests parametrised over
+   ``solvers.METHODS`` then run it: convergence slope, agreement with SciPy, events,
+   failures. Every function of the dispatch is compiled by numba and takes numbers,
+   arrays and NamedTuples of them only (item 11).
 2. **The system** is ``_system.rhs(model, t, y, params, out)``: ``model`` a model
    code, ``params`` the run's system (the kernel parameter record and the link to its
    compiled right-hand side, ``solvers._system``; opaque to the methods: they only pass
@@ -70,188 +73,38 @@ The contract (in the manner of SciPy's ``OdeSolver``)
     interpolate through :func:`interpolate_apart`, every method's interpolant compiled
     once.
 
-Each dispatch below has one branch per registered code and no default: an unknown
-code returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
+Each dispatch has one branch per registered code and no default: an unknown code
+returns ``STATUS_UNKNOWN_CODE`` (``attempt``) or NaN, never another method's result.
 
-**Switching** (``auto``, ``solvers._auto``) is a method code whose steps are taken by
-the others, one at a time: ``active(method, work.auto)`` names the method that takes the
-next step, and the driver passes that code to ``attempt`` (with the run's code),
-``dense``, ``dense_every_step`` and ``interpolate`` for the step, with that method's
-coefficients (``dense_arrays`` looked up once per run);
-``after_step`` takes the run's code. Each method's step is compiled once however many
-codes route to it.
+**Switching** (``auto``, ``solvers._auto``; an entry with ``switches_among``) is a method
+code whose steps are taken by the others, one at a time: ``active(method, work.auto)``
+names the method that takes the next step (its record's field ``active``), and the
+driver passes that code to ``attempt`` (with the run's code), ``dense``,
+``dense_every_step`` and ``interpolate`` for the step, with that method's coefficients
+(``dense_arrays`` looked up once per run); ``after_step`` takes the run's code, and the
+switching module's ``note_explicit_step`` reads each accepted step of the methods its
+entry's ``notes_steps_of`` names. Each method's step is compiled once however many codes
+route to it.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
-import numpy as np
-
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import RHS_UNKNOWN_CODE
-from celtstone.solvers import _auto as auto
-from celtstone.solvers import _dop853 as dop853
-from celtstone.solvers import _radau as radau5
-from celtstone.solvers import _vern9 as vern9
-from celtstone.solvers._compile import inlined
-from celtstone.solvers.codes import (
-    METHOD_AUTO,
-    METHOD_DOP853,
-    METHOD_RADAU5,
-    METHOD_VERN9,
-    STATUS_SUCCESS,
-    STATUS_UNKNOWN_CODE,
-)
-
-# for Python
-MODULES = {METHOD_DOP853: dop853, METHOD_RADAU5: radau5, METHOD_AUTO: auto, METHOD_VERN9: vern9}
-
-
-class Workspaces(NamedTuple):
-    """One workspace per registered method; only those the run uses are sized to the
-    state (both for ``auto``); ``auto`` is its switching record."""
-
-    dop853: dop853.Workspace
-    radau5: radau5.Workspace
-    auto: np.ndarray
-    vern9: vern9.Workspace
-
-
-@kernel
-def is_known(method):
-    """Whether ``method`` is a registered method code."""
-    return (
-        method == METHOD_DOP853
-        or method == METHOD_RADAU5
-        or method == METHOD_AUTO
-        or method == METHOD_VERN9
-    )
-
-
-@kernel
-def workspaces(method, n):
-    """Workspaces for a run of ``method`` on states of length n (the others empty)."""
-    switching = method == METHOD_AUTO
-    return Workspaces(
-        dop853.workspace(n if method == METHOD_DOP853 or switching else 0),
-        radau5.workspace(n if method == METHOD_RADAU5 or switching else 0),
-        auto.workspace(),
-        vern9.workspace(n if method == METHOD_VERN9 else 0),
-    )
-
-
-@kernel
-def error_order(method):
-    """``ERROR_ORDER`` of the method (contract item 3); -1 for an unknown code."""
-    if method == METHOD_DOP853:
-        return dop853.ERROR_ORDER
-    if method == METHOD_RADAU5:
-        return radau5.ERROR_ORDER
-    if method == METHOD_AUTO:
-        return auto.ERROR_ORDER
-    if method == METHOD_VERN9:
-        return vern9.ERROR_ORDER
-    return -1
-
-
-@inlined
-def dense_every_step(method):
-    """The method's ``DENSE_EVERY_STEP`` (contract item 7); True for an unknown code."""
-    if method == METHOD_DOP853:
-        return dop853.DENSE_EVERY_STEP
-    if method == METHOD_RADAU5:
-        return radau5.DENSE_EVERY_STEP
-    if method == METHOD_AUTO:
-        return auto.DENSE_EVERY_STEP
-    if method == METHOD_VERN9:
-        return vern9.DENSE_EVERY_STEP
-    return True
-
-
-@inlined
-def active(method, switching):
-    """The code of the method that takes the next step: ``method`` itself, or for
-    ``auto`` the one its switching record ``switching`` (``work.auto``) names."""
-    if method == METHOD_AUTO:
-        return switching[0].active
-    return method
-
-
-@inlined
-def start(method, model, params, t, y, f, h, controls, work, stats):
-    """The method's ``start`` (contract item 5); ``auto``'s also checks ρ against the
-    first step h [s], so that a run or phase that starts stiff starts with Radau."""
-    if method == METHOD_DOP853:
-        dop853.start(model, params, t, y, f, controls, work.dop853, stats)
-    elif method == METHOD_RADAU5:
-        radau5.start(model, params, t, y, f, controls, work.radau5, stats)
-    elif method == METHOD_AUTO:
-        auto.start(work.auto, model, params, t, y, f, h, controls, work, stats)
-    elif method == METHOD_VERN9:
-        vern9.start(model, params, t, y, f, controls, work.vern9, stats)
-
-
-@inlined
-def attempt(method, stepper, model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stats):
-    """The ``attempt`` (contract item 6) of ``stepper``, the method that takes the step
-    (``active``): (status, h_taken, h_next, rhs status, normal force [N]); for ``auto`` a
-    DOP853 step also updates its stiffness test."""
-    if stepper == METHOD_DOP853:
-        result = dop853.attempt(
-            model, params, t, y, f, h, t_end, controls, work.dop853, y_new, f_new, stats
-        )
-        if method == METHOD_AUTO and result[0] == STATUS_SUCCESS:
-            auto.note_explicit_step(work.auto, work.dop853, y_new, result[1])
-        return result
-    if stepper == METHOD_RADAU5:
-        return radau5.attempt(
-            model, params, t, y, f, h, t_end, controls, work.radau5, y_new, f_new, stats
-        )
-    if stepper == METHOD_VERN9:
-        return vern9.attempt(
-            model, params, t, y, f, h, t_end, controls, work.vern9, y_new, f_new, stats
-        )
-    return STATUS_UNKNOWN_CODE, h, h, RHS_UNKNOWN_CODE, np.nan
-
-
-@inlined
-def after_step(method, model, params, t, y, f, h_next, controls, work, stats):
-    """Between accepted steps, at the new (t, y) with f = f(t, y) and the next step size
-    h_next [s]: ``auto`` may switch the method that takes it; the others do nothing."""
-    if method == METHOD_AUTO:
-        auto.after_step(work.auto, model, params, t, y, f, h_next, controls, work, stats)
-
-
-@inlined
-def dense(method, model, params, t, y, y_new, h, work, stats):
-    """The method's ``dense`` (contract item 7)."""
-    if method == METHOD_DOP853:
-        dop853.dense(model, params, t, y, y_new, h, work.dop853, stats)
-    elif method == METHOD_RADAU5:
-        radau5.dense(model, params, t, y, y_new, h, work.radau5, stats)
-    elif method == METHOD_VERN9:
-        vern9.dense(model, params, t, y, y_new, h, work.vern9, stats)
-
-
-@inlined
-def dense_arrays(work):
-    """Every method's interpolant coefficients ``work.<method>.dense`` (contract item 7),
-    indexed by method code; an empty array at a code that takes no steps itself (``auto``)."""
-    return (work.dop853.dense, work.radau5.dense, np.zeros((0, 0)), work.vern9.dense)
-
-
-@inlined
-def interpolate(method, dense, y_old, x, out):
-    """The method's ``interpolate`` (contract item 7); NaN for an unknown code."""
-    if method == METHOD_DOP853:
-        dop853.interpolate(dense, y_old, x, out)
-    elif method == METHOD_RADAU5:
-        radau5.interpolate(dense, y_old, x, out)
-    elif method == METHOD_VERN9:
-        vern9.interpolate(dense, y_old, x, out)
-    else:
-        out[:] = np.nan
+from celtstone.solvers._dispatch import MODULES as MODULES
+from celtstone.solvers._dispatch import Workspaces as Workspaces
+from celtstone.solvers._dispatch import active as active
+from celtstone.solvers._dispatch import after_step as after_step
+from celtstone.solvers._dispatch import attempt as attempt
+from celtstone.solvers._dispatch import dense as dense
+from celtstone.solvers._dispatch import dense_arrays as dense_arrays
+from celtstone.solvers._dispatch import dense_every_step as dense_every_step
+from celtstone.solvers._dispatch import error_order as error_order
+from celtstone.solvers._dispatch import interpolate as interpolate
+from celtstone.solvers._dispatch import is_known as is_known
+from celtstone.solvers._dispatch import start as start
+from celtstone.solvers._dispatch import thread_dense_arrays as thread_dense_arrays
+from celtstone.solvers._dispatch import thread_workspaces as thread_workspaces
+from celtstone.solvers._dispatch import workspaces as workspaces
 
 
 @kernel

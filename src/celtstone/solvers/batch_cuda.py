@@ -82,9 +82,8 @@ from celtstone.solvers.batch import N_FIELDS, Points, _reduce
 from celtstone.solvers.codes import (
     DEFAULT_MAX_PHASES,
     METHOD_AUTO,
-    METHOD_DOP853,
+    METHOD_ENTRIES,
     METHOD_RADAU5,
-    METHOD_VERN9,
     N_STATS,
 )
 from celtstone.solvers.driver import LoopArrays, copy_into, run_loop
@@ -114,14 +113,9 @@ CUDA_MODELS = (int(ModelCode.ROLLING), int(ModelCode.SLIDING))
 contact's slip phases (its stick phases run ``MODEL_STICK``)."""
 CUDA_MODEL_NAMES = tuple(ModelCode(code).name.lower() for code in CUDA_MODELS)
 """Their names, as ``Sweep(model=...)`` takes them."""
-CUDA_METHODS = {
-    "vern9": METHOD_VERN9,
-    "dop853": METHOD_DOP853,
-    "radau5": METHOD_RADAU5,
-    "auto": METHOD_AUTO,
-}
-"""Methods a GPU thread runs, by name: every method, Radau's workspace (Jacobian and LU
-factors, 8 kB) in the thread's local memory."""
+CUDA_METHODS = {name: entry.code for name, entry in METHOD_ENTRIES.items() if entry.gpu}
+"""Methods a GPU thread runs, by name: those of the registry marked ``gpu`` (every method
+now), Radau's workspace (Jacobian and LU factors, 8 kB) in the thread's local memory."""
 MAX_LAUNCH_POINTS = 262_144  # threads of one launch: more than fill a GPU (§44: 65 536 do)
 SIMULATOR_LAUNCH_POINTS = 64  # numba's simulator runs a Python thread per GPU thread
 MEMORY_FRACTION = 0.5  # of the GPU's free memory, for one launch's arrays
@@ -278,11 +272,10 @@ def _thread_arrays(memory, switching):
         stage_rates, vectors[0], complex_rhs, vectors[1], vectors[2], vectors[3], vectors[4],
         radau_dense, vectors[5], memory,
     )  # fmt: skip
-    # the explicit methods read their workspace's fields by name, which ThreadWorkspace has
-    work = methods.Workspaces(explicit, radau, switching, explicit)  # type: ignore[arg-type]
-    # by method code (dop853, radau5, auto, vern9), as ``_methods.dense_arrays``; auto
-    # takes no step itself
-    dense_of = (dense, radau_dense, dense, dense)
+    # the explicit methods read their workspace's fields by name, which ThreadWorkspace
+    # has; by method code, as the registry's entries say (``gpu``)
+    work = methods.thread_workspaces(explicit, radau, switching)
+    dense_of = methods.thread_dense_arrays(dense, radau_dense)
     return LoopArrays(loop[0], loop[1], loop[2], loop[3], loop[4], values, work, dense_of)
 
 

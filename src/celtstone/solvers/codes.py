@@ -13,20 +13,70 @@ METHOD_VERN9 = 3  # Verner's 9(8) pair (``solvers._vern9``)
 
 @dataclass(frozen=True)
 class Method:
-    """An integration method of the registry :data:`METHOD_ENTRIES`: its code (the
-    ``METHOD_<NAME>`` the compiled loops branch on, ``solvers._methods``) and the words
-    that help texts show."""
+    """An integration method of the registry :data:`METHOD_ENTRIES`, declared once: the
+    compiled dispatch on its code (``solvers._dispatch``) is generated from these entries
+    (``python src/celtstone/solvers/_generate.py``), and the help texts, the validation, the
+    driver's first-run compile and the GPU sweep read them.
+
+    Parameters
+    ----------
+    code : the ``METHOD_<NAME>`` the compiled loops branch on, numbered next (the
+        interpolants' arrays are indexed by code, ``_methods.dense_arrays``)
+    words : what help texts show
+    module : the module that follows the method contract (``solvers._methods``), dotted
+    own_loop : a first run with it compiles a run loop for its model and this method
+        alone (``driver.integrate_link``): worth it for a method that holds little of the
+        others' code (the explicit ones), not for one that holds most of it
+    gpu : the workspace a sweep's GPU thread gives it (``batch_cuda``): ``"explicit"``
+        (shared by the explicit methods, ``batch_cuda.ThreadWorkspace``), ``"radau"`` or
+        ``"switching"`` (``auto``'s record); empty where the GPU does not run it
+    switches_among : for a method whose steps the others take by turns (``auto``): those
+        methods. Its module provides ``workspace()``, ``start`` and ``after_step`` on its
+        switching record, whose field ``active`` names the method of the next step (see
+        ``solvers._methods``, "Switching")
+    notes_steps_of : the methods whose accepted steps a switching method's
+        ``note_explicit_step`` reads (``auto``: DOP853's stiffness estimate)
+    """
 
     code: int
     words: str
+    module: str
+    own_loop: bool = False
+    gpu: str = ""
+    switches_among: tuple[str, ...] = ()
+    notes_steps_of: tuple[str, ...] = ()
 
 
-# the methods registry, one entry per method: name -> code and words
+# the methods registry, one entry per method: name -> code, words, module and traits
 METHOD_ENTRIES = {
-    "dop853": Method(METHOD_DOP853, "Dormand–Prince 8(5,3), explicit"),
-    "radau5": Method(METHOD_RADAU5, "Radau IIA of order 5, implicit, for stiff contacts"),
-    "auto": Method(METHOD_AUTO, "DOP853 and Radau IIA by turns, switched on stiffness"),
-    "vern9": Method(METHOD_VERN9, "Verner's 9(8) pair, explicit"),
+    "dop853": Method(
+        METHOD_DOP853,
+        "Dormand–Prince 8(5,3), explicit",
+        "celtstone.solvers._dop853",
+        own_loop=True,
+        gpu="explicit",
+    ),
+    "radau5": Method(
+        METHOD_RADAU5,
+        "Radau IIA of order 5, implicit, for stiff contacts",
+        "celtstone.solvers._radau",
+        gpu="radau",
+    ),
+    "auto": Method(
+        METHOD_AUTO,
+        "DOP853 and Radau IIA by turns, switched on stiffness",
+        "celtstone.solvers._auto",
+        gpu="switching",
+        switches_among=("dop853", "radau5"),
+        notes_steps_of=("dop853",),
+    ),
+    "vern9": Method(
+        METHOD_VERN9,
+        "Verner's 9(8) pair, explicit",
+        "celtstone.solvers._vern9",
+        own_loop=True,
+        gpu="explicit",
+    ),
 }
 METHODS = {name: method.code for name, method in METHOD_ENTRIES.items()}  # name -> code
 

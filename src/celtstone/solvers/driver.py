@@ -39,9 +39,8 @@ from celtstone.solvers._structures import RunEnd
 from celtstone.solvers._system import rhs, rhs_link, spin_and_normal_force
 from celtstone.solvers.codes import (
     METHOD_AUTO,
-    METHOD_DOP853,
+    METHOD_ENTRIES,
     METHOD_RADAU5,
-    METHOD_VERN9,
     METHODS,
     STAT_ACCEPTED,
     STAT_NFEV,
@@ -382,8 +381,8 @@ call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers.
 # of every method and compiles nearly as long as the model's loop with the method a
 # value, which serves every method of that model: those runs compile that one (the
 # sliding model: about 35 s, where the loop for every code, with every model's branches
-# and right-hand side, took some 4 s more).
-OWN_LOOP_METHODS = (METHOD_VERN9, METHOD_DOP853)
+# and right-hand side, took some 4 s more). The registry's entries say which (``own_loop``).
+OWN_LOOP_METHODS = tuple(entry.code for entry in METHOD_ENTRIES.values() if entry.own_loop)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
 OWN_LOOP_SECONDS = 16.0
 MODEL_LOOP_SECONDS = 35.0
