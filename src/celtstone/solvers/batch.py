@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from celtstone.kernels._jit import kernel
+from celtstone.kernels._jit import inlined_kernel, kernel
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ModelCode
 from celtstone.kernels.reversal import count_reversals, rocking_average_into
 from celtstone.kernels.system import energy, spin_and_normal_force
@@ -97,12 +97,16 @@ the global to its integers): ``out[COLUMN.spin_final]``; the outcome's unit and 
 are its ``OUTCOMES`` row."""
 
 
-@kernel
+@inlined_kernel
 def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
     """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
     ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
     the first reversal time, buffer of the spin's running integral) (``kernels.reversal``);
-    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too."""
+    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too.
+
+    Inlined where it is called: compiled apart, it was compiled once more for the model
+    code as a constant (``_reduce_of``), with the right-hand side's code optimised again
+    in each."""
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
