@@ -373,15 +373,21 @@ def run_batch(
         shape (k, len(FIELDS)), float64, columns in the order of ``FIELDS``; the hybrid
         contact reduces exactly as ``simulate`` with ``HybridModel`` does
     """
-    y0 = np.array(y0, dtype=np.float64, order="C")  # writable: one overload of each loop
+    # every per-point array a writable copy, whatever the caller passed (a sweep's are
+    # read-only views): numba types a read-only array apart, so each mix of flags would
+    # compile a batch loop of its own
     n_points = len(params)
     speeds = np.zeros(n_points) if capture_speeds is None else capture_speeds
+
+    def per_point(values: Any) -> np.ndarray:
+        return np.array(np.broadcast_to(values, (n_points,)), dtype=np.float64)
+
     points = Points(
-        params,
-        y0,
-        np.ascontiguousarray(np.broadcast_to(reversal_bands, (n_points,)), dtype=np.float64),
-        np.ascontiguousarray(np.broadcast_to(reversal_windows, (n_points,)), dtype=np.float64),
-        np.ascontiguousarray(np.broadcast_to(speeds, (n_points,)), dtype=np.float64),
+        np.array(params),
+        np.array(y0, dtype=np.float64, order="C"),
+        per_point(reversal_bands),
+        per_point(reversal_windows),
+        per_point(speeds),
     )
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])
