@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from celtstone.kernels._jit import kernel
+from celtstone.kernels._jit import inlined_kernel, kernel
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ModelCode
 from celtstone.kernels.reversal import count_reversals, rocking_average_into
 from celtstone.kernels.system import energy, spin_and_normal_force
@@ -97,12 +97,16 @@ the global to its integers): ``out[COLUMN.spin_final]``; the outcome's unit and 
 are its ``OUTCOMES`` row."""
 
 
-@kernel
+@inlined_kernel
 def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
     """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
     ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
     the first reversal time, buffer of the spin's running integral) (``kernels.reversal``);
-    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too."""
+    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too.
+
+    Inlined where it is called: compiled apart, it was compiled once more for the model
+    code as a constant (``_reduce_of``), with the right-hand side's code optimised again
+    in each."""
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
@@ -369,15 +373,21 @@ def run_batch(
         shape (k, len(FIELDS)), float64, columns in the order of ``FIELDS``; the hybrid
         contact reduces exactly as ``simulate`` with ``HybridModel`` does
     """
-    y0 = np.array(y0, dtype=np.float64, order="C")  # writable: one overload of each loop
+    # every per-point array a writable copy, whatever the caller passed (a sweep's are
+    # read-only views): numba types a read-only array apart, so each mix of flags would
+    # compile a batch loop of its own
     n_points = len(params)
     speeds = np.zeros(n_points) if capture_speeds is None else capture_speeds
+
+    def per_point(values: Any) -> np.ndarray:
+        return np.array(np.broadcast_to(values, (n_points,)), dtype=np.float64)
+
     points = Points(
-        params,
-        y0,
-        np.ascontiguousarray(np.broadcast_to(reversal_bands, (n_points,)), dtype=np.float64),
-        np.ascontiguousarray(np.broadcast_to(reversal_windows, (n_points,)), dtype=np.float64),
-        np.ascontiguousarray(np.broadcast_to(speeds, (n_points,)), dtype=np.float64),
+        np.array(params),
+        np.array(y0, dtype=np.float64, order="C"),
+        per_point(reversal_bands),
+        per_point(reversal_windows),
+        per_point(speeds),
     )
     controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
     methods = (METHODS[method_name], METHODS[stick_method_name])

@@ -217,9 +217,11 @@ def phase_loop(params, t_end, hybrid, controls, output, log, buffers, integrator
     kind, jump = first_phase(params, y, hybrid.capture_speed, captured)
     t0 = 0.0
     t_stop = 0.0
-    n_samples = 0
+    # counters typed int64 from the start: the literal 0 would compile ``run_phase`` once
+    # more for the first phase's constant offsets (``Literal[int](0)``)
+    n_samples = np.int64(0)
     n_crossings = 0
-    n_stored = 0
+    n_stored = np.int64(0)
     n_phases = 0
     min_normal = np.inf
     t_min_normal = 0.0
