@@ -114,7 +114,7 @@ def test_no_text_is_cut_off_in_an_animation_frame(
         next(frames)
         for time in (plan.times[0], plan.times[len(plan.times) // 2], plan.times[-1]):
             for panel in panels:
-                panel.show(float(time), plan.speed)
+                panel.show(panel.sample(float(time)), plan.speed)
             cut[float(time)] = _outside(figure) + small_texts(figure)
         path.write_bytes(b"")
 

@@ -183,3 +183,39 @@ def test_a_blitted_frame_matches_the_scene_drawn_whole(
     for differing, body in compared:
         assert body > 2000  # the body is drawn, a few thousand pixels
         assert differing < 0.05 * body
+
+
+def _all_frames(
+    dataset: xr.Dataset, path: Path, monkeypatch: pytest.MonkeyPatch
+) -> list[np.ndarray]:
+    """Every frame of a 640 x 480 video of ``dataset`` as drawn (before encoding)."""
+    frames: list[np.ndarray] = []
+
+    def keep(path: Path, suffix: str, drawn: Iterator[np.ndarray], *args: Any, **kw: Any) -> None:
+        frames.extend(np.array(frame) for frame in drawn)
+        path.write_bytes(b"")
+
+    monkeypatch.setattr(animate_module, "_write", keep)
+    animate(dataset, path, size=(640, 480))
+    return frames
+
+
+def test_reused_glyphs_draw_the_frames_that_matplotlib_draws(
+    sliding_run: xr.Dataset, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The read-out's glyphs rasterised once each (``visual._glyphs``) give every frame
+    to the bit as matplotlib's own renderer, which rasterises each glyph every time."""
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    from celtstone.visual import _glyphs
+
+    assert _glyphs.reuse_glyphs(RendererAgg(64, 64, 100.0)), (
+        "this matplotlib no longer draws glyphs as visual._glyphs expects: videos are "
+        "drawn without reusing glyphs (same frames, more CPU); update or remove _glyphs"
+    )
+    reused = _all_frames(sliding_run, tmp_path / "reused.mp4", monkeypatch)
+    monkeypatch.setattr(animate_module, "reuse_glyphs", lambda renderer: False)
+    drawn = _all_frames(sliding_run, tmp_path / "drawn.mp4", monkeypatch)
+    assert len(reused) == len(drawn) == 61
+    for frame, expected in zip(reused, drawn, strict=True):
+        np.testing.assert_array_equal(frame, expected)

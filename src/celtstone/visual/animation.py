@@ -1,8 +1,9 @@
 """3-D animation of runs: matplotlib (Agg) frames, encoded by ffmpeg or imageio.
 
-A frame redraws only what moves on the static scene (blitting). mp4: the canvas's raw
-RGBA frames go through one pipe into the ffmpeg binary bundled by imageio-ffmpeg
-(H.264, yuv420p); gif: imageio's pillow plugin. No system ffmpeg is needed. Files are
+A frame redraws only what moves on the static scene (blitting), the read-out's glyphs
+rasterised once each (``_glyphs``). mp4: the canvas's raw RGBA frames go through one
+pipe into the ffmpeg binary bundled by imageio-ffmpeg (H.264, yuv420p); gif: imageio's
+pillow plugin. No system ffmpeg is needed. Files are
 written whole or not at all (``export.atomic_path``).
 """
 
@@ -29,6 +30,7 @@ from celtstone.errors import OutputError, ParameterError
 from celtstone.files.export import atomic_path, check_target
 from celtstone.files.ownership import video_mark
 from celtstone.visual import scene
+from celtstone.visual._glyphs import reuse_glyphs
 from celtstone.visual.frames import (
     VIDEO_FPS_LIMITS,
     VIDEO_FRAME_LIMITS,
@@ -127,6 +129,12 @@ class _Panel:
         self.centres = scene.centre_positions(dataset)
         self.contacts = np.asarray(dataset["contact_position"].values, dtype=float)
         self.is_sliding = dataset.attrs.get("model") == "sliding"
+        # the read-out's series as arrays, read once (an xarray lookup per frame costs more
+        # than the numbers it gives)
+        self.readout_series = {
+            name: np.asarray(dataset[name].values, dtype=float)
+            for name in ("spin", "tilt", *(("slip_speed",) if self.is_sliding else ()))
+        }
         ax = figure.add_subplot(1, count, position + 1, projection="3d", computed_zorder=False)
         self.ax = ax
         self._limits()
@@ -136,9 +144,9 @@ class _Panel:
         (self.trail,) = ax.plot([], [], [], color="tab:red", lw=1.2, zorder=2)
         self.trail_end = 0  # the last sample of the trail on the background
         self.body = FlatShadedTriangles(ax, zorder=3)
-        (self.long_axis,) = ax.plot([], [], [], color="black", lw=1.8, zorder=4)
-        (self.principal,) = ax.plot([], [], [], color="tab:orange", lw=1.2, ls="--", zorder=4)
-        (self.contact,) = ax.plot([], [], [], "o", color="tab:red", ms=4, zorder=5)
+        self.long_axis = _projected_line(ax, color="black", lw=1.8, zorder=4)
+        self.principal = _projected_line(ax, color="tab:orange", lw=1.2, ls="--", zorder=4)
+        self.contact = _projected_line(ax, marker="o", ls="", color="tab:red", ms=4, zorder=5)
         ax.set_title(label, fontsize=font + 1 if font > 8.0 else font)  # a gif: 360 px tall
         self.readout = ax.text2D(0.03, 0.03, "", transform=ax.transAxes, fontsize=font)
         # what changes from frame to frame, in drawing order
@@ -217,13 +225,12 @@ class _Panel:
         """Index of the sample nearest ``time`` [s]."""
         return int(nearest_samples(self.times, np.array([time]))[0])
 
-    def grow_trail(self, time: float) -> bool:
-        """Draw the contact track from the last sample drawn to the one nearest ``time``
-        [s]; True if it grew.
+    def grow_trail(self, i: int) -> bool:
+        """Draw the contact track from the last sample drawn to sample ``i``; True if it
+        grew.
 
         The trail only grows, so each piece is drawn once onto the background rather than
         the whole track every frame (its cost would grow with the run)."""
-        i = self.sample(time)
         if i <= self.trail_end:
             return False
         self.trail.set_data_3d(*self._track(self.contacts[self.trail_end : i + 1]))
@@ -231,10 +238,9 @@ class _Panel:
         self.trail_end = i
         return True
 
-    def show(self, time: float, speed: float) -> None:
-        """Draw the sample nearest ``time`` [s] (once the figure has been drawn: the camera
-        is the axes' projection)."""
-        i = self.sample(time)
+    def show(self, i: int, speed: float) -> None:
+        """Set the moving artists to sample ``i`` (once the figure has been drawn: the
+        camera is the axes' projection)."""
         rotation, centre = self.rotations[i], self.centres[i]
         vertices = scene.place(self.mesh.vertices, rotation, centre)
         faces = vertices[self.mesh.triangles]
@@ -246,20 +252,44 @@ class _Panel:
         self.body.set_faces(vertices, self.mesh.triangles[front], colours)
         for line, name in ((self.long_axis, "long_axis"), (self.principal, "principal_axis")):
             points = scene.place(self.marks[name], rotation, centre)
-            line.set_data_3d(points[:, 0], points[:, 1], points[:, 2])
+            _set_projected(line, points[:, 0], points[:, 1], points[:, 2])
         x, y = self.contacts[i]
-        self.contact.set_data_3d([x], [y], [0.0])
-        ds = self.dataset
+        _set_projected(self.contact, np.array([x]), np.array([y]), np.zeros(1))
+        series = self.readout_series
         lines = [
             f"t = {self.times[i]:.2f} s"
             + ("" if speed == 1.0 else f"  (playback {speed:.3g} × real time)"),
-            f"spin = {float(ds['spin'].values[i]):+.2f} rad/s"
-            f"  tilt = {math.degrees(float(ds['tilt'].values[i])):.2f}°",
+            f"spin = {float(series['spin'][i]):+.2f} rad/s"
+            f"  tilt = {math.degrees(float(series['tilt'][i])):.2f}°",
         ]
         if self.is_sliding:
-            lines.append(f"slip speed = {1e3 * float(ds['slip_speed'].values[i]):.2f} mm/s")
+            lines.append(f"slip speed = {1e3 * float(series['slip_speed'][i]):.2f} mm/s")
         text = "\n".join(lines)
         self.readout.set_text(text)
+
+
+def _projected_line(ax: Any, **style: Any) -> Any:
+    """An empty 2-D line of the 3-D axes ``ax``, for :func:`_set_projected`: what
+    ``ax.plot(x, y, z)`` draws, without re-projecting through masked arrays each frame."""
+    from matplotlib.lines import Line2D
+
+    line = Line2D([], [], **style)
+    ax.add_line(line)
+    return line
+
+
+def _set_projected(line: Any, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> None:
+    """Set ``line`` (:func:`_projected_line`) to the points (x, y, z) [m] as the axes'
+    camera sees them (``proj3d.proj_transform`` by the projection set when the figure was
+    drawn), a point out of the perspective's view hidden, as a 3-D line hides it."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    ax = line.axes
+    px, py, pz = proj3d.proj_transform(x, y, z, ax.M)
+    hidden = ~((px >= -1.0) & (px <= 1.0) & (py >= -1.0) & (py <= 1.0) & (pz <= 0.0))
+    if hidden.any():
+        px, py = np.where(hidden, np.nan, px), np.where(hidden, np.nan, py)
+    line.set_data(px, py)
 
 
 def _grid_spacing(width: float) -> float:
@@ -289,16 +319,18 @@ def _frames(
             artist.set_visible(False)
     canvas.draw()
     background = canvas.copy_from_bbox(figure.bbox)
+    reuse_glyphs(canvas.get_renderer())  # the read-outs' glyphs, rasterised once each
     for panel in panels:
         for artist in panel.moving:
             artist.set_visible(True)
     for index, time in enumerate(plan.times):
         canvas.restore_region(background)
-        grown = [panel.grow_trail(float(time)) for panel in panels]
+        samples = [panel.sample(float(time)) for panel in panels]
+        grown = [panel.grow_trail(i) for panel, i in zip(panels, samples, strict=True)]
         if any(grown):
             background = canvas.copy_from_bbox(figure.bbox)
-        for panel in panels:
-            panel.show(float(time), plan.speed)
+        for panel, i in zip(panels, samples, strict=True):
+            panel.show(i, plan.speed)
             for artist in panel.moving:
                 if hasattr(artist, "do_3d_projection"):
                     artist.do_3d_projection()
