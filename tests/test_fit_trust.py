@@ -632,6 +632,24 @@ def test_an_acceptable_second_minimum_widens_the_interval_to_hold_it() -> None:
     assert far.standard_errors[0] == error
 
 
+def test_the_optimum_moved_by_the_reweighting_is_not_another_minimum() -> None:
+    """A start's end 0.3 errors from the optimum at statistic 0.1 (the optimum itself,
+    moved by the refit of a record of several series and costed again) is not another
+    minimum: it widens nothing, where the union rule would have widened the error by
+    (0.3 + sqrt(3.84 − 0.1)) / 1.96 = 1.14; one 2.5 errors away still counts."""
+    from celtstone.fitting.solve import _apart, _minima_factors
+    from celtstone.fitting.uncertainty import uncertainty
+
+    jacobian = np.array([[1.0], [1.0], [1.0], [1.0]])
+    spread = uncertainty(jacobian, 2.0, 4, np.ones(1), ["f"])  # s² = 1, error 0.5
+    error = spread.standard_errors[0]
+    moved = (np.array([0.3 * error]), 2.05)
+    assert _minima_factors(spread, np.zeros(1), 2.0, [moved])[0] > 1.1  # the union rule alone
+    assert _apart(spread, np.zeros(1), [moved], [0]) == []
+    other = (np.array([2.5 * error]), 2.5)
+    assert _apart(spread, np.zeros(1), [moved, other], [0]) == [other]
+
+
 @NOT_REVERSING
 def test_a_hertz_contact_s_radius_is_written_as_used(kane_levinson: cs.Body) -> None:
     """With E and ν set, ``held`` gives the contact radius the run used, not the

@@ -395,16 +395,19 @@ def _checked(runs: Runs, optimum: _Optimum, ends: list[tuple[np.ndarray, float]]
         optimum = _Optimum(x, cost, converged, jacobian, residuals)
         spread, white = _spread(problem, jacobian, residuals, cost)
     values, cost = optimum.values, optimum.cost
+    # a start's end within half an error of the optimum is the optimum's own minimum
+    # (another start that reached it), not another one
+    apart = _apart(spread, values, ends, physical)
     marginal = {i.column: (i.lower, i.upper) for i in intervals}
     factors = np.maximum(
-        _minima_factors(spread, values, cost, ends, walked=marginal),
+        _minima_factors(spread, values, cost, apart, walked=marginal),
         _profile_factors(spread, values, intervals),
     )
     shadows = {i.column: (i.joint_lower, i.joint_upper) for i in intervals}
     joint = np.maximum.reduce(
         [
             factors * Z_95 / math.sqrt(level),  # the shadow holds each 95 % interval
-            _minima_factors(spread, values, cost, ends, level, shadows),
+            _minima_factors(spread, values, cost, apart, level, shadows),
             _profile_factors(spread, values, intervals, joint=True),
         ]
     )
@@ -454,15 +457,29 @@ def _other_minima(
     level: float,
 ) -> list[tuple[np.ndarray, float]]:
     """The ``minima`` the joint region cannot reject (2 Δcost / s² below ``level``) that
-    lie apart from the optimum (by half a standard error or more in one of ``columns``)."""
+    lie apart from the optimum (:func:`_apart`)."""
+    variance = spread.residual_variance
+    return [
+        (x, other)
+        for x, other in _apart(spread, values, minima, columns)
+        if 2.0 * (other - cost) / variance < level
+    ]
+
+
+def _apart(
+    spread: Uncertainty,
+    values: np.ndarray,
+    minima: Sequence[tuple[np.ndarray, float]],
+    columns: Sequence[int],
+) -> list[tuple[np.ndarray, float]]:
+    """The ``minima`` that lie apart from the optimum ``values``: by half a standard
+    error or more in one of ``columns``."""
     errors = spread.standard_errors[list(columns)]
-    found = []
-    for x, other in minima:
-        statistic = 2.0 * (other - cost) / spread.residual_variance
-        distance = np.abs(x - values)[list(columns)]
-        if statistic < level and np.any(distance > 0.5 * errors):
-            found.append((x, other))
-    return found
+    return [
+        (x, other)
+        for x, other in minima
+        if np.any(np.abs(x - values)[list(columns)] > 0.5 * errors)
+    ]
 
 
 def _minima_factors(
@@ -592,6 +609,13 @@ def _best_of_starts(
     best_converged = min(outcomes, key=lambda s: s.cost).converged
     ends = [(s.end, s.cost) for s in outcomes if s.converged]
     if len(problem.record.series) > 1 and "given" not in problem.sigma_source.values():
+        # the refit moves the best's own minimum (by up to two errors where the weights
+        # change much): the ends within half an error of the best, under the weights
+        # they were found with, are that minimum, not others beside the refitted one
+        first = uncertainty(
+            jacobian, cost, problem.degrees_of_freedom, problem.scale, problem.names
+        )
+        ends = _apart(first, values, ends, problem.physical_columns)
         problem, ends, (values, cost, best_converged, _, jacobian, residuals) = _reweighted(
             runs, problem, values, residuals, ends
         )
