@@ -298,5 +298,5 @@ def phase_loop(params, t_end, hybrid, controls, output, log, buffers, integrator
             jump = capture_jump
         else:
             rejected += 1
-    run = RunEnd(status, n_samples, n_crossings, t_stop, min_normal, t_min_normal)
+    run = RunEnd(status, int(n_samples), n_crossings, t_stop, min_normal, t_min_normal)
     return run, n_phases, rejected
