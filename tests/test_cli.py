@@ -11,6 +11,7 @@ import contextlib
 import io
 import json
 import math
+import signal
 import subprocess
 import sys
 from importlib import metadata
@@ -432,6 +433,44 @@ abandoned.clear()
 gc.collect()  # the coroutine is collected, as at exit
 sys.exit(status)
 """
+
+
+ABANDONED_WHILE_UNWINDING = """
+import gc, os, signal, sys
+from celtstone.cli import bodies, main as cli
+
+async def write_block():  # as zarr's writes: a coroutine run by a sync wrapper
+    pass
+
+def interrupted(args):
+    try:
+        pending = write_block()  # a block's write under way as the signal arrives
+        os.kill(os.getpid(), signal.SIGNUM)
+    except KeyboardInterrupt:  # as the sweep catches it for its resume message
+        del pending
+        gc.collect()  # collected while the command unwinds, inside its warnings' context
+        print("celtstone: stopped: run the same command with --resume", file=sys.stderr)
+        return cli.EXIT_INTERRUPTED
+    return 0
+
+bodies.handle = interrupted
+sys.exit(cli.main(["bodies"]))
+"""
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM"])
+def test_a_write_abandoned_while_the_command_unwinds_adds_no_line(name: str) -> None:
+    """A store write's coroutine that the signal left unawaited and that is collected
+    before the command returns (the sweep catching the interrupt) is not warned of:
+    the resume message stays the only line, for Ctrl-C and SIGTERM alike."""
+    script = ABANDONED_WHILE_UNWINDING.replace("SIGNUM", name)
+    completed = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert completed.returncode == 128 + getattr(signal, name)
+    assert completed.stderr.splitlines() == [
+        "celtstone: stopped: run the same command with --resume"
+    ]
 
 
 def test_an_interrupt_says_one_line_even_with_a_write_left_unawaited() -> None:

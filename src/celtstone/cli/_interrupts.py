@@ -19,6 +19,7 @@ from __future__ import annotations
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from types import FrameType
@@ -32,12 +33,24 @@ __all__ = [
     "Terminated",
     "Termination",
     "is_the_command",
+    "quiet_abandoned_writes",
     "stop_at_once",
     "unwinding",
 ]
 
 _REDELIVERY_DELAY = 0.01  # s, for the hook to return before the signal comes again
 _Handler = Callable[[int, FrameType | None], Any] | int | None  # what getsignal gives
+
+
+def quiet_abandoned_writes() -> None:
+    """From now on: no warning for a coroutine that was never awaited. Zarr writes
+    through coroutines; one created just as Ctrl-C or SIGTERM arrived is collected
+    while the command unwinds or at exit, and Python's warning would add lines after
+    the one-line message (the store's completed blocks are unaffected). Called as the
+    signal arrives and again after ``warnings.catch_warnings`` puts the filters back."""
+    warnings.filterwarnings(
+        "ignore", message="coroutine .* was never awaited", category=RuntimeWarning
+    )
 
 
 class Terminated(KeyboardInterrupt):
@@ -58,6 +71,7 @@ class Interruption:
 
     def __call__(self, signum: int, frame: FrameType | None) -> None:
         self.received = True
+        quiet_abandoned_writes()
         if is_the_command():
             signal.signal(signal.SIGINT, exit_now)
         raise KeyboardInterrupt
@@ -73,6 +87,7 @@ class Termination:
 
     def __call__(self, signum: int, frame: FrameType | None) -> None:
         self.received = True
+        quiet_abandoned_writes()
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
         raise Terminated
 

@@ -17,7 +17,7 @@ from types import ModuleType
 from typing import Any
 
 from celtstone._about import version
-from celtstone.cli._interrupts import Signals, stop_at_once, unwinding
+from celtstone.cli._interrupts import Signals, quiet_abandoned_writes, stop_at_once, unwinding
 from celtstone.cli._interrupts import Terminated as Terminated
 from celtstone.errors import CeltstoneError, CeltstoneWarning
 
@@ -164,16 +164,6 @@ def _one_line_warnings() -> Iterator[None]:
         yield
 
 
-def _quiet_abandoned_writes() -> None:
-    """After an interrupt, for the rest of the process: no warning for a coroutine that
-    was never awaited. Zarr writes through coroutines; one created just as Ctrl-C or
-    SIGTERM arrived is collected at exit and would add two lines of Python's warning
-    after the one-line message (the store's completed blocks are unaffected)."""
-    warnings.filterwarnings(
-        "ignore", message="coroutine .* was never awaited", category=RuntimeWarning
-    )
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``); return the exit status.
 
@@ -221,7 +211,7 @@ def _interrupt_behind(error: BaseException) -> KeyboardInterrupt | None:
 def _stopped(stop: KeyboardInterrupt) -> int:
     """One line for Ctrl-C or SIGTERM; 130 or 143."""
     stop_at_once()  # a second signal while this is said: no traceback
-    _quiet_abandoned_writes()
+    quiet_abandoned_writes()
     # a signal during a compile leaves LLVM objects half made, whose finalizers complain
     # as the interpreter exits ("Exception ignored in ... ObjectRef.__del__"): the one
     # line below has said what happened
@@ -253,7 +243,7 @@ def _main(argv: Sequence[str] | None, signals: Signals) -> int:
             status = int(args.handler(args))
         # a handler that caught the interrupt itself (sweep: its resume message) says 130
         if status == EXIT_INTERRUPTED:
-            _quiet_abandoned_writes()
+            quiet_abandoned_writes()
             if signals.termination.received:
                 return EXIT_TERMINATED
         return status
