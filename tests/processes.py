@@ -1,9 +1,34 @@
-"""What the hostile tests read of a running celtstone process."""
+"""The tests' view of other processes: Python run in a new one, and what the hostile
+tests read of a running celtstone process."""
 
 from __future__ import annotations
 
 import signal
+import subprocess
+import sys
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+
+
+def python_in_new_process(
+    arguments: Sequence[str],
+    environment: Mapping[str, str],
+    cwd: Path | None = None,
+    timeout: float = 600,
+) -> list[str]:
+    """The lines that ``python ARGUMENTS`` writes to standard output in a new process with
+    ``environment``; the test fails with the end of its standard error if it fails."""
+    completed = subprocess.run(
+        [sys.executable, *arguments],
+        capture_output=True,
+        text=True,
+        env=dict(environment),
+        cwd=cwd,
+        check=False,
+        timeout=timeout,
+    )
+    assert completed.returncode == 0, completed.stderr[-3000:]
+    return completed.stdout.splitlines()
 
 
 def catches_sigterm(pid: int) -> bool:

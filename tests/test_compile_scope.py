@@ -10,7 +10,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -18,6 +17,7 @@ import numba
 import pytest
 
 from celtstone.kernels import _jit
+from tests.processes import python_in_new_process
 
 _LISTING = """
 import json, sys
@@ -54,16 +54,8 @@ def _compiled_in_new_process(code: str, cache: Path) -> list[list[object]]:
     """What numba compiles while ``code`` runs in a new process on the empty cache ``cache``."""
     script = _LISTING + code + "\nprint(json.dumps(compiled))\n"
     environment = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
-    completed = subprocess.run(
-        [sys.executable, "-c", script],
-        capture_output=True,
-        text=True,
-        env=environment,
-        check=False,
-        timeout=1800,
-    )
-    assert completed.returncode == 0, completed.stderr[-3000:]
-    listing: list[list[object]] = json.loads(completed.stdout.splitlines()[-1])
+    lines = python_in_new_process(["-c", script], environment, timeout=1800)
+    listing: list[list[object]] = json.loads(lines[-1])
     return listing
 
 

@@ -19,8 +19,6 @@ import json
 import math
 import os
 import re
-import subprocess
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -341,17 +339,11 @@ def test_with_its_branch_in_law_functions_every_place_computes_the_law(tmp_path:
     (A = B: the disk's F̂(1) = 1/2, M̂(1) = M0/2 = 3π/32)."""
     code = _WITH_ITS_BRANCH.format(tests=str(ROOT / "tests"))
     environment = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=str(ROOT / "src"))
-    completed = subprocess.run(
-        [sys.executable, "-c", code],
-        capture_output=True,
-        text=True,
-        env=environment,
-        cwd=tmp_path,
-        check=False,
-        timeout=600,
-    )
-    assert completed.returncode == 0, completed.stderr[-3000:]
-    first, second = (json.loads(line) for line in completed.stdout.splitlines()[-2:])
+    # imported here: the step's code imports this module in a process without ``tests``
+    from tests.processes import python_in_new_process
+
+    lines = python_in_new_process(["-c", code], environment, tmp_path)
+    first, second = (json.loads(line) for line in lines[-2:])
     assert first["has_law"] is True
     assert first["limit"] == pytest.approx([1.0, 0.75, 0.5, 0.1], rel=1e-12)
     assert second["force"] == pytest.approx([0.5], rel=1e-14)

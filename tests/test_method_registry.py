@@ -12,8 +12,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +22,7 @@ from celtstone import solvers
 from celtstone.cli.main import build_parser
 from celtstone.simulation.models import initial_vector, kernel_parameters
 from celtstone.solvers import _generate, _vern9, batch_cuda, codes, driver
+from tests.processes import python_in_new_process
 
 ROOT = Path(__file__).resolve().parents[1]
 THROWAWAY = codes.Method(code=99, words="a method with no module", module="nowhere")
@@ -179,17 +178,8 @@ def _run_toy(tmp_path: Path, regenerated: bool) -> dict[str, dict[str, object]]:
         (tmp_path / "_dispatch.py").write_text(source, encoding="utf-8")
         generated = str(tmp_path / "_dispatch.py")
     environment = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=str(ROOT / "src"))
-    completed = subprocess.run(
-        [sys.executable, "-c", _RUN, generated, str(tmp_path)],
-        capture_output=True,
-        text=True,
-        env=environment,
-        cwd=tmp_path,
-        check=False,
-        timeout=600,
-    )
-    assert completed.returncode == 0, completed.stderr[-3000:]
-    result: dict[str, dict[str, object]] = json.loads(completed.stdout.splitlines()[-1])
+    lines = python_in_new_process(["-c", _RUN, generated, str(tmp_path)], environment, tmp_path)
+    result: dict[str, dict[str, object]] = json.loads(lines[-1])
     return result
 
 
