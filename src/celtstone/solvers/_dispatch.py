@@ -74,32 +74,19 @@ def workspaces(method, n):
     )
 
 
-@kernel
-def error_order(method):
-    """``ERROR_ORDER`` of the method (contract item 3); -1 for an unknown code."""
-    if method == METHOD_DOP853:
-        return dop853.ERROR_ORDER
-    if method == METHOD_RADAU5:
-        return radau5.ERROR_ORDER
-    if method == METHOD_AUTO:
-        return auto.ERROR_ORDER
-    if method == METHOD_VERN9:
-        return vern9.ERROR_ORDER
-    return -1
-
-
 @inlined
-def dense_every_step(method):
-    """``DENSE_EVERY_STEP`` of the method (contract item 7); True for an unknown code."""
+def constants(method):
+    """(``ERROR_ORDER``, ``DENSE_EVERY_STEP``) of the method (contract items 3 and 7);
+    (-1, True) for an unknown code."""
     if method == METHOD_DOP853:
-        return dop853.DENSE_EVERY_STEP
+        return dop853.ERROR_ORDER, dop853.DENSE_EVERY_STEP
     if method == METHOD_RADAU5:
-        return radau5.DENSE_EVERY_STEP
+        return radau5.ERROR_ORDER, radau5.DENSE_EVERY_STEP
     if method == METHOD_AUTO:
-        return auto.DENSE_EVERY_STEP
+        return auto.ERROR_ORDER, auto.DENSE_EVERY_STEP
     if method == METHOD_VERN9:
-        return vern9.DENSE_EVERY_STEP
-    return True
+        return vern9.ERROR_ORDER, vern9.DENSE_EVERY_STEP
+    return -1, True
 
 
 @inlined

@@ -207,7 +207,7 @@ def decided_by_ends(event, start_value, end_value, start_rate, end_rate, h):
 def all_decided_by_ends(table, values, spin, normal_force, start_rate, end_rate, h):
     """Whether every row is ``decided_by_ends`` in a step whose ends have the values
     ``values`` (start) and ``spin`` [rad/s], ``normal_force`` [N] (end): then
-    ``locate_events`` reads no interpolant in that step."""
+    the run takes ``take_ends`` and reads no interpolant in that step."""
     for row in range(table.shape[0]):
         event = table[row]
         end = checked_value(event, spin, normal_force)
@@ -350,50 +350,17 @@ def start_values(table, model, params, y, values, scratch):
 
 
 @inlined
-def locate_events(
-    table,
-    values,
-    spin,
-    normal_force,
-    model,
-    params,
-    step,
-    t_new,
-    all_decided,
-    crossings,
-    n_crossings,
-    point,
-    scratch,
-):
-    """Every row's roots in the accepted ``step`` (ending at ``t_new`` [s]).
+def take_ends(table, values, spin, normal_force, step, t_new, n_crossings):
+    """The events of an accepted ``step`` (ending at ``t_new`` [s]) whose ends decide every
+    row (``all_decided_by_ends``): each row's g at the step's end into ``values``, no root.
 
-    ``values`` holds each row's g at the step's start and receives it at the step's end
-    (where the run goes on); ``spin`` [rad/s] and ``normal_force`` [N] are the driver's
-    check of the accepted state, ``all_decided`` what ``all_decided_by_ends`` said of
-    the step: then no row is scanned, else every row is. Non-terminal roots go to ``crossings``
-    after the ``n_crossings`` found before (counted beyond its length, stored up to it).
-
-    Returns (the terminal row that stops the run or -1, step fraction and time [s]
-    where the run stops or the step ends, crossings found in all).
+    ``spin`` [rad/s] and ``normal_force`` [N] are the driver's check of the accepted state.
+    Returns what ``scan_rows`` returns: no stopping row (-1), the whole step, and the
+    ``n_crossings`` found before.
     """
-    if all_decided:
-        for row in range(table.shape[0]):
-            values[row] = checked_value(table[row], spin, normal_force)
-        return -1, (t_new - step.t_old) / step.h, t_new, n_crossings
-    return scan_rows(
-        table,
-        values,
-        spin,
-        normal_force,
-        model,
-        params,
-        step,
-        t_new,
-        crossings,
-        n_crossings + 0,  # an int: the loop's count starts as the constant 0, for which
-        point,  # numba would compile scan_rows once more
-        scratch,
-    )
+    for row in range(table.shape[0]):
+        values[row] = checked_value(table[row], spin, normal_force)
+    return -1, (t_new - step.t_old) / step.h, t_new, n_crossings
 
 
 @kernel
@@ -411,9 +378,20 @@ def scan_rows(
     point,
     scratch,
 ):
-    """``locate_events`` of a step whose ends do not decide every row: each row scanned on
-    the interpolant. A function of its own, called only then, so that the run loop does
-    not compile every row's scan and root search into itself."""
+    """Every row's roots in the accepted ``step`` (ending at ``t_new`` [s]) whose ends do
+    not decide every row: each row scanned on the interpolant.
+
+    ``values`` holds each row's g at the step's start and receives it at the step's end
+    (where the run goes on); ``spin`` [rad/s] and ``normal_force`` [N] are the driver's
+    check of the accepted state. Non-terminal roots go to ``crossings`` after the
+    ``n_crossings`` found before (counted beyond its length, stored up to it).
+
+    Returns (the terminal row that stops the run or -1, step fraction and time [s]
+    where the run stops or the step ends, crossings found in all).
+
+    A function of its own, called only then (``take_ends`` serves the other steps), so
+    that the run loop does not compile every row's scan and root search into itself.
+    """
     t_limit = t_new
     x_limit = (t_new - step.t_old) / step.h
     stop_row = -1

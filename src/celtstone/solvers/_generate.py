@@ -168,24 +168,20 @@ def workspaces(method, n):
 
 
 def _constants(r: _Registry) -> str:
-    """``error_order`` and ``dense_every_step``."""
-    text = ""
-    for decorator, function, constant, words, default in (
-        ("kernel", "error_order", "ERROR_ORDER", "(contract item 3); -1", "-1"),
-        ("inlined", "dense_every_step", "DENSE_EVERY_STEP", "(contract item 7); True", "True"),
-    ):
-        returns = "".join(
-            f"    if method == {_constant(name)}:\n        return {name}.{constant}\n"
-            for name, _ in r.ordered
-        )
-        text += f'''
+    """``constants``: each method's ``ERROR_ORDER`` and ``DENSE_EVERY_STEP``."""
+    returns = "".join(
+        f"    if method == {_constant(name)}:\n"
+        f"        return {name}.ERROR_ORDER, {name}.DENSE_EVERY_STEP\n"
+        for name, _ in r.ordered
+    )
+    return f'''
 
-@{decorator}
-def {function}(method):
-    """``{constant}`` of the method {words} for an unknown code."""
-{returns}    return {default}
+@inlined
+def constants(method):
+    """(``ERROR_ORDER``, ``DENSE_EVERY_STEP``) of the method (contract items 3 and 7);
+    (-1, True) for an unknown code."""
+{returns}    return -1, True
 '''
-    return text
 
 
 def _switching(r: _Registry) -> str:

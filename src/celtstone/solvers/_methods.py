@@ -90,21 +90,33 @@ route to it.
 from __future__ import annotations
 
 from celtstone.kernels._jit import kernel
+from celtstone.solvers._compile import inlined
 from celtstone.solvers._dispatch import MODULES as MODULES
 from celtstone.solvers._dispatch import Workspaces as Workspaces
 from celtstone.solvers._dispatch import active as active
 from celtstone.solvers._dispatch import after_step as after_step
 from celtstone.solvers._dispatch import attempt as attempt
+from celtstone.solvers._dispatch import constants
 from celtstone.solvers._dispatch import dense as dense
 from celtstone.solvers._dispatch import dense_arrays as dense_arrays
-from celtstone.solvers._dispatch import dense_every_step as dense_every_step
-from celtstone.solvers._dispatch import error_order as error_order
 from celtstone.solvers._dispatch import interpolate as interpolate
 from celtstone.solvers._dispatch import is_known as is_known
 from celtstone.solvers._dispatch import start as start
 from celtstone.solvers._dispatch import thread_dense_arrays as thread_dense_arrays
 from celtstone.solvers._dispatch import thread_workspaces as thread_workspaces
 from celtstone.solvers._dispatch import workspaces as workspaces
+
+
+@kernel
+def error_order(method):
+    """``ERROR_ORDER`` of the method (contract item 3); -1 for an unknown code."""
+    return constants(method)[0]
+
+
+@inlined
+def dense_every_step(method):
+    """``DENSE_EVERY_STEP`` of the method (contract item 7); True for an unknown code."""
+    return constants(method)[1]
 
 
 @kernel

@@ -295,21 +295,25 @@ def run_loop(model, method, system, y, t_end, controls, table, output, arrays):
             or sample_inside(step, t_new, output.sample_times, n_samples)
         ):
             methods.dense(stepper, model, system, t, y, y_new, h_taken, work, stats)
-        stop_row, x_limit, t_limit, n_crossings = events.locate_events(
-            table,
-            values,
-            spin_new,
-            normal_new,
-            model,
-            system,
-            step,
-            t_new,
-            all_decided,
-            output.crossings,
-            n_crossings,
-            point,
-            scratch,
-        )
+        if all_decided:
+            stop_row, x_limit, t_limit, n_crossings = events.take_ends(
+                table, values, spin_new, normal_new, step, t_new, n_crossings
+            )
+        else:
+            stop_row, x_limit, t_limit, n_crossings = events.scan_rows(
+                table,
+                values,
+                spin_new,
+                normal_new,
+                model,
+                system,
+                step,
+                t_new,
+                output.crossings,
+                n_crossings + 0,  # an int: the loop's count starts as the constant 0, for
+                point,  # which numba would compile scan_rows once more
+                scratch,
+            )
         n_samples = fill_samples(
             step, t_limit, output.sample_times, output.samples, n_samples, y_new
         )
