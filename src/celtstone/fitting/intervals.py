@@ -2,8 +2,9 @@
 quadratic about the optimum, or where the record cannot be trusted to make it so.
 
 The curvature's interval θ̂ ± 1.96 σ holds for a quadratic cost. A spin-only record's
-cost has several minima a few σ apart (the rocking's phase against the spin's decay):
-there the curvature at one of them is too narrow. So each physical number's cost is
+cost can change shape within the interval (f and the gyroscope's bias trade against
+each other along a curved valley): there the curvature at the optimum can understate
+it. So each physical number's cost is
 checked at ± ``CHECK_STEPS`` σ along its linearised profile (the number moved, the others
 to their linearised conditional optimum; one run each, all in parallel): where the
 statistic 2 Δcost / s² there is off the quadratic's ``CHECK_STEPS``² by more than

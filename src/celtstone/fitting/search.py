@@ -35,6 +35,9 @@ SCREEN_MINIMUM = 16
 SCREEN_KEPT = 2
 # a screened point whose cost is above this multiple of the best's starts no local fit
 SCREEN_COST_RATIO = 4.0
+# refined starts of a released record closer than this share of each number's bounds
+# (log-scaled where drawn so) are one start: the refinement's own scatter is far smaller
+SAME_START_SHARE = 0.01
 # Nelder-Mead runs per number refining the best screened point of a released record
 REFINE_PER_PARAMETER = 15
 # sampling of the release run that the record is slid along [s]: the linear
@@ -204,16 +207,47 @@ def _refined(
     return best_point[0]
 
 
+def _in_unit(problem: Problem, point: np.ndarray, columns: list[int]) -> np.ndarray:
+    """``point``'s ``columns`` as shares of their bounds [1], log-scaled where the starts
+    are drawn so (``FreeParameter.is_log_spaced``)."""
+    shares = []
+    for j in columns:
+        p = problem.free[j]
+        if p.is_log_spaced:
+            shares.append(np.log(point[j] / p.lower) / np.log(p.upper / p.lower))
+        else:
+            shares.append((point[j] - p.lower) / (p.upper - p.lower))
+    return np.array(shares)
+
+
+def _distinct(problem: Problem, points: list[np.ndarray], columns: list[int]) -> list[np.ndarray]:
+    """``points`` less each one within ``SAME_START_SHARE`` of an earlier one in every
+    number of ``columns`` (``_in_unit``): starts that lead to the same place."""
+    kept: list[np.ndarray] = []
+    for point in points:
+        unit = _in_unit(problem, point, columns)
+        if all(
+            np.any(np.abs(unit - _in_unit(problem, k, columns)) > SAME_START_SHARE) for k in kept
+        ):
+            kept.append(point)
+    return kept
+
+
 def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
     """The global search's starts: the best ``SCREEN_KEPT`` of the problem's start and a
     seeded Latin hypercube of ``SCREEN_PER_PARAMETER`` points per free number (one run
     each, in parallel), ranked with each bias at its best value there (a start keeps the
     problem's: a bias fitted to a wrong motion leads to a wrong minimum), the release
-    offset slid to its best, the kept ones apart by a tenth of the bounds in some free
-    number and within ``SCREEN_COST_RATIO`` of the best cost. The problem's start is
+    offset slid to its best, the kept ones within ``SCREEN_COST_RATIO`` of the best cost
+    and apart by a tenth of the bounds in some free number. The problem's start is
     screened as the rest and fitted from only if it is among them: a start screened
     below the best few leads a local fit into another minimum, at the cost of a whole
-    fit's runs (``starts=1`` fits from it alone)."""
+    fit's runs (``starts=1`` fits from it alone).
+
+    With a free release offset the best ones are refined (``_refined``) whether apart or
+    not, and judged apart afterwards (``_distinct``): two screened points closer than a
+    tenth of the bounds can lead to different minima (the averaged motion's cost has several
+    within that distance in f and ε), and the one screened second to the lower."""
     problem = runs.problem
     linear = problem.linear_columns  # a bias or a scale: held at its start, not drawn
     slid = RELEASE_OFFSET in problem.names
@@ -243,7 +277,7 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
     for cost, point in ranked:
         if cost > SCREEN_COST_RATIO * ranked[0][0]:
             break
-        if all(np.any(np.abs(point[drawn] - k[drawn]) > 0.1 * width) for k in kept):
+        if slid or all(np.any(np.abs(point[drawn] - k[drawn]) > 0.1 * width) for k in kept):
             kept.append(point)
         if len(kept) == SCREEN_KEPT:
             break
@@ -251,4 +285,5 @@ def screened_starts(runs: Runs, seed: int | None) -> list[np.ndarray]:
         # the averaged motion, then on the samples (the rocking's phase)
         kept = [_refined(problem, point, others, runs, window) for point in kept]
         kept = [_refined(problem, point, others, runs) for point in kept]
+        kept = _distinct(problem, kept, drawn)
     return kept or [problem.start]

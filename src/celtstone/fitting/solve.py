@@ -358,8 +358,9 @@ def _checked(runs: Runs, optimum: _Optimum, ends: list[tuple[np.ndarray, float]]
 
     The profiles are walked where the cost is not quadratic, where other minima the
     data cannot reject were found, and on every record of one series: there (a spin
-    record) the fit can sit in a minimum whose curvature understates the distance to a
-    neighbouring one that the quadratic check does not reach.
+    record, f and the bias trading against each other) the cost's shape can change
+    within the interval, at a few noise draws so much that the optimum's f–ε correlation
+    has the other sign from the truth's, and the check at ± 2 σ need not see it.
     """
     problem = runs.problem
     columns = list(range(len(problem.free)))
