@@ -95,6 +95,37 @@ def test_the_state_blocks_path_gives_the_general_paths_bits(dtype: type) -> None
     assert np.allclose(fast_solution, general_solution, rtol=1e-14, atol=1e-15)
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
+@pytest.mark.parametrize(("size", "split"), [(N_STATE, 0), (12, 5)])
+def test_every_other_split_gives_the_blockwise_lus_bits(dtype: type, size: int, split: int) -> None:
+    """Any other split (0: a Radau matrix whose dynamics read the driven components) or
+    size takes one copy of the LU and of the solve in a loop over the two blocks; it must
+    compute exactly what the LU of each block computes (pivots, factors and, for split
+    0, the solution bit for bit)."""
+    rng = np.random.default_rng(size + split)
+    matrix = rng.normal(size=(size, size)).astype(dtype)
+    if dtype is np.complex128:
+        matrix += 1j * rng.normal(size=(size, size))
+    matrix[:split, split:] = 0.0
+    matrix[split, split] = 0.0  # a row exchange in the second block
+    blocks, block_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
+    assert block_factor(blocks, block_pivots, split)
+    plain, plain_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
+    if split > 0:
+        assert lu_factor(plain, plain_pivots, 0, split)
+    assert lu_factor(plain, plain_pivots, split, size)
+    assert np.array_equal(block_pivots, plain_pivots)
+    assert np.array_equal(blocks, plain)
+    right = rng.normal(size=size).astype(dtype)
+    solution = right.copy()
+    block_solve(blocks, block_pivots, solution, split)
+    assert np.allclose(solution, np.linalg.solve(matrix, right), rtol=1e-12, atol=1e-12)
+    if split == 0:
+        plain_solution = right.copy()
+        lu_solve(plain, plain_pivots, plain_solution)
+        assert np.array_equal(solution, plain_solution)
+
+
 def test_a_complex_pivot_is_the_largest_by_its_one_norm() -> None:
     """LAPACK's choice (izamax: |Re| + |Im|): 3 + 3j (6) is chosen over 5 (modulus 5 >
     4.24, one-norm 5 < 6)."""

@@ -116,10 +116,14 @@ def reset(record):
 def start(record, model, params, t, y, f, h, controls, work, stats):
     """A run (or a phase of one) begins (contract item 5): DOP853's start, then ρ checked
     against the first step h [s], so that a stiff start starts with Radau; if DOP853 takes
-    that step, ρ is checked again after it (Hairer's first step may be short of stiff)."""
+    that step, ρ is checked again after it (Hairer's first step may be short of stiff).
+
+    The check is :func:`after_step`'s for DOP853, due from the reset on; called alone,
+    so that this function does not compile (and link) what Radau's steps need."""
     reset(record)
     dop853.start(model, params, t, y, f, controls, work.dop853, stats)
-    after_step(record, model, params, t, y, f, h, controls, work, stats)
+    if controls.adaptive:
+        check_explicit(record, model, params, t, y, f, h, controls, work.radau5, stats)
     if record[0].active == METHOD_DOP853:
         record[0].steps_since_check = CHECK_STEPS
 

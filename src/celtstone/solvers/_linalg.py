@@ -15,8 +15,10 @@ driven components (attitude, position, work) do not feed back into the dynamics
 
 The Radau matrices are always 16 × 16 split at 9 (``N_STATE``, ``N_DYNAMIC``), and the block
 functions take that case apart from the general one: with the block bounds constants,
-LLVM unrolls the short loops (a real solve 0.29 → 0.09 µs, docs/decisions.md §36). Both
-paths run the same operations in the same order, so they give the same bits.
+LLVM unrolls the short loops (a real solve 0.29 → 0.09 µs, docs/decisions.md §36). Every
+other case (a Jacobian split at 0, another size) runs one copy of the LU or the solve in a
+loop over the two blocks: each inlined copy of the loops costs its compile, a first run's
+CPU. All paths run the same operations in the same order, so they give the same bits.
 
 A complex pivot is chosen by |Re| + |Im|, as LAPACK's ``izamax`` does, not by the modulus,
 whose ``hypot`` per candidate cost more than the rest of the complex factorisation.
@@ -93,16 +95,15 @@ def block_factor(matrix, pivots, split):
     read. Return False if A or B is singular."""
     size = matrix.shape[0]
     if split == N_DYNAMIC and size == N_STATE:  # the state's blocks: constant bounds
-        return _factor_blocks(matrix, pivots, N_DYNAMIC, N_STATE)
-    return _factor_blocks(matrix, pivots, split, size)
-
-
-@inlined_kernel
-def _factor_blocks(matrix, pivots, split, size):
-    """:func:`block_factor` of the leading ``size`` rows and columns."""
-    if split > 0 and not lu_factor(matrix, pivots, 0, split):
-        return False
-    return lu_factor(matrix, pivots, split, size)
+        return lu_factor(matrix, pivots, 0, N_DYNAMIC) and lu_factor(
+            matrix, pivots, N_DYNAMIC, N_STATE
+        )
+    for block in range(2):  # any other: one copy of the LU serves both blocks
+        first = 0 if block == 0 else split
+        last = split if block == 0 else size
+        if not lu_factor(matrix, pivots, first, last):
+            return False
+    return True
 
 
 @kernel
@@ -111,19 +112,23 @@ def block_solve(factored, pivots, rhs, split):
     x1 = A⁻¹ b1, then x2 = B⁻¹ (b2 − C x1)."""
     size = factored.shape[0]
     if split == N_DYNAMIC and size == N_STATE:  # the state's blocks: constant bounds
-        _solve_blocks(factored, pivots, rhs, N_DYNAMIC, N_STATE)
-    else:
-        _solve_blocks(factored, pivots, rhs, split, size)
+        lu_solve(factored, pivots, rhs, 0, N_DYNAMIC)
+        _subtract_coupling(factored, rhs, N_DYNAMIC, N_STATE)
+        lu_solve(factored, pivots, rhs, N_DYNAMIC, N_STATE)
+        return
+    for block in range(2):  # any other: one copy of the solve serves both blocks
+        first = 0 if block == 0 else split
+        last = split if block == 0 else size
+        if block == 1 and split > 0:
+            _subtract_coupling(factored, rhs, split, size)
+        lu_solve(factored, pivots, rhs, first, last)
 
 
 @inlined_kernel
-def _solve_blocks(factored, pivots, rhs, split, size):
-    """:func:`block_solve` of the leading ``size`` rows and columns."""
-    if split > 0:
-        lu_solve(factored, pivots, rhs, 0, split)
-        for i in range(split, size):  # b2 − C x1
-            total = rhs[i]
-            for j in range(split):
-                total -= factored[i, j] * rhs[j]
-            rhs[i] = total
-    lu_solve(factored, pivots, rhs, split, size)
+def _subtract_coupling(factored, rhs, split, size):
+    """b2 − C x1 into ``rhs[split:size]``, x1 = ``rhs[:split]`` (solved already)."""
+    for i in range(split, size):
+        total = rhs[i]
+        for j in range(split):
+            total -= factored[i, j] * rhs[j]
+        rhs[i] = total

@@ -321,13 +321,13 @@ def newton(model, params, t, y, f, h, controls, work, stats):
     Returns (converged, iterations, rate) of the last Newton iteration.
     """
     memory = work.memory[0]
-    predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
     for j in range(y.shape[0]):
         work.weights[j] = 1.0 / (controls.atol + abs(y[j]) * controls.rtol)
     converged = False
     iterations = 0
     rate = -1.0
-    while not converged:
+    while True:  # at most twice: the retry with a new Jacobian (one inlined prediction)
+        predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
         if not memory.lu_valid or memory.h_lu != h:
             factored = factor_systems(
                 h,
@@ -364,12 +364,10 @@ def newton(model, params, t, y, f, h, controls, work, stats):
             work.complex_rhs,
         )
         stats[STAT_NFEV] += 3 * iterations
-        if not converged:
-            if memory.current_jacobian:
-                break
-            evaluate_jacobian(model, params, t, y, f, work, stats)
-            memory.lu_valid = False
-            predict(memory, work.dense, work.y_previous, t, h, y, work.collocation, work.scratch)
+        if converged or memory.current_jacobian:
+            break
+        evaluate_jacobian(model, params, t, y, f, work, stats)
+        memory.lu_valid = False
     return converged, iterations, rate
 
 
@@ -423,6 +421,7 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     rate = -1.0
     norm = 0.0
     safety = SAFETY
+    factor = 1.0
     h_try = h
     while True:
         if h < min_step:
@@ -438,12 +437,13 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
             continue
         norm = error_norm(model, params, t, y, f, y_new, h_try, rejected, controls, work, stats)
         safety = SAFETY * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + iterations)
+        # the controller's factor, for a rejection and for the next step alike (inlined once)
+        factor = predict_factor(h_try, memory.h_abs_old, norm, memory.error_norm_old)
         if not controls.adaptive:
             break
         if not math.isfinite(norm) or norm > 1.0:
-            factor = MIN_FACTOR
-            if math.isfinite(norm):
-                factor = predict_factor(h_try, memory.h_abs_old, norm, memory.error_norm_old)
+            if not math.isfinite(norm):
+                factor = MIN_FACTOR
             h = h_try * max(MIN_FACTOR, safety * factor)
             memory.lu_valid = False
             stats[STAT_REJECTED] += 1
@@ -455,7 +455,6 @@ def attempt(model, params, t, y, f, h, t_end, controls, work, y_new, f_new, stat
     # the next step size, and whether the Jacobian is evaluated anew (slow Newton
     # convergence) or the LU factors are kept (a small change of h)
     recompute_jacobian = iterations > 2 and rate > JACOBIAN_RATE
-    factor = predict_factor(h_try, memory.h_abs_old, norm, memory.error_norm_old)
     factor = min(MAX_FACTOR, safety * factor)
     if rejected:
         factor = min(1.0, factor)
