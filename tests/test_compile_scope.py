@@ -60,13 +60,14 @@ def _compiled_in_new_process(code: str, cache: Path) -> list[list[object]]:
 
 
 def test_the_diagnostics_of_a_rolling_run_compile_no_other_model(tmp_path: Path) -> None:
-    """The derived columns of a rolling run (``system.diagnostics_series``) compile the
+    """The derived columns of a rolling run (``solvers.derived.derived_series``) compile the
     rolling equations and not the sliding or stick ones, which the same kernels hold in
     branches on the model code."""
     code = """
 import numpy as np
 import celtstone as cs
 from celtstone.kernels import layout, system
+from celtstone.solvers.derived import derived_series
 from celtstone.simulation.models import RollingModel, kernel_parameters
 
 body = cs.load_body("kane_levinson_1982")
@@ -75,7 +76,7 @@ state = np.zeros(layout.N_STATE)
 state[layout.Y_N + 2] = 1.0
 state[layout.Y_QUAT] = 1.0
 out = np.empty((1, system.N_DIAGNOSTICS))
-system.diagnostics_series(layout.MODEL_ROLLING, state[None, :], params, out)
+derived_series(layout.MODEL_ROLLING, state[None, :], params, out)
 """
     names = [name for name, _ in _compiled_in_new_process(code, tmp_path)]
     assert "celtstone.kernels.dynamics.rolling_acceleration" in names
@@ -107,9 +108,14 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
     # for the rolling model as a constant: never for every code by a call site's typing
     evaluated = [types for name, types in compiled if name == "celtstone.kernels.system.evaluate"]
     assert [types[0] for types in evaluated] == ["Literal[int](0)"], evaluated
-    # every method's (empty) workspace is made: the run loop's workspace tuple has one type
+    # nothing of another method, not even its (empty) workspace: the loop for vern9 as a
+    # constant holds vern9's workspace alone (``driver.run_workspaces``)
     steps = [name for name in names if name.startswith(OTHER_METHODS)]
-    assert all(name.endswith(".workspace") for name in steps), steps
+    assert not steps, steps
+    assert "celtstone.solvers._dispatch.workspaces" not in names, names
+    # the summary and the derived columns call the run's right-hand side at its link:
+    # nothing of it is compiled again for them
+    assert "celtstone.kernels.system.spin_and_normal_force" not in names, names
     # every method's interpolant in one function, compiled once (no copy per call site)
     assert names.count("celtstone.solvers._methods.interpolate_apart") == 1, names
 

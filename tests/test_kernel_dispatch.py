@@ -39,6 +39,7 @@ from celtstone.kernels.layout import (
 )
 from celtstone.simulation import schema
 from celtstone.simulation.models import initial_vector, kernel_parameters
+from celtstone.solvers.derived import derived_series
 
 CODES: list[type[enum.IntEnum]] = [ModelCode, ShapeCode, FrictionLoad, FrictionLaw, ContactPressure]
 UNKNOWN = [-1, 99]  # codes no enum has
@@ -302,7 +303,7 @@ def test_unknown_code_is_the_right_hand_sides_status(name: str, code: int) -> No
     y, dy = initial_vector(STATE), np.zeros(layout.N_STATE)
     assert system.rhs(model, 0.0, y, params, dy)[0] == layout.RHS_UNKNOWN_CODE
     derived = np.empty((1, system.N_DIAGNOSTICS))
-    system.diagnostics_series(model, y[None, :], params, derived)
+    derived_series(model, y[None, :], params, derived)
     assert derived[0, system.D_STATUS] == layout.RHS_UNKNOWN_CODE
     (message,) = layout.unknown_codes(model, params)
     assert message.startswith(f"{name} code {code} (known: ") and "\n" not in message

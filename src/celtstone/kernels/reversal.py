@@ -16,17 +16,17 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from celtstone.kernels._jit import inlined_kernel, kernel
 
-from celtstone.kernels._jit import kernel
-
-__all__ = ["count_reversals", "last_zero_before", "rocking_average", "rocking_average_into"]
+__all__ = ["count_reversals", "last_zero_before", "rocking_average_into"]
 
 
-@kernel
+@inlined_kernel
 def _integral_at(times, cumulative, values, n, t, start):
     """∫ from times[0] to t of the piecewise-linear interpolant of ``values`` (exact for
-    it), searching the segment from index ``start``; returns (integral, segment)."""
+    it), searching the segment from index ``start``; returns (integral, segment).
+    Inlined, as :func:`last_zero_before`: a compile of their own each cost more than
+    their code in their one caller."""
     k = start
     while k < n - 2 and times[k + 1] < t:
         k += 1
@@ -37,22 +37,17 @@ def _integral_at(times, cumulative, values, n, t, start):
 
 
 @kernel
-def rocking_average(times, spins, n, window, averaged):
+def rocking_average_into(times, spins, n, window, averaged, cumulative):
     """Centred running mean of ``spins[:n]`` [rad/s] over ``window`` [s] into ``averaged``.
 
     The mean of the samples' piecewise-linear interpolant over
     [t − window/2, t + window/2], cut to the samples' span at both ends (so the first
     and last half-window are averaged over a shorter, one-sided window). Times need not
-    be uniform. ``window`` <= 0 copies the spin.
+    be uniform. ``window`` <= 0 copies the spin. The spin's running integral [rad] is
+    kept in ``cumulative`` (at least n long, overwritten), a buffer the caller provides:
+    code that cannot allocate (a CUDA thread) passes its own, and a run's summary and
+    its reversal times from Python share one compiled function.
     """
-    rocking_average_into(times, spins, n, window, averaged, np.zeros(n))
-
-
-@kernel
-def rocking_average_into(times, spins, n, window, averaged, cumulative):
-    """``rocking_average`` with the spin's running integral [rad] kept in ``cumulative``
-    (at least n long), a buffer the caller provides: code that cannot allocate (a CUDA
-    thread) passes its own."""
     if window <= 0.0 or n < 2:
         for k in range(n):
             averaged[k] = spins[k]
@@ -71,14 +66,12 @@ def rocking_average_into(times, spins, n, window, averaged, cumulative):
         if not high > low:
             averaged[k] = spins[k]
             continue
-        # ``+ 0``: an int, where the segments start as the constant 0, for which numba
-        # would compile ``_integral_at`` once more
-        below, low_segment = _integral_at(times, cumulative, spins, n, low, low_segment + 0)
-        above, high_segment = _integral_at(times, cumulative, spins, n, high, high_segment + 0)
+        below, low_segment = _integral_at(times, cumulative, spins, n, low, low_segment)
+        above, high_segment = _integral_at(times, cumulative, spins, n, high, high_segment)
         averaged[k] = (above - below) / (high - low)
 
 
-@kernel
+@inlined_kernel
 def last_zero_before(times, spins, index, crossings, n_stored):
     """Last zero of the spin at or before ``times[index]`` [s]: the last of the
     ``n_stored`` exact crossings there, else the linear interpolant of the samples."""

@@ -8,7 +8,6 @@ array (layouts documented in ``layout``).
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from celtstone.kernels._jit import inlined_kernel, kernel
 from celtstone.kernels.dynamics import (
@@ -101,8 +100,13 @@ def evaluate(model, y, params, dy):
     friction_power = 0.0
     friction_force = 0.0
     if model == ModelCode.ROLLING:
+        # the true load: True, written so that it is the constant True only where the
+        # model code is one (a loop for one model); in the right-hand side for every code
+        # a value, whose ``rolling_system`` the stick model's serves (the constant compiled
+        # it once more)
+        true_load = model == ModelCode.ROLLING
         omega_rate, normal_force, _, determinant = rolling_acceleration(
-            n, omega, r, r_rate, params, True
+            n, omega, r, r_rate, params, true_load
         )
         slip_rate = (0.0, 0.0, 0.0)
         velocity = cross(r, omega)  # v_G = -ω × r
@@ -196,7 +200,7 @@ def energy(model, y, params) -> float:
     return kinetic - mass * params.gravity * dot(r, n)
 
 
-# The derived columns that ``diagnostics`` fills, by name; the order is the column index.
+# The derived columns that ``derived_columns`` fills, by name; the order is the column index.
 # A column is a run's Dataset variable when a ``schema.VARIABLES`` row names it as its
 # source (``trajectory.sample_run``).
 DERIVED = (
@@ -243,12 +247,15 @@ STATE_BLOCKS: dict[str, int | slice] = {
 
 
 @inlined_kernel
-def diagnostics(model, y, params, out, work):
-    """Fill ``out`` (length N_DIAGNOSTICS) with derived quantities of state ``y``.
+def derived_columns(model, y, params, evaluated, out):
+    """Fill ``out`` (length N_DIAGNOSTICS) with the derived quantities of state ``y``;
+    ``evaluated`` is what :func:`evaluate` returned at ``y`` (status, normal force [N],
+    friction power [W], friction force [N]).
 
-    ``work`` is scratch of the state's length.
-    """
-    status, normal_force, friction_power, friction_force = evaluate(model, y, params, work)
+    The caller evaluates the right-hand side: a run's samples at the run's link to it
+    (``solvers.derived``), where calling :func:`evaluate` here would compile and optimise
+    its code once more in every function that holds this one."""
+    status, normal_force, friction_power, friction_force = evaluated
     n, omega, slip, quat = unpack(y)
     r, _ = contact(n, (0.0, 0.0, 0.0), params)
     norm = math.sqrt(dot(n, n))
@@ -266,43 +273,6 @@ def diagnostics(model, y, params, out, work):
     out[D_CONTACT_Y] = y[Y_POSITION + 1] + contact_space[1]
     out[D_HEIGHT] = -dot(r, n)
     out[D_STATUS] = status
-
-
-@inlined_kernel
-def diagnostics_rows(model, ys, params, out):
-    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k, N_DIAGNOSTICS).
-
-    It and :func:`diagnostics` are inlined into the loop compiled per model
-    (``_rows_of``): as separate functions each was a compile of its own, with the
-    right-hand side's code optimised again in each."""
-    work = ys[0].copy() if ys.shape[0] > 0 else ys.ravel().copy()
-    for i in range(ys.shape[0]):
-        diagnostics(model, ys[i], params, out[i], work)
-
-
-def _rows_of(model_code: int) -> Any:
-    """``diagnostics_rows`` compiled for one model: the code a constant, so that no other
-    model's branch is compiled (``kernels._pruning``)."""
-
-    @kernel
-    def rows_of_model(ys, params, out):
-        diagnostics_rows(model_code, ys, params, out)
-
-    return rows_of_model
-
-
-_ROWS_BY_MODEL = {int(code): _rows_of(int(code)) for code in ModelCode}
-
-
-def diagnostics_series(model: int, ys: Any, params: Any, out: Any) -> None:
-    """Diagnostics for every row of ``ys`` (shape (k, N_STATE)) into ``out`` (k,
-    N_DIAGNOSTICS), from Python: compiled for ``model`` alone (an unknown code: NaN
-    rows, ``evaluate``'s status)."""
-    rows = _ROWS_BY_MODEL.get(int(model))
-    if rows is None:
-        diagnostics_rows(model, ys, params, out)
-    else:
-        rows(ys, params, out)
 
 
 @kernel

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from celtstone.errors import ParameterError
-from celtstone.kernels.reversal import count_reversals, rocking_average
+from celtstone.kernels.reversal import count_reversals, rocking_average_into
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -71,7 +71,7 @@ def averaged_spin(time: np.ndarray, spin: np.ndarray, window: float) -> np.ndarr
     if time.shape != spin.shape or time.ndim != 1:
         raise ParameterError("spin", spin.shape, f"an array of the shape of time {time.shape}")
     averaged = np.empty_like(spin)
-    rocking_average(time, spin, spin.size, float(window), averaged)
+    rocking_average_into(time, spin, spin.size, float(window), averaged, np.zeros(spin.size))
     return averaged
 
 

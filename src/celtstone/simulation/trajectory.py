@@ -28,6 +28,7 @@ from celtstone.simulation.outcome import SETTINGS, is_energy_monotone, json_numb
 from celtstone.simulation.reversals import reversal_bands, reversal_times
 from celtstone.simulation.schema import VARIABLES, Variable
 from celtstone.solvers.codes import PhaseKind, Status
+from celtstone.solvers.derived import derived_series
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -125,11 +126,11 @@ def sample_run(
     """
     derived = np.empty((states.shape[0], kernel_system.N_DIAGNOSTICS))
     if states.shape[0]:
-        kernel_system.diagnostics_series(model_code, states, params, derived)
+        derived_series(model_code, states, params, derived)
     if phase is not None and np.any(phase == PhaseKind.STICK):
         stick = np.flatnonzero(phase == PhaseKind.STICK)
         stick_derived = np.empty((stick.size, kernel_system.N_DIAGNOSTICS))
-        kernel_system.diagnostics_series(
+        derived_series(
             layout.ModelCode.STICK.value, np.ascontiguousarray(states[stick]), params, stick_derived
         )
         derived[stick] = stick_derived

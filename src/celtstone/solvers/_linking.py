@@ -92,6 +92,21 @@ def link_to(
     return link
 
 
+def made_link(
+    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...] = ()
+) -> tuple[int, int] | None:
+    """The link that :func:`link_to` made in this process for these arguments and
+    constants, else None: nothing is compiled or loaded."""
+    if _PYTHON:
+        return NO_LINK
+    values = tuple(int(arguments[position]) for position in constants)
+    try:
+        fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
+    except NotImplementedError:
+        return None
+    return _LINKS.get(fingerprint)
+
+
 def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int] | None:
     """``link_to(dispatcher, arguments)`` if that version is compiled in this process or
     in numba's on-disk cache (then loaded), else None: nothing is compiled."""

@@ -24,9 +24,9 @@ import numpy as np
 from numba import types
 
 from celtstone.kernels import system as physics
-from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, ModelCode
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._linking import address_call, link_to
+from celtstone.solvers._linking import address_call, link_to, made_link
 
 # ``evaluate``'s return type in numba: (status, normal force, friction power, friction
 # force). Given, typing a call compiles nothing: a call site passes the model code as a
@@ -44,6 +44,22 @@ def rhs_link(params: Any, model: int | None = None) -> tuple[int, int]:
     if model is None:
         return link_to(physics.evaluate, (0, state, params, state))
     return link_to(physics.evaluate, (int(model), state, params, state), constants=(0,))
+
+
+def samples_rhs_link(params: Any, model: int) -> tuple[int, int]:
+    """The link to ``kernels.system.evaluate`` for a finished run's samples (its derived
+    columns and summary): the one a run of ``model`` on ``params`` made in this process
+    (:func:`rhs_link` for the model as a constant, else for every code), which compiles
+    nothing; else :func:`rhs_link` for ``model`` (for every code if it is no model
+    code). Python side."""
+    state = np.zeros(N_STATE)
+    model = int(model)
+    for constants in ((0,), ()):
+        link = made_link(physics.evaluate, (model, state, params, state), constants)
+        if link is not None:
+            return link
+    known = model in {int(code) for code in ModelCode}
+    return rhs_link(params, model if known else None)
 
 
 @inlined

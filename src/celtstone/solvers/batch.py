@@ -20,10 +20,10 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from celtstone.kernels._jit import inlined_kernel, kernel
-from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ModelCode
+from celtstone.kernels._jit import kernel
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
 from celtstone.kernels.reversal import count_reversals, rocking_average_into
-from celtstone.kernels.system import energy, spin_and_normal_force
+from celtstone.kernels.system import energy
 from celtstone.simulation.outcome import OUTCOMES, SWEPT
 from celtstone.solvers._events import event_table
 from celtstone.solvers._linking import NO_LINK, address_call, link_to
@@ -36,6 +36,7 @@ from celtstone.solvers._structures import (
     new_output,
     new_phase_log,
 )
+from celtstone.solvers._system import parameters, samples_rhs_link, spin_and_normal_force
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
 from celtstone.solvers.driver import call_integrate, integrate_link
 from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_links, run_phases
@@ -97,16 +98,22 @@ the global to its integers): ``out[COLUMN.spin_final]``; the outcome's unit and 
 are its ``OUTCOMES`` row."""
 
 
-@inlined_kernel
-def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
-    """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``.
-    ``reversal`` is (band [rad/s], window [s], buffer of the averaged spin, buffer of
-    the first reversal time, buffer of the spin's running integral) (``kernels.reversal``);
-    every buffer is the caller's, so that a CUDA thread (``batch_cuda``) runs it too.
+@kernel
+def _reduce(model, system, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
+    """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``,
+    on the run's ``system`` (``_system``: its parameter record and the link to its
+    right-hand side, which the normal force is evaluated at, as in the run loop; on a GPU
+    thread the record itself, ``batch_cuda``). ``reversal`` is (band [rad/s], window [s],
+    buffer of the averaged spin, buffer of the first reversal time, buffer of the spin's
+    running integral) (``kernels.reversal``); every buffer is the caller's, so that a
+    CUDA thread (``batch_cuda``) runs it too.
 
-    Inlined where it is called: compiled apart, it was compiled once more for the model
-    code as a constant (``_reduce_of``), with the right-hand side's code optimised again
-    in each."""
+    Compiled once for every model code, the model a value, for a single run
+    (:func:`reduce_run`) and a sweep's loop alike: with the right-hand side at its link,
+    what depends on the model here is the energy's velocity alone, where a version per
+    model (the code a constant) linked and optimised the right-hand side's code again,
+    and numba's inlining copied this function's IR into each caller."""
+    params = parameters(system)
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
@@ -134,7 +141,7 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
         norm = math.sqrt(y[Y_N] ** 2 + y[Y_N + 1] ** 2 + y[Y_N + 2] ** 2)
         tilt = math.acos(min(1.0, max(-1.0, y[Y_N + 2] / norm)))
         max_tilt = max(max_tilt, tilt)
-        _, normal_force, _ = spin_and_normal_force(model, y, params, work)
+        _, normal_force, _ = spin_and_normal_force(model, y, system, work)
         if normal_force < min_normal:  # fmin: a NaN sample does not win
             min_normal = normal_force
     band, window, averaged, first_time, cumulative = reversal
@@ -166,32 +173,6 @@ def _reduce(model, params, y0, end, sample_times, samples, crossings, reversal, 
     out[COLUMN.spin_initial] = spin_initial
     out[COLUMN.energy_final] = energy_final
     out[COLUMN.dissipated_work] = samples[n_samples - 1][Y_WORK] if n_samples > 0 else np.nan
-
-
-def _reduce_of(model_code: int) -> Any:
-    """``_reduce`` compiled for one model: the code a constant, so that a single run's
-    reduction compiles no other model's branch (``kernels._pruning``)."""
-
-    @kernel
-    def reduce_model(params, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
-        _reduce(
-            model_code,
-            params,
-            y0,
-            end,
-            sample_times,
-            samples,
-            crossings,
-            reversal,
-            spins,
-            work,
-            out,
-        )
-
-    return reduce_model
-
-
-_REDUCE_BY_MODEL = {int(code): _reduce_of(int(code)) for code in ModelCode}
 
 
 def reduce_run(
@@ -241,7 +222,7 @@ def reduce_run(
     cumulative = np.zeros(times.shape[0])
     out = np.empty(N_FIELDS)
     arguments = (
-        params,
+        (params, samples_rhs_link(params, model)),
         np.ascontiguousarray(y0, dtype=np.float64),
         end,
         times,
@@ -252,11 +233,7 @@ def reduce_run(
         np.zeros(N_STATE),
         out,
     )
-    reduce_model = _REDUCE_BY_MODEL.get(int(model))
-    if reduce_model is None:  # an unknown code: every branch (NaN, ``evaluate``'s status)
-        _reduce(int(model), *arguments)
-    else:
-        reduce_model(*arguments)
+    _reduce(int(model), *arguments)  # one compile for every model code
     return out
 
 
@@ -277,7 +254,7 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
     (``phases.run_phases``), as ``simulate`` with ``HybridModel``. ``links`` are those of
     ``driver.integrate`` for the model and method with its right-hand side's,
     ``phases.run_phases`` and its links (``_linking``; ``NO_LINK`` where no point runs
-    the loop)."""
+    the loop); a point's summary calls the right-hand side at its run's link."""
     to_integrate, phases_link, phase_links = links
     spins = np.zeros(output.sample_times.shape[0])
     averaged = np.zeros(output.sample_times.shape[0])
@@ -294,10 +271,12 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
             arguments = (p, y0, t_end, contact, controls, output, log, phase_links)
             end, _, _ = call_run_phases(phases_link, arguments)
             times = log.sample_times
+            system = (p, phase_links[2])
         else:
             run = (model, methods[0], p, y0, t_end, controls, table, output, to_integrate[1])
             end = call_integrate(to_integrate[0], run)
             times = output.sample_times
+            system = (p, to_integrate[1])
         reversal = (
             points.reversal_bands[i],
             points.reversal_windows[i],
@@ -307,7 +286,7 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
         )
         _reduce(
             model,
-            p,
+            system,
             y0,
             end,
             times,

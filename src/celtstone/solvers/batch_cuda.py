@@ -363,7 +363,7 @@ def _thread(model, method, stick_method, point, run, buffers):
     )
     _reduce(
         model,
-        params,
+        system,
         y0,
         end,
         times,

@@ -14,10 +14,12 @@ CUDA thread runs the same loop on arrays of its own (``batch_cuda``).
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
+from numba import types
 from numba.core.typing.typeof import typeof
+from numba.extending import overload
 
 from celtstone.kernels._internals import internals_changed
 from celtstone.kernels._jit import compiling, kernel
@@ -125,11 +127,13 @@ def sample_inside(step, t_new, sample_times, n_samples):
     return False
 
 
-@kernel
+@inlined
 def first_check(model, params, y, f, output):
     """The first state: f(0, y), samples at times <= 0, and why the run cannot start.
 
-    Returns (status, samples written, normal force [N]).
+    Returns (status, samples written, normal force [N]). Inlined, as
+    :func:`first_step` and :func:`stop_at` are: each runs once a run, and compiled apart
+    each was a compile of its own that linked its callees' code again.
     """
     code, normal_force = rhs(model, 0.0, y, params, f)
     output.stats[STAT_NFEV] += 1
@@ -149,7 +153,7 @@ def first_check(model, params, y, f, output):
     return status, n_samples, normal_force
 
 
-@kernel
+@inlined
 def first_step(method, model, params, y, f, controls, scratch, f_scratch, stats):
     """The first step size [s]: ``controls.first_step``, else Hairer's heuristic, at
     most ``controls.max_step``."""
@@ -190,6 +194,42 @@ class LoopArrays(NamedTuple):
     dense_of: Any
 
 
+def run_workspaces(method: int, n: int) -> Any:
+    """The run loop's workspaces (``_methods.Workspaces``) for a run of ``method`` on
+    states of length n: ``_methods.workspaces``; compiled for a method of
+    ``OWN_LOOP_METHODS`` as a constant, its own workspace in every slot."""
+    return methods.workspaces(method, n)
+
+
+# compiled as ``kernels._jit.kernel`` compiles, apart: inlined (numba's typed inlining
+# of an overload), the loop for every code took other steps in a stick–slip run
+_OPTIONS: Any = {"nogil": True, "error_model": "numpy"}
+if not internals_changed():
+    _OPTIONS["no_cfunc_wrapper"] = True
+
+
+@overload(run_workspaces, prefer_literal=True, jit_options=_OPTIONS)
+def _run_workspaces_typed(method, n):
+    """:func:`run_workspaces` in compiled code, chosen by the type of ``method``.
+
+    A loop compiled for an explicit method as a constant reads that method's workspace
+    alone (the other methods' branches are removed before typing, ``kernels._pruning``),
+    so the other slots hold it too: every method's empty workspace, Radau's complex and
+    integer arrays and records and ``auto``'s record, compiled numba's allocation for
+    five more types of array and the function that made them (about 1 s of a first
+    rolling run's CPU)."""
+    code = method.literal_value if isinstance(method, types.IntegerLiteral) else None
+    if code not in OWN_LOOP_METHODS:  # ``_methods.workspaces``' own code, compiled here
+        return cast(Any, methods.workspaces).py_func
+    own_workspace = methods.MODULES[code].workspace
+
+    def one_method(method, n):
+        own = own_workspace(n)
+        return methods.Workspaces(own, own, own, own)
+
+    return one_method
+
+
 @kernel
 def integrate(model, method, params, y0, t_end, controls, table, output, rhs_link):
     """Integrate from t = 0 to ``t_end`` [s]; see the module docstring.
@@ -215,7 +255,7 @@ def integrate(model, method, params, y0, t_end, controls, table, output, rhs_lin
     ``_structures.RunEnd``
     """
     n = y0.shape[0]
-    work = methods.workspaces(method, n)
+    work = run_workspaces(method, n)
     # the interpolants' arrays looked up once, and the whole workspace handed only to
     # the helpers that need it: per step, those lookups and hand-overs cost about 10 %
     # of a rolling run (docs/decisions.md §43)
@@ -353,13 +393,15 @@ def run_loop(model, method, system, y, t_end, controls, table, output, arrays):
     return RunEnd(status, n_samples, n_crossings, t, min_normal, t_min_normal)
 
 
-@kernel
+@inlined
 def stop_at(
     event, model, params, step, x_limit, t_limit, y_end, output, min_normal, t_min_normal, work
 ):
     """The state where a terminal ``event`` stops the run into ``output.final_state``;
     returns the smallest normal force [N] and its time [s] including that state (a
-    lift-off root is N = 0). Once a run: compiled apart from the loop."""
+    lift-off root is N = 0). Once a run, inlined as :func:`first_check` is: it holds
+    little code of its own (the interpolant and the right-hand side are calls), and
+    compiled apart it linked and optimised theirs once more."""
     if x_limit >= 1.0:
         copy_into(output.final_state, y_end)
     else:

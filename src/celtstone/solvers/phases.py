@@ -89,16 +89,22 @@ def capture(params, y, out):
     ``out``'s dissipated work so that E + W is unchanged; the stick margin there [1]).
     """
     capture_state(y, params, out)
-    jump = energy(MODEL_STICK, out, params) - energy(MODEL_SLIDING, y, params)
+    # the codes as values: the versions for every code that the run's events and
+    # summary compile serve them, where each constant compiled one more
+    stick, sliding = np.int64(MODEL_STICK), np.int64(MODEL_SLIDING)
+    jump = energy(stick, out, params) - energy(sliding, y, params)
     out[Y_WORK] -= jump
-    return jump, phase_value(MODEL_STICK, out, params, 0.0)
+    return jump, phase_value(stick, out, params, 0.0)
 
 
-@kernel
+@inlined
 def first_phase(params, y, capture_speed, captured):
     """The phase a run starts in: stick if ``y`` neither slides nor pivots (slip–spin
     speed <= v_c) and stick is admissible after the capture impulse (then ``y`` becomes
-    the captured state). Returns (kind, energy jump [J])."""
+    the captured state). Returns (kind, energy jump [J]).
+
+    Inlined into the phase loop, which calls :func:`capture` too: compiled apart, it
+    linked and optimised ``capture``'s code once more."""
     if slip_spin_speed(y, params) <= capture_speed:
         jump, margin = capture(params, y, captured)
         if margin >= 0.0:
@@ -199,8 +205,10 @@ def run_phases(params, y0, t_end, hybrid, controls, output, log, integrate_links
         np.empty(n),
         np.empty(output.sample_times.shape[0]),
         np.empty(1),
-        event_table(MODEL_SLIDING, hybrid.capture_speed),
-        event_table(MODEL_STICK, 0.0),
+        # the codes as values: the table for every code that ``integrate_links`` makes
+        # serves both, where each constant compiled it once more
+        event_table(np.int64(MODEL_SLIDING), hybrid.capture_speed),
+        event_table(np.int64(MODEL_STICK), 0.0),
     )
     return phase_loop(params, t_end, hybrid, controls, output, log, buffers, integrate_links)
 
