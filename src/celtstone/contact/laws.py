@@ -47,6 +47,12 @@ __all__ = [
     "unit_speeds",
 ]
 
+# names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
+CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
+"""Contact pressure name (``"hertz"``, ``"uniform"``) -> the kernels' integer code."""
+CONTACT_SHAPES = {shape.name.lower(): shape.value for shape in ContactShape}
+"""Contact patch name (``"circle"``, ``"ellipse"``) -> the kernels' integer code."""
+
 
 @dataclass(frozen=True)
 class FrictionLawEntry:
@@ -147,12 +153,6 @@ FRICTION_LAWS: Mapping[str, int] = _LawField("code")
 """Friction law name (``"pade"``, ``"exact"``) -> the kernels' integer code (from :data:`LAWS`)."""
 LAW_WORDS: Mapping[str, str] = _LawField("words")
 """Each friction law's name -> its words, with its paper equation (from :data:`LAWS`)."""
-
-# names (the enums' members in lower case) -> plain-int codes (``kernels.layout``)
-CONTACT_PRESSURES = {pressure.name.lower(): pressure.value for pressure in ContactPressure}
-"""Contact pressure name (``"hertz"``, ``"uniform"``) -> the kernels' integer code."""
-CONTACT_SHAPES = {shape.name.lower(): shape.value for shape in ContactShape}
-"""Contact patch name (``"circle"``, ``"ellipse"``) -> the kernels' integer code."""
 
 # what each pressure and shape is, in words (help texts; a test requires one per member)
 PRESSURE_WORDS = {

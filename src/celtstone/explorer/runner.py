@@ -82,7 +82,7 @@ class Progress:
     Parameters
     ----------
     generation : int
-        The number :meth:`Runner.submit` gave its inputs.
+        Its inputs' number, as :attr:`FinishedRun.generation`.
     time_reached : float
         Simulated time of the last sample the compiled loop wrote [s].
     t_end : float

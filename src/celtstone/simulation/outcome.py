@@ -42,6 +42,10 @@ __all__ = [
     "variable",
 ]
 
+ENERGY_MONOTONE_TOLERANCE = 1e-9
+"""Largest rise of the sampled energy between samples, relative to E(0), still
+counted as monotone decrease (the integrator's tolerance, not physics)."""
+
 
 @dataclass(frozen=True)
 class Outcome:
@@ -250,10 +254,6 @@ RENAMED_OUTCOMES: dict[str, str] = {
 }
 """Old name -> name now of an outcome (CHANGELOG.md); ``max_tilt_deg`` [deg] of ``run
 --json`` is ``max_tilt`` [rad], a value converted, not only renamed."""
-
-ENERGY_MONOTONE_TOLERANCE = 1e-9
-"""Largest rise of the sampled energy between samples, relative to E(0), still
-counted as monotone decrease (the integrator's tolerance, not physics)."""
 
 
 def is_energy_monotone(max_energy_rise: float, energy_initial: float) -> bool:

@@ -99,9 +99,10 @@ are its ``OUTCOMES`` row."""
 
 
 @kernel
-def _reduce(model, system, y0, end, sample_times, samples, crossings, reversal, spins, work, out):
-    """The outcome record of one run (``end``, a ``RunEnd``, and its samples) into ``out``,
-    on the run's ``system`` (``_system``: its parameter record and the link to its
+def _reduce(model, system, y0, finished, reversal, spins, work, out):
+    """The outcome record of one run into ``out``: ``finished`` is (its ``RunEnd``, sample
+    times [s], sampled states, stored spin zero crossings [s]) as its loop left them, on
+    the run's ``system`` (``_system``: its parameter record and the link to its
     right-hand side, which the normal force is evaluated at, as in the run loop; on a GPU
     thread the record itself, ``batch_cuda``). ``reversal`` is (band [rad/s], window [s],
     buffer of the averaged spin, buffer of the first reversal time, buffer of the spin's
@@ -114,6 +115,7 @@ def _reduce(model, system, y0, end, sample_times, samples, crossings, reversal, 
     model (the code a constant) linked and optimised the right-hand side's code again,
     and numba's inlining copied this function's IR into each caller."""
     params = parameters(system)
+    end, sample_times, samples, crossings = finished
     n_samples = end.n_samples
     n_stored = min(end.n_crossings, crossings.shape[0])
     min_normal = end.min_normal_force
@@ -221,19 +223,12 @@ def reduce_run(
     spins, averaged, first_time = np.zeros(times.shape[0]), np.zeros(times.shape[0]), np.zeros(1)
     cumulative = np.zeros(times.shape[0])
     out = np.empty(N_FIELDS)
-    arguments = (
-        (params, samples_rhs_link(params, model)),
-        np.ascontiguousarray(y0, dtype=np.float64),
-        end,
-        times,
-        samples,
-        np.ascontiguousarray(crossings, dtype=np.float64),
-        (float(reversal_band), float(reversal_window), averaged, first_time, cumulative),
-        spins,
-        np.zeros(N_STATE),
-        out,
-    )
-    _reduce(int(model), *arguments)  # one compile for every model code
+    system = (params, samples_rhs_link(params, model))
+    finished = (end, times, samples, np.ascontiguousarray(crossings, dtype=np.float64))
+    reversal = (float(reversal_band), float(reversal_window), averaged, first_time, cumulative)
+    y0 = np.ascontiguousarray(y0, dtype=np.float64)
+    work = np.zeros(N_STATE)
+    _reduce(int(model), system, y0, finished, reversal, spins, work, out)  # one for every code
     return out
 
 
@@ -284,19 +279,8 @@ def _batch(model, methods, points, t_end, controls, output, log, links, results)
             first_time,
             cumulative,
         )
-        _reduce(
-            model,
-            system,
-            y0,
-            end,
-            times,
-            output.samples,
-            output.crossings,
-            reversal,
-            spins,
-            work,
-            results[i],
-        )
+        finished = (end, times, output.samples, output.crossings)
+        _reduce(model, system, y0, finished, reversal, spins, work, results[i])
 
 
 def run_batch(

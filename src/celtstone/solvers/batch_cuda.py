@@ -361,14 +361,12 @@ def _thread(model, method, stick_method, point, run, buffers):
         first_time,
         buffers.cumulative[point],
     )
+    finished = (end, times, output.samples, output.crossings)
     _reduce(
         model,
         system,
         y0,
-        end,
-        times,
-        output.samples,
-        output.crossings,
+        finished,
         reversal,
         buffers.spins[point],
         arrays.scratch,
