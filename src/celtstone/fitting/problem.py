@@ -2,7 +2,7 @@
 state: the names of ``celtstone sweep``), their bounds, and the weighted residuals.
 
 The residual of series s at time t_i is (model − data) / σ_s: each series is weighted by
-its own noise scale σ_s, given or estimated from the data (:func:`noise_scale`).
+its own noise scale σ_s, given or estimated from the data (``fitting.noise.noise_scale``).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ import numpy as np
 
 from celtstone.bodies import Body
 from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
+from celtstone.fitting.noise import noise_scale
 from celtstone.fitting.nuisance import (
     NUISANCES,
     RELEASE_OFFSET,
@@ -54,7 +55,6 @@ __all__ = [
     "Settings",
     "current_values",
     "make_problem",
-    "noise_scale",
     "parse_bounds",
 ]
 
@@ -89,10 +89,6 @@ _RATES = ("omega1", "omega2", "omega3", "initial_spin")
 _SCHEMA_NAMES = {**dict.fromkeys(_RATES, "omega"), "euler_alpha": "euler_angles"}
 _SCHEMA_NAMES["euler_beta"] = "euler_angles"
 _SCHEMA_NAMES.update(dict.fromkeys(SLIP_NAMES, "slip_velocity"))
-# the MAD of a normal sample is 0.6745 σ
-_MAD_TO_SIGMA = 1.0 / 0.6744897501960817
-NOISE_ORDER = 6  # order of the divided differences that estimate the noise
-NOISE_WINDOWS = 200_000  # windows used at most (a long record: evenly spread)
 # a given σ_s, relative to its series' range: smaller would overflow the squares
 SIGMA_RANGE = (1e-9, 1e3)
 
@@ -173,41 +169,6 @@ def _bounds(name: str, start: float, given: tuple[float, float] | None) -> tuple
                     f"bounds of {name}", f"{lower:g}:{upper:g}", error.allowed
                 ) from None
     return lower, upper
-
-
-def noise_scale(times: np.ndarray, values: np.ndarray) -> float:
-    """σ [unit of ``values``] of white noise on a smooth series, from the record's
-    high-frequency part alone (no model): the spread of its 6th divided differences.
-
-    Notes
-    -----
-    Over each window of ``NOISE_ORDER`` + 1 samples, d = Σ_j w_j y_j with
-    w_j = 1 / Π_{l≠j} (t_j − t_l) (the divided difference at the true, jittered times)
-    vanishes for any polynomial of degree < ``NOISE_ORDER`` and has variance σ² Σ w_j²
-    for noise alone; σ is the median of |d| / sqrt(Σ w_j²) scaled by 1/0.6745 (a normal
-    sample's median absolute value), so that a few outliers and the fast parts of the
-    motion (a reversal) do not set it. A sinusoid of frequency ν adds about
-    (2 sin(π ν Δt))^6 of its amplitude: 2e-3 of a 5 Hz rocking at 100 Hz, far below a
-    phone's noise. Zero (noise-free data) falls back to 1e-6 of the series' range.
-    At most ``NOISE_WINDOWS`` windows, evenly spread, are used.
-    """
-    order = NOISE_ORDER if times.size > NOISE_ORDER + 2 else max(1, times.size - 2)
-    count = times.size - order
-    if count < 1:
-        return 1e-6 * float(np.ptp(values)) or 1e-6
-    first = np.unique(np.linspace(0, count - 1, min(count, NOISE_WINDOWS)).astype(int))
-    rows = first[:, None] + np.arange(order + 1)
-    window = times[rows]
-    gaps = window[:, :, None] - window[:, None, :]
-    gaps[:, np.arange(order + 1), np.arange(order + 1)] = 1.0
-    # scaled by the window's length so that the products stay near 1
-    span = (window[:, -1] - window[:, 0])[:, None, None]
-    weights = 1.0 / np.prod(gaps / span, axis=2)
-    normalised = np.abs(np.sum(weights * values[rows], axis=1)) / np.sqrt(
-        np.sum(weights**2, axis=1)
-    )
-    sigma = float(np.median(normalised)) * _MAD_TO_SIGMA
-    return sigma if sigma > 0.0 else 1e-6 * float(np.ptp(values)) or 1e-6
 
 
 def _starts_mid_motion(read: Mapping[str, float], free: Sequence[str]) -> bool:

@@ -228,7 +228,7 @@ def fit(
         model's default state.
     sigma : mapping of str to float, optional
         Series name -> noise scale σ_s weighting it [its SI unit]; default estimated
-        from the record's high-frequency part (``fitting.problem.noise_scale``).
+        from the record's high-frequency part (``fitting.noise.noise_scale``).
     sensor_bias : bool
         Free a constant bias on every gyroscope rate series (spin, omega1..3) not held
         by ``fixed``.
