@@ -48,6 +48,18 @@ SLIDING_OR_STICK = (
     "celtstone.solvers.phases.run_phases",
 )
 OTHER_METHODS = ("celtstone.solvers._radau.", "celtstone.solvers._dop853.")
+# what only the exact friction law or the elliptic contact compiles
+NOT_THE_PADE_DISK = (
+    "celtstone.kernels.friction_exact.",
+    "celtstone.kernels.friction_ellipse.",
+    "celtstone.kernels.hertz_ellipse.",
+    "celtstone.kernels.stick_ellipse.",
+)
+OTHER_SHAPES = (
+    "celtstone.kernels.implicit.",
+    "celtstone.kernels.geometry.paraboloid_contact",
+    "celtstone.kernels.geometry.superellipsoid_contact",
+)
 
 
 def _compiled_in_new_process(code: str, cache: Path) -> list[list[object]]:
@@ -124,14 +136,37 @@ cs.simulate(cs.RollingModel(), body, state, 0.01, n_samples=3).summary()
 def test_a_first_sliding_run_compiles_only_the_sliding_model(tmp_path: Path) -> None:
     """A first sliding run with auto compiles one run loop, for the sliding model as a
     constant and the method a value (``driver.integrate_link``), and one right-hand side,
-    for the sliding model: none of the rolling or stick models' equations, and each
-    friction law's functions once (one type of pressure code)."""
+    for the sliding model, Zhuravlev's Padé law, the disk and the ellipsoid as constants
+    (``_system.RUN_CODES``): none of the rolling or stick models' equations, the exact
+    law's, the elliptic contact's or another body shape's, and the law's functions
+    once."""
     code = """
 import celtstone as cs
 
+inside = []  # what compiles while the right-hand side compiles: its callees
+
+
+class Inside(event.Listener):
+    depth = 0
+
+    def on_start(self, ev):
+        function = ev.data["dispatcher"].py_func
+        name = function.__module__ + "." + function.__qualname__
+        if self.depth:
+            inside.append(name)
+        self.depth += name == "celtstone.kernels.system.evaluate"
+
+    def on_end(self, ev):
+        function = ev.data["dispatcher"].py_func
+        name = function.__module__ + "." + function.__qualname__
+        self.depth -= name == "celtstone.kernels.system.evaluate"
+
+
+event.register("numba:compile", Inside())
 body = cs.load_body("kane_levinson_1982")
 state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
 cs.simulate(cs.SlidingModel(0.3, 1e-3), body, state, 0.01, n_samples=3).summary()
+compiled.append(["inside evaluate", inside])
 """
     compiled = _compiled_in_new_process(code, tmp_path)
     names = [name for name, _ in compiled]
@@ -144,6 +179,18 @@ cs.simulate(cs.SlidingModel(0.3, 1e-3), body, state, 0.01, n_samples=3).summary(
     assert "celtstone.kernels.dynamics.rolling_acceleration" not in names
     assert "celtstone.kernels.stick.stick_acceleration" not in names
     assert names.count("celtstone.kernels.friction.law_functions") == 1, names
+    # the right-hand side for the run's friction law, pressure, contact shape and body
+    # shape as constants (``_system.RUN_CODES``): its record type names their values
+    codes = "{friction_law=0,contact_pressure=0,contact_shape=0,shape_code=0}"
+    assert [types[2].endswith(codes) for types in evaluated] == [True], evaluated
+    # neither the exact law nor the elliptic contact is compiled at all
+    elsewhere = [name for name in names if name.startswith(NOT_THE_PADE_DISK)]
+    assert not elsewhere, elsewhere
+    # the right-hand side's compile holds the ellipsoid's contact point and no other
+    # shape's (the derived columns' contact point reads the shape code as a value)
+    inside = next(types for name, types in compiled if name == "inside evaluate")
+    assert "celtstone.kernels.geometry.ellipsoid_contact" in inside, inside
+    assert not [name for name in inside if name.startswith(OTHER_SHAPES)], inside
 
 
 class _Terminal(io.StringIO):

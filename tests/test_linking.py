@@ -180,3 +180,22 @@ def test_links_are_kept_per_argument_types(monkeypatch: pytest.MonkeyPatch) -> N
     output = structures.new_output(np.linspace(0.0, 2.0, 50), layout.N_STATE, 99)
     assert phases.integrate_links(other_body, hybrid, controls._replace(rtol=1e-6), output) == first
     assert made == []
+
+
+def test_a_record_and_its_coded_version_never_convert() -> None:
+    """numba converts a record to another with equal fields; a right-hand side compiled
+    for one run's codes (``kernels._pruning.CodedRecord``) must never serve a call with
+    a plain record, nor the reverse: its coded fields carry their values as titles."""
+    import numba
+    from numba.core.registry import cpu_target
+
+    from celtstone.kernels._pruning import CodedRecord, plain_type
+
+    record = numba.typeof(layout.parameter_record())
+    coded = CodedRecord(record, (("friction_law", 0), ("shape_code", 0)))
+    other = CodedRecord(record, (("friction_law", 1), ("shape_code", 0)))
+    typing = cpu_target.typing_context
+    for source, target in ((record, coded), (coded, record), (coded, other)):
+        assert typing.can_convert(source, target) is None, (source, target)
+    assert coded != other and coded.fields.keys() == record.fields.keys()
+    assert plain_type(coded) == record  # a link's key: the same at both ends

@@ -27,6 +27,10 @@ a first rolling run spent on the run loop itself (29 s in all, then 20 s). One l
 at a time, the caller's codes decide each inlined dispatcher's branches before the
 calls inside them are inlined, and each callee's IR is made once per process.
 
+A parameter record typed as a :class:`CodedRecord` (a run's right-hand side,
+``solvers._system.RUN_CODES``) has some fields known at compile time: each read of one
+becomes its constant, and its comparisons fold as a literal argument's do.
+
 The pass uses numba's documented extension points for compiler passes
 (``numba.core.compiler_machinery``, ``CompilerBase.define_pipelines``); the pinned
 numba's pass names are checked at import.
@@ -42,9 +46,11 @@ from numba.core import bytecode, ir, postproc, types
 from numba.core.analysis import compute_cfg_from_blocks, dead_branch_prune
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.compiler_machinery import FunctionPass, register_pass
+from numba.core.datamodel.models import RecordModel
 from numba.core.inline_closurecall import InlineWorker, callee_ir_validator
 from numba.core.ir_utils import build_definitions, get_definition, guard, simplify_CFG
 from numba.core.untyped_passes import InlineClosureLikes, InlineInlinables
+from numba.extending import register_model
 
 _COMPARISONS = {
     operator.eq,
@@ -94,9 +100,80 @@ def constant_value(func_ir: Any, variable: Any, argument_types: Any) -> Any:
     return UNKNOWN
 
 
+class CodedRecord(types.Record):
+    """A parameter record whose fields ``codes`` ((name, value) pairs) are compile-time
+    constants: the type of a right-hand side compiled for one run's friction law,
+    pressure and shapes (``solvers._system.rhs_link``). Laid out, passed and read as its
+    ``record`` is; :func:`fold_record_codes` makes each read of a coded field its
+    constant, so that only its branches compile, and callees are compiled for this
+    type in turn. Its name holds the codes: numba's cache keeps a version per codes.
+
+    Each coded field carries its value as its title: numba converts a record to
+    another whose fields are equal (a "subtype"), and a call with a plain record could
+    otherwise take a version compiled for some codes, and the reverse."""
+
+    def __init__(self, record: Any, codes: tuple[tuple[str, int], ...]) -> None:
+        self.record = record
+        self.codes = codes
+        titles = {name: f"{name}={value}" for name, value in codes}
+        fields: list[Any] = [
+            (
+                name,
+                {
+                    "type": field.type,
+                    "offset": field.offset,
+                    "alignment": field.alignment,
+                    "title": titles.get(name, field.title),
+                },
+            )
+            for name, field in record.fields.items()
+        ]
+        super().__init__(fields, record.size, record.aligned)
+        self.name = f"{record.name}{{{','.join(f'{k}={v}' for k, v in codes)}}}"
+
+
+register_model(CodedRecord)(RecordModel)
+
+
+def plain_type(argument: Any) -> Any:
+    """``argument``'s numba type without literal values or coded fields, as a caller
+    that passes them as values types it."""
+    return argument.record if isinstance(argument, CodedRecord) else types.unliteral(argument)
+
+
+def fold_record_codes(func_ir: Any, argument_types: Any) -> bool:
+    """Replace each read of a coded field of a :class:`CodedRecord` argument by its
+    value (a constant); whether any was."""
+    folded = False
+    for block in func_ir.blocks.values():
+        for statement in block.body:
+            expression = getattr(statement, "value", None)
+            if not (
+                isinstance(statement, ir.Assign)
+                and isinstance(expression, ir.Expr)
+                and expression.op == "getattr"
+            ):
+                continue
+            owner = guard(get_definition, func_ir, expression.value)
+            if not isinstance(owner, ir.Arg) or argument_types is None:
+                continue
+            if owner.index >= len(argument_types):
+                continue
+            record = argument_types[owner.index]
+            codes = dict(record.codes) if isinstance(record, CodedRecord) else {}
+            if expression.attr not in codes:
+                continue
+            result = ir.Const(codes[expression.attr], loc=expression.loc)
+            statement.value = result
+            definitions = func_ir._definitions[statement.target.name]
+            definitions[definitions.index(expression)] = result
+            folded = True
+    return folded
+
+
 def fold_code_comparisons(func_ir: Any, argument_types: Any) -> bool:
     """Replace each comparison of two compile-time values by its result; whether any was."""
-    folded = False
+    folded = fold_record_codes(func_ir, argument_types)
     for block in func_ir.blocks.values():
         for statement in block.body:
             if not isinstance(statement, ir.Assign):

@@ -30,12 +30,15 @@ import zlib
 from collections.abc import Callable, Iterable
 from typing import Any, cast
 
+import numpy as np
 from numba import types
 from numba._dispatcher import compute_fingerprint
 from numba.core import cgutils, config
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.typing.typeof import Purpose, typeof
 from numba.extending import intrinsic
+
+from celtstone.kernels._pruning import CodedRecord, plain_type
 
 NO_LINK = (0, 0)  # for a callee that a call never reaches
 _LINKS: dict[tuple[Any, ...], tuple[int, int]] = {}  # link_to's, per type fingerprint
@@ -46,9 +49,10 @@ _PYTHON = bool(getattr(config, "DISABLE_JIT", 0))  # NUMBA_DISABLE_JIT=1: no com
 
 
 def _signature_key(argument_types: tuple[Any, ...], return_type: Any) -> int:
-    """A 31-bit checksum of the overload's argument types, without literal values, and
-    its return type, the same in every process (numba's type names are stable)."""
-    plain = tuple(types.unliteral(argument) for argument in argument_types)
+    """A 31-bit checksum of the overload's argument types, without literal values or
+    coded record fields (``plain_type``), and its return type, the same in every process
+    (numba's type names are stable)."""
+    plain = tuple(plain_type(argument) for argument in argument_types)
     text = f"{plain!r}->{return_type!r}"
     return max(zlib.crc32(text.encode()) & 0x7FFFFFFF, 1)  # never NO_LINK's 0
 
@@ -67,13 +71,30 @@ def compile_for(dispatcher: Any, arguments: tuple[Any, ...]) -> None:
         _overload(dispatcher, tuple(typeof(value, Purpose.argument) for value in arguments))
 
 
+def _record_codes(arguments: tuple[Any, ...], fields: tuple[str, ...]) -> tuple[Any, ...]:
+    """Per argument, the (name, value) pairs of its ``fields`` if it is a record, else
+    (); () without ``fields`` (the key of a link without coded fields)."""
+    if not fields:
+        return ()
+    return tuple(
+        tuple((name, int(value[name])) for name in fields)
+        if isinstance(value, (np.void, np.record))
+        else ()
+        for value in arguments
+    )
+
+
 def link_to(
-    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...] = ()
+    dispatcher: Any,
+    arguments: tuple[Any, ...],
+    constants: tuple[int, ...] = (),
+    fields: tuple[str, ...] = (),
 ) -> tuple[int, int]:
     """(address, signature key) of ``dispatcher`` compiled for the types of
     ``arguments`` (Python values, as a call from Python would pass them); the
     arguments at the positions ``constants`` (ints) as compile-time constants
-    (numba literals), so that only their branches are compiled.
+    (numba literals), and a record argument's ``fields`` (int codes) too
+    (``kernels._pruning.CodedRecord``), so that only their branches are compiled.
 
     Kept per numba type fingerprint of ``arguments`` (numba's own cheap key, as its
     dispatcher keeps its types) and the constants' values: typing a parameter record
@@ -81,25 +102,30 @@ def link_to(
     """
     if _PYTHON:
         return NO_LINK
-    values = tuple(int(arguments[position]) for position in constants)
+    codes = _record_codes(arguments, fields)
+    values = (tuple(int(arguments[position]) for position in constants), codes)
     try:
         fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
     except NotImplementedError:  # a value numba has no fingerprint for: typed each call
-        return _new_link(dispatcher, arguments, constants)
+        return _new_link(dispatcher, arguments, constants, codes)
     link = _LINKS.get(fingerprint)
     if link is None:
-        link = _LINKS[fingerprint] = _new_link(dispatcher, arguments, constants)
+        link = _LINKS[fingerprint] = _new_link(dispatcher, arguments, constants, codes)
     return link
 
 
 def made_link(
-    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...] = ()
+    dispatcher: Any,
+    arguments: tuple[Any, ...],
+    constants: tuple[int, ...] = (),
+    fields: tuple[str, ...] = (),
 ) -> tuple[int, int] | None:
-    """The link that :func:`link_to` made in this process for these arguments and
-    constants, else None: nothing is compiled or loaded."""
+    """The link that :func:`link_to` made in this process for these arguments,
+    constants and record fields, else None: nothing is compiled or loaded."""
     if _PYTHON:
         return NO_LINK
-    values = tuple(int(arguments[position]) for position in constants)
+    codes = _record_codes(arguments, fields)
+    values = (tuple(int(arguments[position]) for position in constants), codes)
     try:
         fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
     except NotImplementedError:
@@ -113,7 +139,7 @@ def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, in
     if _PYTHON:
         return NO_LINK
     try:
-        fingerprint = (dispatcher, compute_fingerprint(arguments), (), ())
+        fingerprint = (dispatcher, compute_fingerprint(arguments), (), ((), ()))
     except NotImplementedError:
         fingerprint = None
     link = _LINKS.get(fingerprint) if fingerprint is not None else None
@@ -137,10 +163,17 @@ def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, in
 
 
 def _new_link(
-    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...]
+    dispatcher: Any,
+    arguments: tuple[Any, ...],
+    constants: tuple[int, ...],
+    codes: tuple[Any, ...],
 ) -> tuple[int, int]:
     argument_types = tuple(
-        types.literal(int(value)) if position in constants else typeof(value, Purpose.argument)
+        types.literal(int(value))
+        if position in constants
+        else CodedRecord(typeof(value, Purpose.argument), codes[position])
+        if codes and codes[position]
+        else typeof(value, Purpose.argument)
         for position, value in enumerate(arguments)
     )
     overload = _overload(dispatcher, argument_types)

@@ -4,9 +4,11 @@ The run loop ``driver.integrate`` and everything it calls receive the run's *sys
 the pair (kernel parameter record, ``rhs_link``), where the methods' contract says
 ``params`` (``_methods``, item 2: opaque to them, passed on to :func:`rhs`).
 :func:`rhs` calls ``kernels.system.evaluate`` at the address ``rhs_link``
-(``_linking``): compiled for the model code as a constant in a loop compiled for one
-model (``driver.integrate_link``: a first run's), for every model code in the loop
-for every code (:func:`rhs_link` makes both, Python side).
+(``_linking``): compiled for the model code and the record's ``RUN_CODES`` (friction
+law, pressure, contact and body shape) as constants in a loop compiled for one model
+(``driver.integrate_link``: a first run's), for every code in the loop for every code
+and a sweep whose points differ in those codes (:func:`rhs_link` makes them, Python
+side).
 
 numba links each callee's code into its caller and optimises and generates machine
 code for the whole again; with ``kernels.system.rhs`` inlined, the right-hand side of
@@ -35,31 +37,45 @@ EVALUATE_RETURNS = types.Tuple((types.int64, types.float64, types.float64, types
 call_evaluate = address_call(physics.evaluate, returns=EVALUATE_RETURNS)
 
 
-def rhs_link(params: Any, model: int | None = None) -> tuple[int, int]:
+# The parameter record's codes that a run's right-hand side is compiled for as constants
+# (``kernels._pruning.CodedRecord``): only the run's friction law, contact pressure,
+# contact shape and body shape compile, where the codes as values compiled every law
+# (the exact law's series), the elliptic contact (its spline table, the Hertz ellipse)
+# and every body shape (the implicit surface's Newton solve). A sweep whose points
+# differ in one of them, the stick–slip loop and the loop for every code read them from
+# the record.
+RUN_CODES = ("friction_law", "contact_pressure", "contact_shape", "shape_code")
+
+
+def rhs_link(params: Any, model: int | None = None, codes: bool = False) -> tuple[int, int]:
     """The link to ``kernels.system.evaluate`` for the parameter record ``params``, as
     :func:`rhs` calls it: compiled for ``model`` as a constant (a loop compiled for one
-    model), or for every model code (None); Python side, compiles it or loads it from
+    model), or for every model code (None); with ``codes``, ``params``' ``RUN_CODES``
+    as constants too (a loop for one model). Python side, compiles it or loads it from
     numba's cache."""
     state = np.zeros(N_STATE)
     if model is None:
         return link_to(physics.evaluate, (0, state, params, state))
-    return link_to(physics.evaluate, (int(model), state, params, state), constants=(0,))
+    fields = RUN_CODES if codes else ()
+    arguments = (int(model), state, params, state)
+    return link_to(physics.evaluate, arguments, constants=(0,), fields=fields)
 
 
 def samples_rhs_link(params: Any, model: int) -> tuple[int, int]:
     """The link to ``kernels.system.evaluate`` for a finished run's samples (its derived
     columns and summary): the one a run of ``model`` on ``params`` made in this process
-    (:func:`rhs_link` for the model as a constant, else for every code), which compiles
-    nothing; else :func:`rhs_link` for ``model`` (for every code if it is no model
-    code). Python side."""
+    (:func:`rhs_link` for the model and the record's codes as constants, for the model
+    alone, else for every code), which compiles nothing; else :func:`rhs_link` for
+    ``model`` and its codes (for every code if it is no model code). Python side."""
     state = np.zeros(N_STATE)
     model = int(model)
-    for constants in ((0,), ()):
-        link = made_link(physics.evaluate, (model, state, params, state), constants)
+    arguments = (model, state, params, state)
+    for constants, fields in (((0,), RUN_CODES), ((0,), ()), ((), ())):
+        link = made_link(physics.evaluate, arguments, constants, fields)
         if link is not None:
             return link
     known = model in {int(code) for code in ModelCode}
-    return rhs_link(params, model if known else None)
+    return rhs_link(params, model, codes=True) if known else rhs_link(params)
 
 
 @inlined

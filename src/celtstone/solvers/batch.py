@@ -36,7 +36,12 @@ from celtstone.solvers._structures import (
     new_output,
     new_phase_log,
 )
-from celtstone.solvers._system import parameters, samples_rhs_link, spin_and_normal_force
+from celtstone.solvers._system import (
+    RUN_CODES,
+    parameters,
+    samples_rhs_link,
+    spin_and_normal_force,
+)
 from celtstone.solvers.codes import METHODS, STATUS_SUCCESS
 from celtstone.solvers.driver import call_integrate, integrate_link
 from celtstone.solvers.phases import DEFAULT_MAX_PHASES, integrate_links, run_phases
@@ -405,7 +410,8 @@ def _links(
     if not np.all(hybrid_points):
         table = event_table(model, 0.0)
         arguments = (model, methods[0], params, y0, t_end, controls, table, output)
-        to_integrate = integrate_link(arguments)
+        codes_vary = any(np.unique(points.params[name]).size > 1 for name in RUN_CODES)
+        to_integrate = integrate_link(arguments, codes_vary=codes_vary)
     if np.any(hybrid_points):
         hybrid = HybridSettings(methods[0], methods[1], 1.0)
         phase_links = integrate_links(params, hybrid, controls, output)

@@ -436,7 +436,7 @@ EVERY_CODE_SECONDS = 45.0
 
 
 def integrate_link(
-    arguments: tuple[Any, ...], own_loop: bool = True
+    arguments: tuple[Any, ...], own_loop: bool = True, codes_vary: bool = False
 ) -> tuple[tuple[int, int], tuple[int, int]]:
     """The link to ``integrate`` for ``arguments`` and its ``rhs_link`` argument, as
     ``integrate`` is called with ``(*arguments, rhs_link)`` (Python side; loads or
@@ -448,7 +448,9 @@ def integrate_link(
     ``OWN_LOOP_METHODS``, its method too (``MODEL_AND_METHOD``), which compiles only
     their branches; else the loop for every code, compiled now (the stick–slip loop's
     two phases call one loop). Each calls the right-hand side at ``rhs_link``
-    (``_system``), compiled for the model as a constant in a loop for one model.
+    (``_system``), compiled for the model as a constant in a loop for one model, and
+    the record's codes (``_system.RUN_CODES``) too unless ``codes_vary`` (a sweep whose
+    points differ in one).
     """
     placeholder = (*arguments, NO_LINK)  # for the argument types
     every_code = cached_link_to(integrate, placeholder)
@@ -464,7 +466,7 @@ def integrate_link(
         if method not in OWN_LOOP_METHODS:  # the model's loop, for every method
             constants, seconds = MODEL_AND_METHOD[:1], MODEL_LOOP_SECONDS
         with compiling(subject, seconds):
-            to_rhs = rhs_link(arguments[2], model)
+            to_rhs = rhs_link(arguments[2], model, codes=not codes_vary)
             return link_to(integrate, placeholder, constants), to_rhs
     with compiling("the run loop of every model and method", EVERY_CODE_SECONDS):
         to_rhs = rhs_link(arguments[2])
