@@ -141,18 +141,23 @@ def plain_type(argument: Any) -> Any:
     return argument.record if isinstance(argument, CodedRecord) else types.unliteral(argument)
 
 
+def _assigned(statement: Any, op: str) -> Any:
+    """The expression that ``statement`` (numba IR) assigns if it is an ``op`` expression
+    ("getattr", "binop", "call"), else None."""
+    expression = getattr(statement, "value", None)
+    if isinstance(statement, ir.Assign) and isinstance(expression, ir.Expr):
+        return expression if expression.op == op else None
+    return None
+
+
 def fold_record_codes(func_ir: Any, argument_types: Any) -> bool:
     """Replace each read of a coded field of a :class:`CodedRecord` argument by its
     value (a constant); whether any was."""
     folded = False
     for block in func_ir.blocks.values():
         for statement in block.body:
-            expression = getattr(statement, "value", None)
-            if not (
-                isinstance(statement, ir.Assign)
-                and isinstance(expression, ir.Expr)
-                and expression.op == "getattr"
-            ):
+            expression = _assigned(statement, "getattr")
+            if expression is None:
                 continue
             owner = guard(get_definition, func_ir, expression.value)
             if not isinstance(owner, ir.Arg) or argument_types is None:
@@ -176,14 +181,8 @@ def fold_code_comparisons(func_ir: Any, argument_types: Any) -> bool:
     folded = fold_record_codes(func_ir, argument_types)
     for block in func_ir.blocks.values():
         for statement in block.body:
-            if not isinstance(statement, ir.Assign):
-                continue
-            expression = statement.value
-            if not (
-                isinstance(expression, ir.Expr)
-                and expression.op == "binop"
-                and expression.fn in _COMPARISONS
-            ):
+            expression = _assigned(statement, "binop")
+            if expression is None or expression.fn not in _COMPARISONS:
                 continue
             left = constant_value(func_ir, expression.lhs, argument_types)
             right = constant_value(func_ir, expression.rhs, argument_types)
@@ -289,12 +288,8 @@ class InlineOnePerLevel(InlineInlinables):
             if func_ir.blocks.get(label) is not block:
                 continue  # pruned since
             for index, statement in enumerate(block.body):
-                expression = getattr(statement, "value", None)
-                if not (
-                    isinstance(statement, ir.Assign)
-                    and isinstance(expression, ir.Expr)
-                    and expression.op == "call"
-                ):
+                expression = _assigned(statement, "call")
+                if expression is None:
                     continue
                 if guard(self._do_work, state, work_list, block, index, expression, worker):
                     modified = True

@@ -84,6 +84,19 @@ def _record_codes(arguments: tuple[Any, ...], fields: tuple[str, ...]) -> tuple[
     )
 
 
+def _link_key(
+    dispatcher: Any, arguments: tuple[Any, ...], constants: tuple[int, ...], fields: tuple[str, ...]
+) -> tuple[Any, tuple[Any, ...]]:
+    """(the key of a link in ``_LINKS``, None where numba has no type fingerprint for a
+    value; the record arguments' codes, ``_record_codes``)."""
+    codes = _record_codes(arguments, fields)
+    values = (tuple(int(arguments[position]) for position in constants), codes)
+    try:
+        return (dispatcher, compute_fingerprint(arguments), constants, values), codes
+    except NotImplementedError:
+        return None, codes
+
+
 def link_to(
     dispatcher: Any,
     arguments: tuple[Any, ...],
@@ -102,11 +115,8 @@ def link_to(
     """
     if _PYTHON:
         return NO_LINK
-    codes = _record_codes(arguments, fields)
-    values = (tuple(int(arguments[position]) for position in constants), codes)
-    try:
-        fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
-    except NotImplementedError:  # a value numba has no fingerprint for: typed each call
+    fingerprint, codes = _link_key(dispatcher, arguments, constants, fields)
+    if fingerprint is None:  # a value numba has no fingerprint for: typed each call
         return _new_link(dispatcher, arguments, constants, codes)
     link = _LINKS.get(fingerprint)
     if link is None:
@@ -124,13 +134,8 @@ def made_link(
     constants and record fields, else None: nothing is compiled or loaded."""
     if _PYTHON:
         return NO_LINK
-    codes = _record_codes(arguments, fields)
-    values = (tuple(int(arguments[position]) for position in constants), codes)
-    try:
-        fingerprint = (dispatcher, compute_fingerprint(arguments), constants, values)
-    except NotImplementedError:
-        return None
-    return _LINKS.get(fingerprint)
+    fingerprint, _ = _link_key(dispatcher, arguments, constants, fields)
+    return None if fingerprint is None else _LINKS.get(fingerprint)
 
 
 def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int] | None:
