@@ -26,6 +26,7 @@ from types import FrameType
 from typing import Any
 
 from celtstone._early_signals import exit_now, is_the_command, stop_at_once
+from celtstone._held_signals import defer
 
 __all__ = [
     "Interruption",
@@ -74,7 +75,8 @@ class Interruption:
         quiet_abandoned_writes()
         if is_the_command():
             signal.signal(signal.SIGINT, exit_now)
-        raise KeyboardInterrupt
+        if not defer(KeyboardInterrupt()):  # a child process starting: raised once it is held
+            raise KeyboardInterrupt
 
 
 class Termination:
@@ -89,7 +91,8 @@ class Termination:
         self.received = True
         quiet_abandoned_writes()
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise Terminated
+        if not defer(Terminated()):  # a child process starting: raised once it is held
+            raise Terminated
 
 
 def _redelivering(

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from celtstone._held_signals import held_signals
 from celtstone.errors import OutputError, ParameterError
 from celtstone.files.export import atomic_path, check_target
 from celtstone.files.ownership import video_mark
@@ -421,17 +422,21 @@ def _write_mp4(temporary: Path, target: Path, frames: Iterator[np.ndarray], fps:
     ]
     count = 0
     with tempfile.TemporaryFile() as log:
-        # its own session: Ctrl-C reaches celtstone, which stops ffmpeg below
-        process = subprocess.Popen(
-            command,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.DEVNULL,
-            stderr=log,
-            start_new_session=True,
-        )
-        stdin = process.stdin
-        assert stdin is not None
+        process: subprocess.Popen[bytes] | None = None
         try:
+            # a signal while ffmpeg starts is raised once it is held here, to be stopped
+            # below: landing inside Popen it left an ffmpeg that made the temporary again
+            # after the clean-up; its own session: Ctrl-C reaches celtstone, which stops it
+            with held_signals():
+                process = subprocess.Popen(
+                    command,
+                    stdin=subprocess.PIPE,
+                    stdout=subprocess.DEVNULL,
+                    stderr=log,
+                    start_new_session=True,
+                )
+            stdin = process.stdin
+            assert stdin is not None
             try:
                 for frame in itertools.chain([first], frames):
                     # the frame's own memory: no copy on the way into the pipe
@@ -441,12 +446,16 @@ def _write_mp4(temporary: Path, target: Path, frames: Iterator[np.ndarray], fps:
             except BrokenPipeError:
                 pass  # ffmpeg stopped early: its status and log say why
         except BaseException:
-            process.kill()  # interrupted or failed: no ffmpeg left writing the temporary
+            if process is not None:
+                process.kill()  # interrupted or failed: no ffmpeg left writing the temporary
             raise
         finally:
-            with contextlib.suppress(OSError):  # data left in the pipe's buffer is dropped
-                stdin.close()
-            status = process.wait()
+            if process is not None:
+                with contextlib.suppress(OSError):  # data left in the pipe's buffer is dropped
+                    if process.stdin is not None:
+                        process.stdin.close()
+                process.wait()
+        status = process.returncode
         if status != 0:
             log.seek(0)
             raise OutputError(str(target), _ffmpeg_cause(log.read(), status))
