@@ -422,17 +422,17 @@ call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers.
 
 
 # The methods whose run loops are compiled for a model and method as constants when the
-# loop for every code is not compiled yet (a first rolling run with vern9: about 16 s of
+# loop for every code is not compiled yet (a first rolling run with vern9: about 12 s of
 # CPU on a 2-core machine, empty cache). A loop of auto or radau5 holds most of the code
 # of every method and compiles nearly as long as the model's loop with the method a
 # value, which serves every method of that model: those runs compile that one (the
-# sliding model: about 35 s, where the loop for every code, with every model's branches
-# and right-hand side, took some 4 s more). The registry's entries say which (``own_loop``).
+# sliding model: about 26 s; the loop for every code, with every model's branches and
+# right-hand side, about 34 s). The registry's entries say which (``own_loop``).
 OWN_LOOP_METHODS = tuple(entry.code for entry in METHOD_ENTRIES.values() if entry.own_loop)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
-OWN_LOOP_SECONDS = 16.0
-MODEL_LOOP_SECONDS = 35.0
-EVERY_CODE_SECONDS = 45.0
+OWN_LOOP_SECONDS = 13.0
+MODEL_LOOP_SECONDS = 28.0
+EVERY_CODE_SECONDS = 36.0
 
 
 def integrate_link(
