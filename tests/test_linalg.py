@@ -65,49 +65,20 @@ def test_a_singular_diagonal_block_is_reported() -> None:
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.complex128])
-def test_the_state_blocks_path_gives_the_general_paths_bits(dtype: type) -> None:
+@pytest.mark.parametrize(("size", "split"), [(N_STATE, N_DYNAMIC), (N_STATE, 0), (12, 5)])
+def test_the_block_lu_gives_each_block_s_lu_bits(dtype: type, size: int, split: int) -> None:
     """The 16 × 16 matrix split at 9 (the Radau iteration matrix of the state) takes the
-    path with constant block bounds; it must compute exactly what the general LU of the
-    two blocks computes (pivots and factors bit for bit), and solve with them."""
-    rng = np.random.default_rng(7)
-    size, split = N_STATE, N_DYNAMIC
+    path with constant block bounds; any other split (0: a Radau matrix whose dynamics read
+    the driven components) or size one copy of the LU and of the solve in a loop over the
+    two blocks. Each must compute exactly what the LU of each block computes (pivots and
+    factors bit for bit; for split 0, the solution too), and solve the system."""
+    rng = np.random.default_rng(7 if split == N_DYNAMIC else size + split)
     matrix = rng.normal(size=(size, size)).astype(dtype)
     if dtype is np.complex128:
         matrix += 1j * rng.normal(size=(size, size))
     matrix[:split, split:] = 0.0
     matrix[0, 0] = 0.0  # a row exchange in each block
     matrix[split, split] = 0.0
-    fast, fast_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
-    assert block_factor(fast, fast_pivots, split)
-    general, general_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
-    assert lu_factor(general, general_pivots, 0, split)
-    assert lu_factor(general, general_pivots, split, size)
-    assert np.array_equal(fast_pivots, general_pivots)
-    assert np.array_equal(fast, general)
-    right = rng.normal(size=size).astype(dtype)
-    fast_solution = right.copy()
-    block_solve(fast, fast_pivots, fast_solution, split)
-    general_solution = right.copy()
-    lu_solve(general, general_pivots, general_solution, 0, split)
-    general_solution[split:] -= general[split:, :split] @ general_solution[:split]
-    lu_solve(general, general_pivots, general_solution, split, size)
-    assert np.allclose(fast_solution, np.linalg.solve(matrix, right), rtol=1e-12, atol=1e-12)
-    assert np.allclose(fast_solution, general_solution, rtol=1e-14, atol=1e-15)
-
-
-@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
-@pytest.mark.parametrize(("size", "split"), [(N_STATE, 0), (12, 5)])
-def test_every_other_split_gives_the_blockwise_lus_bits(dtype: type, size: int, split: int) -> None:
-    """Any other split (0: a Radau matrix whose dynamics read the driven components) or
-    size takes one copy of the LU and of the solve in a loop over the two blocks; it must
-    compute exactly what the LU of each block computes (pivots, factors and, for split
-    0, the solution bit for bit)."""
-    rng = np.random.default_rng(size + split)
-    matrix = rng.normal(size=(size, size)).astype(dtype)
-    if dtype is np.complex128:
-        matrix += 1j * rng.normal(size=(size, size))
-    matrix[:split, split:] = 0.0
-    matrix[split, split] = 0.0  # a row exchange in the second block
     blocks, block_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
     assert block_factor(blocks, block_pivots, split)
     plain, plain_pivots = matrix.copy(), np.zeros(size, dtype=np.int64)
@@ -119,10 +90,13 @@ def test_every_other_split_gives_the_blockwise_lus_bits(dtype: type, size: int, 
     right = rng.normal(size=size).astype(dtype)
     solution = right.copy()
     block_solve(blocks, block_pivots, solution, split)
+    plain_solution = right.copy()
+    lu_solve(plain, plain_pivots, plain_solution, 0, split)
+    plain_solution[split:] -= plain[split:, :split] @ plain_solution[:split]
+    lu_solve(plain, plain_pivots, plain_solution, split, size)
     assert np.allclose(solution, np.linalg.solve(matrix, right), rtol=1e-12, atol=1e-12)
+    assert np.allclose(solution, plain_solution, rtol=1e-14, atol=1e-15)
     if split == 0:
-        plain_solution = right.copy()
-        lu_solve(plain, plain_pivots, plain_solution)
         assert np.array_equal(solution, plain_solution)
 
 
