@@ -87,7 +87,10 @@ def pade_functions(slip_speed: float, pivot_speed: float, pressure: int) -> tupl
 def law_functions(
     law: int, slip_speed: float, pivot_speed: float, pressure: int
 ) -> tuple[float, float]:
-    """F/(fN) and M/(fNε) [1] of the law with code ``law``: the one dispatch on a law code.
+    """F/(fN) and M/(fNε) [1] of the law with code ``law``.
+
+    The one dispatch on a law code: a code without a branch here gives NaN, and so does
+    every kernel that reads a law.
 
     Parameters
     ----------
@@ -100,8 +103,6 @@ def law_functions(
     -------
     force : |F| / (f N) [1], from 0 at u = 0 to 1 as u -> ∞
     moment : |M| / (f N ε) [1], from M0/(fNε) at u = 0 to 0 as u -> ∞
-
-    A law code without a branch here gives NaN, and so does every kernel that reads a law.
     """
     if law == FrictionLaw.PADE:
         return pade_functions(slip_speed, pivot_speed, pressure)
