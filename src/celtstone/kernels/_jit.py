@@ -113,6 +113,16 @@ def compiling(subject: str, seconds: float) -> Iterator[None]:
         COMPILING.subject = previous
 
 
+def kernel_options() -> dict[str, Any]:
+    """The options every kernel compiles with, its cache and pipeline aside (also those of
+    an ``overload`` compiled apart): no GIL, numpy's error model, and without numba's
+    C-callable wrapper where numba's internals are the ones checked (``_internals``)."""
+    options: dict[str, Any] = {"nogil": True, "error_model": "numpy"}
+    if not internals_changed():
+        options["no_cfunc_wrapper"] = True
+    return options
+
+
 def cached_njit(**options: Any) -> Callable[[F], F]:
     """``numba.njit(cache=True, nogil=True, error_model="numpy", **options)``, its on-disk
     cache saved so that processes compiling at once never mix entries, and loaded without
@@ -129,10 +139,10 @@ def cached_njit(**options: Any) -> Callable[[F], F]:
     if internals_changed():  # another numba: its own compiler and cache (``_internals``)
         pipeline: dict[str, Any] = {}
     else:
-        pipeline = {"pipeline_class": CodePruningCompiler, "no_cfunc_wrapper": True}
+        pipeline = {"pipeline_class": CodePruningCompiler}
 
     def compile_cached(function: F) -> F:
-        dispatcher = njit(cache=True, nogil=True, error_model="numpy", **pipeline, **options)
+        dispatcher = njit(cache=True, **kernel_options(), **pipeline, **options)
         compiled: F = dispatcher(function)
         if not internals_changed():
             compiled = use_celtstone_cache(compiled)

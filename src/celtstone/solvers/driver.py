@@ -22,7 +22,7 @@ from numba.core.typing.typeof import typeof
 from numba.extending import overload
 
 from celtstone.kernels._internals import internals_changed
-from celtstone.kernels._jit import compiling, kernel
+from celtstone.kernels._jit import compiling, kernel, kernel_options
 from celtstone.kernels.layout import (
     RHS_CONTACT_RANGE,
     RHS_NON_CONVEX,
@@ -201,14 +201,9 @@ def run_workspaces(method: int, n: int) -> Any:
     return methods.workspaces(method, n)
 
 
-# compiled as ``kernels._jit.kernel`` compiles, apart: inlined (numba's typed inlining
-# of an overload), the loop for every code took other steps in a stick–slip run
-_OPTIONS: Any = {"nogil": True, "error_model": "numpy"}
-if not internals_changed():
-    _OPTIONS["no_cfunc_wrapper"] = True
-
-
-@overload(run_workspaces, prefer_literal=True, jit_options=_OPTIONS)
+# compiled with a kernel's options, apart: inlined (numba's typed inlining of an
+# overload), the loop for every code took other steps in a stick–slip run
+@overload(run_workspaces, prefer_literal=True, jit_options=cast(Any, kernel_options()))
 def _run_workspaces_typed(method, n):
     """:func:`run_workspaces` in compiled code, chosen by the type of ``method``.
 
