@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -38,6 +38,7 @@ __all__ = [
     "SAMPLES_PER_SECOND",
     "STATUS_NAMES",
     "simulate",
+    "simulate_many",
     "version",
 ]
 
@@ -351,3 +352,75 @@ def _warn_friction_bound(trajectory: Trajectory) -> None:
     warning = friction_bound_warning(trajectory)
     if warning is not None:
         warnings.warn(warning, stacklevel=3)
+
+
+def simulate_many(
+    runs: Sequence[tuple[Model, Body, InitialState]],
+    t_end: float,
+    *,
+    device: str = "cpu",
+    method: str | None = None,
+    stick_method: str | None = None,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    n_samples: int | None = None,
+    sample_times: np.ndarray | None = None,
+    max_steps: int = 20_000_000,
+    max_crossings: int = 100_000,
+    workers: int | None = None,
+) -> list[Trajectory]:
+    """:func:`simulate` of each of ``runs`` over [0, t_end], in order.
+
+    Parameters
+    ----------
+    runs : sequence of (model, body, initial_state)
+        The runs, their models of one kind (all rolling, all sliding or all stick–slip);
+        each may have its own settings, body and start.
+    t_end : float
+        Duration of every run [s], > 0.
+    device : str, default "cpu"
+        "cpu": the runs on ``workers`` threads; "cuda": one GPU thread per run (the
+        same loops compiled for CUDA); "auto": the GPU where one can run them.
+    sample_times : numpy.ndarray, optional
+        Output times [s]: shape (m,), the same for every run, or (len(runs), m), each
+        run's own.
+    method, stick_method, rtol, atol, n_samples, max_steps, max_crossings :
+        As :func:`simulate`.
+    workers : int, optional
+        Threads on the CPU (default: one per core).
+
+    Returns
+    -------
+    list of Trajectory
+        One per run, as :func:`simulate` returns it.
+    """
+    from celtstone._threads import map_in_threads
+
+    runs = list(runs)
+    if not runs:
+        raise ParameterError("runs", runs, "one (model, body, initial_state) or more")
+    times = None if sample_times is None else np.asarray(sample_times, dtype=float)
+    per_run = times is not None and times.ndim == 2
+    if per_run and times is not None and times.shape[0] != len(runs):
+        raise ParameterError(
+            "sample_times", f"shape {times.shape}", f"(m,) or ({len(runs)}, m): a row per run"
+        )
+
+    def one(index: int) -> Trajectory:
+        model, body, state = runs[index]
+        return simulate(
+            model,
+            body,
+            state,
+            t_end,
+            method=method,
+            stick_method=stick_method,
+            rtol=rtol,
+            atol=atol,
+            n_samples=n_samples,
+            sample_times=None if times is None else (times[index] if per_run else times),
+            max_steps=max_steps,
+            max_crossings=max_crossings,
+        )
+
+    return list(map_in_threads(one, range(len(runs)), workers=workers))
