@@ -12,6 +12,7 @@ from celtstone import solvers
 from celtstone._about import version as version
 from celtstone.bodies import Body
 from celtstone.errors import (
+    CeltstoneError,
     CeltstoneWarning,
     FrictionBoundWarning,
     ParameterError,
@@ -368,7 +369,8 @@ def simulate_many(
     max_steps: int = 20_000_000,
     max_crossings: int = 100_000,
     workers: int | None = None,
-) -> list[Trajectory]:
+    errors: str = "raise",
+) -> list[Trajectory | CeltstoneError]:
     """:func:`simulate` of each of ``runs`` over [0, t_end], in order.
 
     Parameters
@@ -388,14 +390,22 @@ def simulate_many(
         As :func:`simulate`.
     workers : int, optional
         Threads on the CPU (default: one per core).
+    errors : str, default "raise"
+        "raise": a run that cannot be made (a ``CeltstoneError``: an implausible body or
+        contact, a bad setting) raises; "keep": its error takes its place in the list
+        and the other runs go on (a fit's batch of trial parameters).
 
     Returns
     -------
-    list of Trajectory
+    list of Trajectory (or CeltstoneError, with ``errors="keep"``)
         One per run, as :func:`simulate` returns it.
     """
     from celtstone._threads import map_in_threads
 
+    require_choice("errors", errors, ("raise", "keep"))
+    require_choice("device", device, ("cpu", "cuda", "auto"))
+    if device == "cuda":  # the GPU's batch of runs is not built yet
+        raise ParameterError("device", device, "cpu or auto")
     runs = list(runs)
     if not runs:
         raise ParameterError("runs", runs, "one (model, body, initial_state) or more")
@@ -406,8 +416,16 @@ def simulate_many(
             "sample_times", f"shape {times.shape}", f"(m,) or ({len(runs)}, m): a row per run"
         )
 
-    def one(index: int) -> Trajectory:
+    def one(index: int) -> Trajectory | CeltstoneError:
         model, body, state = runs[index]
+        try:
+            return run(index, model, body, state)
+        except CeltstoneError as error:
+            if errors == "raise":
+                raise
+            return error
+
+    def run(index: int, model: Model, body: Body, state: InitialState) -> Trajectory:
         return simulate(
             model,
             body,
