@@ -23,6 +23,8 @@ for the report.
     .venv/bin/python benchmarks/atlas_search.py --count 240 --seed 15 --workers 2 --full 4 --store
     .venv/bin/python benchmarks/atlas_search.py --box refined --count 60 --seed 16 --full 3 --store
     .venv/bin/python benchmarks/atlas_search.py --box stone --count 30 --seed 17 --full 15 --store
+
+``--device cuda`` runs them on a CUDA GPU (refused at once where there is none).
 """
 
 from __future__ import annotations
@@ -31,12 +33,13 @@ import argparse
 import json
 import os
 import shutil
+import sys
 import time
 from pathlib import Path
 from typing import Any
 
 from celtstone.atlas import compute_atlas
-from celtstone.atlas.fields import ATLAS_STUDY, write_atlas
+from celtstone.atlas.fields import ATLAS_STUDY, atlas_device, write_atlas
 from celtstone.atlas.search import (
     SEARCH_BOXES,
     STORED_SEARCHES,
@@ -48,9 +51,11 @@ from celtstone.atlas.search import (
     search_summary,
     search_table,
 )
+from celtstone.errors import CeltstoneError
 from celtstone.files.export import write_json, write_table
 from celtstone.reproduce.findings import FINDINGS
 from celtstone.simulation.integrate import version
+from celtstone.sweep.devices import DEVICES
 
 DESIGN_FIELDS = ("length", "width_ratio", "height_ratio", "misalignment", "mass_fraction")
 
@@ -78,12 +83,20 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=240)
     parser.add_argument("--seed", type=int, default=15)
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=int, default=2, help="threads on the CPU")
+    parser.add_argument(
+        "--device",
+        default="cpu",
+        choices=DEVICES,
+        help="cpu, cuda (the long runs of each contact as one GPU launch per model kind, "
+        "the --full atlases' sweeps on the GPU) or auto",
+    )
     parser.add_argument("--box", default="wide", choices=list(SEARCH_BOXES))
     parser.add_argument("--out", default=None, help="default results/atlas_search_BOX")
     parser.add_argument("--full", type=int, default=0, help="all five for 2N closest points")
     parser.add_argument("--store", action="store_true", help="copy summary and table in")
     args = parser.parse_args()
+    atlas_device(args.device, ATLAS_STUDY)  # a GPU that is not here: before --out is made
     out = Path(args.out or f"results/atlas_search_{args.box}")
     out.mkdir(parents=True, exist_ok=True)
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
@@ -93,11 +106,15 @@ def main() -> None:
     previous = _previous(out / "search_summary.json")
     points = search_points(args.count, args.seed, args.box)
     stored = _stored_runs(out)
-    numbers = search_long_runs(points, out=out, workers=args.workers, progress=print)
+    numbers = search_long_runs(
+        points, out=out, workers=args.workers, progress=print, device=args.device
+    )
     dataset = search_dataset(points, numbers, seed=args.seed, box=args.box)
     summary = search_summary(dataset)
     summary["cost"] = {"date": started, "load_average_start": load_start, **_cost(wall, cpu)}
-    summary["cost"].update(workers=args.workers, long_runs_computed=_stored_runs(out) - stored)
+    summary["cost"].update(
+        workers=args.workers, device=args.device, long_runs_computed=_stored_runs(out) - stored
+    )
     if summary["cost"]["long_runs_computed"] == 0 and "cost" in previous:
         summary["cost"] = previous["cost"]  # the cost of the call that computed the runs
     summary["software"] = f"celtstone {version()}"
@@ -128,6 +145,7 @@ def main() -> None:
                 workers=args.workers,
                 resume=True,
                 progress=print,
+                device=args.device,
             )
             for k, design in enumerate(designs):
                 full.append(
@@ -152,4 +170,8 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except CeltstoneError as error:  # bad input, a GPU that is not here: one line
+        print(f"atlas_search: {error}", file=sys.stderr)
+        sys.exit(2)

@@ -14,7 +14,9 @@ judged by those same judges:
 * **long run** (``long_run``): the judge reads every reversal *time* of two runs (a
   list of any length, which a sweep's one-number-per-point fields do not hold), so the
   two runs per design are direct :func:`~celtstone.simulate` calls summarised by
-  ``reproduce.cases.summarise``, exactly as ``celtstone reproduce`` does, on threads.
+  ``reproduce.cases.summarise``, exactly as ``celtstone reproduce`` does, on threads;
+  on a GPU (``device="cuda"``) the rolling runs of every design are one
+  :func:`~celtstone.simulation.integrate.simulate_many` launch and the sliding runs another.
 
 With ``out``, every sweep is a Zarr store in ``out`` (resumable as any sweep), each
 long run's numbers a JSON file there, and the result ``out/atlas.zarr``.
@@ -36,7 +38,7 @@ import numpy as np
 
 from celtstone.atlas.family import MaterialPair, StoneDesign
 from celtstone.bodies import Body, Ellipsoid
-from celtstone.errors import FrictionBoundWarning, ParameterError
+from celtstone.errors import CeltstoneError, FrictionBoundWarning, ParameterError
 from celtstone.files.export import (
     output_error,
     replace_directory,
@@ -54,7 +56,7 @@ from celtstone.reproduce import (
     summarise,
     threshold_numbers,
 )
-from celtstone.simulation.integrate import simulate
+from celtstone.simulation.integrate import simulate, simulate_many
 from celtstone.simulation.models import Model
 from celtstone.simulation.outcome import OUTCOMES, SWEPT, is_energy_monotone, json_number
 from celtstone.sweep import Sweep
@@ -66,6 +68,8 @@ __all__ = [
     "ATLAS_FORMAT",
     "ATLAS_STUDY",
     "COARSE_THRESHOLD_GRID",
+    "LONG_RUN_BATCH",
+    "atlas_device",
     "atlas_numbers",
     "compute_atlas",
     "judge_design",
@@ -99,6 +103,9 @@ _DESIGN_UNITS = {
     "density": "kg/m^3",
 }
 _MAX_REVERSALS = 64  # reversal times kept per long run in the store (the count is whole)
+LONG_RUN_BATCH = 512
+"""Designs whose long runs go to the GPU together (a launch per model kind): a launch's
+runs are held until summarised, about 3.5 MB each at 50 s and 200 samples per second."""
 
 
 # ----------------------------------------------------------------------- judging
@@ -180,12 +187,14 @@ class _Runner:
         bodies: Sequence[Body],
         out: Path | None,
         options: Mapping[str, Any],
+        device: str = "cpu",
     ) -> None:
         self.study = study
         self.bodies = bodies
         self.columns = _design_columns(bodies)
         self.out = out
         self.options = dict(options)
+        self.device = device
 
     def run(
         self,
@@ -209,6 +218,7 @@ class _Runner:
             rtol=self.study.rtol,
             atol=self.study.atol,
             reversal_threshold=self.study.band,
+            device=self.device,
         )
         target = None if self.out is None else self.out / f"{name}.zarr"
         return sweep.run(target, **self.options)
@@ -347,12 +357,39 @@ def _long_run(study: Study, body: Body) -> dict[str, Any]:
     """The Figure 3 numbers of one body: rolling and sliding at the study's long-run f for
     ``fig3_t_end``, each summarised as ``celtstone reproduce`` does."""
     cases = []
-    for model in (study.rolling(), study.sliding(study.fig3_friction)):
+    for model in _long_run_models(study):
         trajectory = simulate(
             model, body, study.initial_state, study.fig3_t_end, rtol=study.rtol, atol=study.atol
         )
         cases.append({"case": case_name(model), **summarise(trajectory, body, study.band)})
     return {"cases": cases, "friction": study.fig3_friction, "band": study.band}
+
+
+def _long_run_models(study: Study) -> tuple[Model, Model]:
+    """The models of a design's long runs: rolling, and sliding at the long-run f."""
+    return study.rolling(), study.sliding(study.fig3_friction)
+
+
+def _long_runs_together(study: Study, bodies: Sequence[Body], device: str) -> list[dict[str, Any]]:
+    """:func:`_long_run` of each of ``bodies``: the rolling runs of all as one
+    ``simulate_many`` on ``device``, then the sliding runs, each summarised as
+    ``celtstone reproduce`` does."""
+    cases: list[list[dict[str, Any]]] = [[] for _ in bodies]
+    for model in _long_run_models(study):
+        runs = simulate_many(
+            [(model, body, study.initial_state) for body in bodies],
+            study.fig3_t_end,
+            device=device,
+            rtol=study.rtol,
+            atol=study.atol,
+        )
+        for design_cases, trajectory, body in zip(cases, runs, bodies, strict=True):
+            if isinstance(trajectory, CeltstoneError):  # none with errors="raise"
+                raise trajectory
+            design_cases.append(
+                {"case": case_name(model), **summarise(trajectory, body, study.band)}
+            )
+    return [{"cases": c, "friction": study.fig3_friction, "band": study.band} for c in cases]
 
 
 def _long_runs(
@@ -362,38 +399,87 @@ def _long_runs(
     out: Path | None,
     workers: int | None,
     overwrite: bool,
+    device: str = "cpu",
+    batch: bool | None = None,
 ) -> list[dict[str, Any]]:
-    """Every design's long run, on ``workers`` threads (the compiled loop releases the
-    GIL); with ``out`` each one's numbers are kept in ``out/long_run/DESIGN.json`` and
-    found there again by a resumed atlas (which checks they are of the same design and
-    study)."""
+    """Every design's long run: on ``workers`` threads (the compiled loop releases the
+    GIL), or on the GPU (``device`` "cuda"; ``batch`` True: on the CPU too, through
+    ``simulate_many``'s threads) the designs not yet stored in batches of
+    ``LONG_RUN_BATCH``, one per model kind; with ``out`` each one's numbers are kept in
+    ``out/long_run/DESIGN.json`` as soon as they exist, and found there again by a
+    resumed atlas (which checks they are of the same design and study)."""
     directory = None if out is None else out / "long_run"
     if directory is not None:
         directory.mkdir(exist_ok=True)
 
-    def one(index: int) -> dict[str, Any]:
-        identity = {"design": dataclasses.asdict(designs[index]), "study": repr(study)}
-        path = None if directory is None else directory / f"design_{index:05d}.json"
-        if path is not None and path.exists() and not overwrite:
-            stored = json.loads(path.read_text(encoding="utf-8"))
-            if stored["identity"] != identity:
-                raise ParameterError(
-                    "resume",
-                    str(path),
-                    "the long run of the same design and study",
-                    "the atlas's designs or settings changed: use a new out or overwrite",
-                )
-            return dict(stored["numbers"])
-        numbers = _long_run(study, bodies[index])
-        if path is not None:
-            write_json({"identity": identity, "numbers": numbers}, path, overwrite=overwrite)
+    def path(index: int) -> Path | None:
+        return None if directory is None else directory / f"design_{index:05d}.json"
+
+    def identity(index: int) -> dict[str, Any]:
+        return {"design": dataclasses.asdict(designs[index]), "study": repr(study)}
+
+    def stored(index: int) -> dict[str, Any] | None:
+        found = path(index)
+        if found is None or not found.exists() or overwrite:
+            return None
+        kept = json.loads(found.read_text(encoding="utf-8"))
+        if kept["identity"] != identity(index):
+            raise ParameterError(
+                "resume",
+                str(found),
+                "the long run of the same design and study",
+                "the atlas's designs or settings changed: use a new out or overwrite",
+            )
+        return dict(kept["numbers"])
+
+    def keep(index: int, numbers: dict[str, Any]) -> dict[str, Any]:
+        target = path(index)
+        if target is not None:
+            write_json(
+                {"identity": identity(index), "numbers": numbers}, target, overwrite=overwrite
+            )
         return numbers
 
-    threads = workers or len(os.sched_getaffinity(0))
+    def one(index: int) -> dict[str, Any]:
+        found = stored(index)
+        return found if found is not None else keep(index, _long_run(study, bodies[index]))
+
     with warnings.catch_warnings():  # the paper's N = m g exceeds Coulomb's bound: recorded
         warnings.simplefilter("ignore", FrictionBoundWarning)
-        with ThreadPoolExecutor(max_workers=threads) as pool:
-            return list(pool.map(one, range(len(designs))))
+        if not (device != "cpu" if batch is None else batch):
+            threads = workers or len(os.sched_getaffinity(0))
+            with ThreadPoolExecutor(max_workers=threads) as pool:
+                return list(pool.map(one, range(len(designs))))
+        numbers = [stored(index) for index in range(len(designs))]
+        todo = [index for index, found in enumerate(numbers) if found is None]
+        for first in range(0, len(todo), LONG_RUN_BATCH):
+            part = todo[first : first + LONG_RUN_BATCH]
+            together = _long_runs_together(study, [bodies[i] for i in part], device)
+            for index, found in zip(part, together, strict=True):
+                numbers[index] = keep(index, found)
+    return [found for found in numbers if found is not None]
+
+
+def atlas_device(device: object, study: Study) -> str:
+    """The device that runs an atlas of ``study``: "cpu" or "cuda", for ``device`` "cpu",
+    "cuda" or "auto" (``sweep.devices.resolve_device`` of each model kind it runs).
+
+    Raises
+    ------
+    ParameterError
+        for another ``device``, and for "cuda" where no GPU can run the atlas's runs:
+        before any run.
+    """
+    from celtstone.simulation.models import HybridModel
+    from celtstone.sweep.devices import resolve_device
+
+    if device == "cpu":
+        return "cpu"
+    resolved = {
+        resolve_device(device, model.name, model.default_method, isinstance(model, HybridModel))
+        for model in _long_run_models(study)
+    }
+    return "cuda" if resolved == {"cuda"} else "cpu"
 
 
 # ----------------------------------------------------------------------- the atlas
@@ -409,6 +495,7 @@ def atlas_numbers(
     resume: bool = False,
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
+    device: str = "cpu",
 ) -> list[dict[str, dict[str, Any]]]:
     """Each design's numbers for the judges, computed with the settings of ``study``.
 
@@ -428,6 +515,8 @@ def atlas_numbers(
         Keep the finished sweeps and long runs in ``out``, or replace them.
     progress : callable, optional
         Told each stage as it starts.
+    device : str, default "cpu"
+        Where the runs go: "cpu", "cuda" or "auto" (:func:`compute_atlas`).
 
     Returns
     -------
@@ -435,17 +524,23 @@ def atlas_numbers(
         Per design, ``{"fig2": ..., "threshold": ..., "fig3": ...}``: the dicts of
         ``celtstone reproduce`` with the keys its judges read (module docstring).
     """
+    device = atlas_device(device, study)
+    if device == "cuda" and scheduler is not None:
+        raise ParameterError(
+            "scheduler", scheduler, "no value with device cuda", "the GPU runs every point"
+        )
     bodies = [design.body() for design in designs]
     options: dict[str, Any] = {"resume": resume, "overwrite": overwrite}
-    options.update({"workers": workers} if scheduler is None else {"scheduler": scheduler})
-    runner = _Runner(study, bodies, out, options)
+    if device == "cpu":  # the GPU's sweeps take no threads
+        options.update({"workers": workers} if scheduler is None else {"scheduler": scheduler})
+    runner = _Runner(study, bodies, out, options, device)
     say = progress or (lambda _: None)
     say("Figure 2 sweeps")
     fig2 = _figure2(runner)
     say("threshold sweeps")
     thresholds = _threshold(runner)
     say("long runs")
-    long_runs = _long_runs(study, designs, bodies, out, workers, overwrite)
+    long_runs = _long_runs(study, designs, bodies, out, workers, overwrite, device)
     return [
         {"fig2": f, "threshold": t, "fig3": r}
         for f, t, r in zip(fig2, thresholds, long_runs, strict=True)
@@ -721,6 +816,7 @@ def compute_atlas(
     resume: bool = False,
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
+    device: str = "cpu",
 ) -> xr.Dataset:
     """The paper's five findings over ``designs``, judged as ``celtstone reproduce`` does.
 
@@ -734,16 +830,21 @@ def compute_atlas(
         A directory for the sweeps' stores, the long runs' numbers and ``atlas.zarr``;
         None keeps everything in memory.
     workers : int, optional
-        Local threads (default: every core).
+        Local threads (default: every core); unused on the GPU.
     scheduler : str, optional
         A ``dask.distributed`` scheduler ``"tcp://HOST:PORT"`` for the sweeps, instead of
-        local threads (the long runs stay local).
+        local threads (the long runs stay local); not with ``device="cuda"``.
     resume : bool, default False
         Continue an atlas in ``out``: every finished sweep and long run is kept.
     overwrite : bool, default False
         Replace the stores and files of an earlier atlas in ``out``.
     progress : callable, optional
         Called with a few words as each stage starts.
+    device : str, default "cpu"
+        Where the runs go: "cpu"; "cuda", a CUDA GPU: each sweep on it
+        (``Sweep(device="cuda")``) and the long runs of every design as one launch per
+        model kind, refused where there is none, before any run; "auto", the GPU where
+        there is one, else the CPU.
 
     Returns
     -------
@@ -753,11 +854,13 @@ def compute_atlas(
     Raises
     ------
     ParameterError
-        When ``designs`` is empty, or ``out`` holds files and neither ``resume`` nor
-        ``overwrite`` is given.
+        When ``designs`` is empty, ``out`` holds files and neither ``resume`` nor
+        ``overwrite`` is given, or ``device`` is none of "cpu", "cuda", "auto" or a GPU
+        that is not here.
     """
     if not designs:
         raise ParameterError("designs", list(designs), "at least one StoneDesign")
+    device = atlas_device(device, study)  # before ``out`` is made
     directory = None if out is None else Path(out)
     if directory is not None:
         if directory.exists() and any(directory.iterdir()) and not (resume or overwrite):
@@ -774,8 +877,13 @@ def compute_atlas(
         resume=resume,
         overwrite=overwrite,
         progress=progress,
+        device=device,
     )
     dataset = atlas_dataset(designs, numbers, study)
+    if device == "cuda":  # as a sweep on the GPU records it
+        from celtstone.sweep.devices import describe_gpu
+
+        dataset.attrs["device"] = describe_gpu()
     if directory is not None:
         write_atlas(dataset, directory / "atlas.zarr", overwrite=resume or overwrite)
     return dataset

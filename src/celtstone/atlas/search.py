@@ -42,7 +42,13 @@ from celtstone.atlas.family import (
     highest_height_ratio,
     largest_misalignment,
 )
-from celtstone.atlas.fields import ATLAS_STUDY, _long_runs, hertz_study, outcome_units
+from celtstone.atlas.fields import (
+    ATLAS_STUDY,
+    _long_runs,
+    atlas_device,
+    hertz_study,
+    outcome_units,
+)
 from celtstone.errors import ParameterError
 from celtstone.reproduce import JUDGES, Study
 
@@ -211,11 +217,17 @@ def search_long_runs(
     workers: int | None = 2,
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
+    device: str = "cpu",
 ) -> list[dict[str, Any]]:
     """Each point's long-run numbers (the ``fig3`` dict the judge reads), as the atlas
-    computes them, in the study of the point's contact. With ``out``, each contact's runs
-    are kept in ``out/CONTACT/long_run/design_NNNNN.json`` (a search run again finds them
-    there: resumable)."""
+    computes them, in the study of the point's contact: on ``workers`` threads, or with
+    ``device`` "cuda" (or "auto" where there is a GPU) on the GPU, each contact's
+    rolling runs as one launch and its sliding runs as another (``fields._long_runs``).
+    With ``out``, each contact's runs are kept in ``out/CONTACT/long_run/design_NNNNN.json``
+    (a search run again finds them there: resumable)."""
+    studies = {contact: contact_study(contact, study) for contact in SEARCH_CONTACTS}
+    # every contact's device before any run: a missing GPU is refused at once
+    devices = {contact: atlas_device(device, studies[contact]) for contact in studies}
     numbers: list[dict[str, Any] | None] = [None] * len(points)
     directory = None if out is None else Path(out)
     for contact in SEARCH_CONTACTS:
@@ -229,12 +241,13 @@ def search_long_runs(
         if target is not None:
             target.mkdir(parents=True, exist_ok=True)
         runs = _long_runs(
-            contact_study(contact, study),
+            studies[contact],
             designs,
             [d.body() for d in designs],
             target,
             workers,
             overwrite,
+            devices[contact],
         )
         for k, run in zip(chosen, runs, strict=True):
             numbers[k] = run

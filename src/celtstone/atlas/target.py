@@ -213,10 +213,12 @@ def _index(designs: Sequence[StoneDesign]) -> dict[StoneDesign, int]:
 @dataclass(frozen=True)
 class AtlasTarget:
     """The ``atlas`` target of ``celtstone reproduce`` for ``grid`` (``quick``: its study
-    shortened by ``reproduce.reduced``, a smoke test)."""
+    shortened by ``reproduce.reduced``, a smoke test), its runs on ``device`` ("cpu",
+    "cuda" or "auto": ``compute_atlas``)."""
 
     grid: AtlasGrid = COARSE_ATLAS
     quick: bool = False
+    device: str = "cpu"
 
     @property
     def study(self) -> Study:
@@ -238,7 +240,7 @@ class AtlasTarget:
             if words != "Figure 2 sweeps":
                 progress.update(1)
 
-        dataset = compute_atlas(designs, study, progress=say)
+        dataset = compute_atlas(designs, study, progress=say, device=self.device)
         progress.update(1)
         dataset.attrs["atlas_grid"] = grid.name
         write_atlas(dataset, out / "atlas.zarr")

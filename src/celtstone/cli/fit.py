@@ -12,10 +12,11 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from celtstone.cli._overwrite import add_overwrite_arg
-from celtstone.errors import ParameterError
+from celtstone.errors import ParameterError, require_choice
 from celtstone.fitting.nuisance import NUISANCES
 from celtstone.fitting.problem import DEFAULT_BOUNDS, DEFAULT_RATE_SPAN, parse_bounds
 from celtstone.fitting.series import SERIES
+from celtstone.sweep.devices import DEVICES
 from celtstone.sweep.spec import PARAMETERS, parse_setting
 
 EPILOG = (
@@ -160,6 +161,15 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         "(default: one per core)",
     )
     parser.add_argument(
+        "--device",
+        default="cpu",
+        metavar="|".join(DEVICES),
+        help="where the runs go: cpu (default, threads), cuda (a CUDA GPU: each batch of "
+        "runs, a residual with the Jacobian's columns, the screening's points, as one "
+        "launch; an error where there is none) or auto (the GPU where there is one, else "
+        "the CPU)",
+    )
+    parser.add_argument(
         "--out", default=None, metavar="DIR", help="write summary.json, fit.png|svg, run.nc"
     )
     add_overwrite_arg(parser, "a former fit's --out")
@@ -266,6 +276,7 @@ def handle(args: argparse.Namespace) -> int:
     auto = args.starts.strip().lower() == "auto"
     starts = None if auto else _whole("starts (or auto)", args.starts, 1, MAX_STARTS)
     seed = _whole("seed", args.seed, 0)
+    require_choice("device", args.device, DEVICES)  # before the record is read
     if args.out is not None:
         check_fit_target(args.out, overwrite=args.overwrite)  # before the fit, not after it
     _announce_reading(args.data)
@@ -303,6 +314,7 @@ def handle(args: argparse.Namespace) -> int:
                 seed=seed,
                 profile=args.profile,
                 workers=workers,
+                device=args.device,
                 progress=progress,
                 rtol=rtol,
                 atol=atol,
@@ -403,7 +415,9 @@ def _text(summary: dict) -> str:
         )
     lines.append(
         f"  {summary['runs']} runs ({summary['failed_runs']} failed) in "
-        f"{summary['wall_time']:.3g} s; {summary['starts_reaching_best']} of "
+        f"{summary['wall_time']:.3g} s"
+        + (f" on {summary['device']}" if summary.get("device", "cpu") != "cpu" else "")
+        + f"; {summary['starts_reaching_best']} of "
         f"{len(summary['starts'])} starts reached the best"
         + (
             f", {summary['distinct_minima']} distinct minima"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
+from celtstone.errors import ParameterError
 from celtstone.files.path_names import check_path_name
 from celtstone.reproduce import (
     REALISTIC_STUDIES,
@@ -15,6 +16,7 @@ from celtstone.reproduce import (
     reduced,
     study_for,
 )
+from celtstone.sweep.devices import DEVICES
 
 CONTACTS: dict[str, tuple[str, Callable[[str], Study], tuple[Study, ...]]] = {
     "paper": (
@@ -78,6 +80,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
         + " (default: coarse)",
     )
     parser.add_argument(
+        "--device",
+        default="cpu",
+        metavar="|".join(DEVICES),
+        help="where the atlas target's runs go: cpu (default), cuda (a CUDA GPU: its sweeps, "
+        "and the long runs of every design as one launch per model; an error where there is "
+        "none) or auto (the GPU where there is one); the other targets run on the CPU",
+    )
+    parser.add_argument(
         "--quick",
         action="store_true",
         help="shortened runs and a 6-point f grid: a smoke test, not the reproduction",
@@ -97,6 +107,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Run the targets; print where the report is."""
+    from celtstone.atlas.fields import atlas_device
     from celtstone.atlas.target import AtlasTarget, atlas_grid
     from celtstone.reproduce import reproduce
 
@@ -113,7 +124,12 @@ def handle(args: argparse.Namespace) -> int:
     if args.quick:
         studies = [reduced(study) for study in studies]
     show = not args.no_progress
-    atlas = AtlasTarget(atlas_grid(args.atlas_grid), quick=args.quick)
+    atlas = AtlasTarget(atlas_grid(args.atlas_grid), quick=args.quick, device=args.device)
+    if args.device != "cpu" and not {"atlas", "all"} & set(args.targets):
+        raise ParameterError(
+            "device", args.device, "cpu without the target atlas", "only the atlas runs on a GPU"
+        )
+    atlas_device(args.device, atlas.study)  # a bad device or a missing GPU: before any run
     report = reproduce(
         args.targets, args.out, studies, progress=show, atlas=atlas, overwrite=args.overwrite
     )

@@ -16,7 +16,7 @@ from types import MappingProxyType
 import numpy as np
 
 from celtstone.bodies import Body
-from celtstone.errors import CeltstoneWarning, ParameterError, did_you_mean
+from celtstone.errors import CeltstoneError, CeltstoneWarning, ParameterError, did_you_mean
 from celtstone.fitting.noise import noise_scale
 from celtstone.fitting.nuisance import (
     NUISANCES,
@@ -346,13 +346,17 @@ class Problem:
         model = build_model(self.model_name, self.choices, groups[MODEL])
         return model, build_body(self.body, groups[BODY]), build_state(groups[STATE])
 
+    def sample_times(self, x: np.ndarray) -> np.ndarray:
+        """The record's times as times of the run of ``x`` [s from its start]: shifted by
+        the release ``release_offset`` before the first sample when there is one."""
+        return self.record.times + self.values(x).get(RELEASE_OFFSET, 0.0)
+
     def run(self, x: np.ndarray, sample_times: np.ndarray | None = None) -> Trajectory:
         """The run of ``x`` sampled at the record's times (may stop early; may raise); from
         the release ``release_offset`` before the first sample when there is one.
         ``sample_times`` [s from the run's start]: other times instead."""
         model, body, state = self.configuration(x)
-        offset = self.values(x).get(RELEASE_OFFSET, 0.0)
-        times = self.record.times + offset if sample_times is None else sample_times
+        times = self.sample_times(x) if sample_times is None else sample_times
         return simulate(
             model,
             body,
@@ -364,6 +368,53 @@ class Problem:
             atol=self.atol,
             progress=_keep_signals_live,
         )
+
+    def run_many(
+        self,
+        xs: Sequence[np.ndarray],
+        device: str,
+        sample_times: np.ndarray | None = None,
+        workers: int | None = None,
+    ) -> list[Trajectory | CeltstoneError]:
+        """:meth:`run` of each of ``xs`` as one batch (``simulate_many`` on ``device``,
+        on ``workers`` threads on the CPU): each run at its own times (``sample_times``
+        [s from its start] for all, or the record's), a run that cannot be made or raises
+        its error in its place.
+
+        A batch integrates every run to one end time, so runs whose last sample differs
+        (another ``release_offset``) go as one batch per end time: a common, later end
+        would change each shorter run's last step, and its samples in the last bits.
+        Without a free release offset that is one batch.
+        """
+        from celtstone.simulation.integrate import simulate_many
+
+        results: list[Trajectory | CeltstoneError | None] = [None] * len(xs)
+        by_end: dict[float, list[tuple[int, tuple[Model, Body, InitialState], np.ndarray]]] = {}
+        for index, x in enumerate(xs):
+            try:
+                configuration = self.configuration(x)
+            except CeltstoneError as error:  # a number the model refuses
+                results[index] = error
+                continue
+            times = self.sample_times(x) if sample_times is None else sample_times
+            by_end.setdefault(float(times[-1]), []).append((index, configuration, times))
+        for t_end, members in by_end.items():
+            done = simulate_many(
+                [configuration for _, configuration, _ in members],
+                t_end,
+                device=device,
+                sample_times=np.array([times for _, _, times in members]),
+                method=self.method,
+                rtol=self.rtol,
+                atol=self.atol,
+                workers=workers if device == "cpu" else None,  # threads: the CPU's only
+                errors="keep",
+            )
+            for (index, _, _), result in zip(members, done, strict=True):
+                results[index] = result
+        made = [result for result in results if result is not None]
+        assert len(made) == len(xs)  # every x is in one batch or refused
+        return made
 
     def residuals(self, trajectory: Trajectory | None, x: np.ndarray | None = None) -> np.ndarray:
         """Weighted residuals (sensor reading − data) / σ_s of every series, concatenated,

@@ -131,6 +131,9 @@ class FitResult:
     assessment : Assessment or None
         Whether to believe it (``fitting.assess``): ``converged``, goodness of fit,
         whiteness, information criteria.
+    device : str
+        Where the fit's batches of runs went: "cpu", or the GPU's name ("NVIDIA H200";
+        ``fit(device=...)``); the fitted run and its integration check run on the CPU.
     """
 
     problem: Problem
@@ -150,6 +153,7 @@ class FitResult:
     moved_by_profile: tuple[float, ...] = ()
     warnings: tuple[str, ...] = ()
     assessment: Assessment | None = None
+    device: str = "cpu"
 
     @property
     def converged(self) -> bool:
@@ -332,6 +336,7 @@ class FitResult:
             "failed_runs": self.failed_runs,
             "speculative_runs_wasted": self.speculative_runs_wasted,
             "wall_time": self.wall_time,
+            "device": self.device,
             "starts": [s.summary(names) for s in self.starts],
             "starts_converged": sum(s.converged for s in self.starts),
             "starts_reaching_best": sum(s.reached_best for s in self.starts),

@@ -1,21 +1,25 @@
 """The runs of a fit: residuals of parameter vectors, the forward-difference Jacobian's
-runs in parallel on threads (the compiled loops release the GIL), the Jacobian's columns
-started speculatively beside each residual on the idle threads, and the count."""
+runs in parallel on threads (the compiled loops release the GIL) or as one batch on a GPU,
+the Jacobian's columns started speculatively beside each residual, and the count."""
 
 from __future__ import annotations
 
 import os
 import threading
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import TypeVar
 
 import numpy as np
 
 from celtstone._threads import map_in_threads
 from celtstone.errors import CeltstoneError
 from celtstone.fitting.problem import Problem
+from celtstone.simulation.trajectory import Trajectory
 
-__all__ = ["FD_RELATIVE_STEP", "Runs"]
+__all__ = ["FD_RELATIVE_STEP", "Runs", "run_device"]
+
+Read = TypeVar("Read")
 
 # forward-difference step as a fraction of each parameter's scale: the runs' error
 # (rtol 1e-8) is ~1e-9 of the signal, so the Jacobian's error is ~1e-4 of a column
@@ -32,23 +36,55 @@ class _Evaluated:
     columns: dict[int, tuple[float, np.ndarray]] = field(default_factory=dict)
 
 
+def run_device(device: object, problem: Problem) -> str:
+    """The device that runs ``problem``'s runs, "cpu" or "cuda", for ``device`` "cpu",
+    "cuda" or "auto" (``sweep.devices.resolve_device``).
+
+    Raises
+    ------
+    ParameterError
+        for another ``device``, and for "cuda" where no GPU can run the runs (no CUDA
+        GPU here): before any run.
+    """
+    from celtstone.simulation.integrate import method_names
+    from celtstone.simulation.models import HybridModel
+    from celtstone.sweep.devices import resolve_device
+
+    if device == "cpu":
+        return "cpu"
+    # the model of the fixed numbers alone (``make_problem`` built it): its kind and
+    # default method are those of every run
+    model = replace(problem, free=()).configuration(np.array([]))[0]
+    method, _ = method_names(model, problem.method)
+    return resolve_device(device, problem.model_name, method, isinstance(model, HybridModel))
+
+
 class Runs:
     """Evaluates ``problem`` at parameter vectors; counts runs, failed runs and the
     speculative runs that were wasted.
 
     ``least_squares`` asks for r(x) and, if it accepts the step, then for J(x). With
     ``speculate`` on, :meth:`residuals` runs r(x) together with as many of J(x)'s columns
-    as there are threads besides it, and :meth:`jacobian` at the same x (the same bytes)
-    takes those and runs only the rest: on 2 threads and 3 columns, 2 rounds of runs per
-    accepted step instead of 3. The columns started at a rejected step are wasted
-    (counted in :attr:`wasted`); the Jacobian is the serial one bit for bit.
+    as there are threads besides it (on the GPU: all of them), and :meth:`jacobian` at
+    the same x (the same bytes) takes those and runs only the rest: on 2 threads and 3
+    columns, 2 rounds of runs per accepted step instead of 3. The columns started at a
+    rejected step are wasted (counted in :attr:`wasted`); the Jacobian is the serial one
+    bit for bit.
+
+    Each batch of runs (a residual and its columns, the Jacobian's missing columns,
+    :meth:`evaluate_many`, :meth:`run_many`) goes on the CPU as ``Problem.run`` on
+    threads, and on the GPU (``batch``) as one ``Problem.run_many``: one launch,
+    a thread per run.
 
     Parameters
     ----------
     problem : the fit
-    workers : threads for the runs (default ``os.cpu_count()``); 1: serial
+    workers : threads for the runs on the CPU (default ``os.cpu_count()``); 1: serial
     progress : called after each residual evaluation with (runs so far, its cost)
-    speculate : start the Jacobian's columns beside each residual on the idle threads
+    speculate : start the Jacobian's columns beside each residual
+    device : where the runs go, resolved: "cpu" or "cuda"
+    batch : each batch as one ``Problem.run_many`` (default: on the GPU only); True on
+        the CPU runs the GPU's path through ``simulate_many``'s threads
     """
 
     def __init__(
@@ -57,11 +93,15 @@ class Runs:
         workers: int | None = None,
         progress: Callable[[int, float], None] | None = None,
         speculate: bool = True,
+        device: str = "cpu",
+        batch: bool | None = None,
     ) -> None:
         self.problem = problem
         self.workers = max(1, workers if workers is not None else (os.cpu_count() or 1))
         self.progress = progress
         self.speculate = speculate
+        self.device = device
+        self.batch = device != "cpu" if batch is None else batch
         self.count = 0
         self.failed = 0
         self._wasted = 0
@@ -97,26 +137,47 @@ class Runs:
 
     def _evaluate(self, x: np.ndarray) -> np.ndarray:
         try:
-            trajectory = self.problem.run(x)
-            ok = trajectory.ok
-        except CeltstoneError:  # a configuration refused (implausible) or a solver error
-            trajectory, ok = None, False
+            run: Trajectory | CeltstoneError = self.problem.run(x)
+        except CeltstoneError as error:  # a configuration refused (implausible), a solver error
+            run = error
+        return self._counted(run, x)
+
+    def _counted(self, run: Trajectory | CeltstoneError, x: np.ndarray) -> np.ndarray:
+        """The residuals of ``run``, the run of ``x`` (or the error it raised), counted."""
+        trajectory = None if isinstance(run, CeltstoneError) else run
         residuals = self.problem.residuals(trajectory, x)
         with self._lock:
             self.count += 1
-            self.failed += not ok
+            self.failed += trajectory is None or not trajectory.ok
         return residuals
 
     def _map(self, vectors: Sequence[np.ndarray]) -> list[np.ndarray]:
-        return list(map_in_threads(self._evaluate, vectors, workers=self.workers))
+        if not self.batch:
+            return list(map_in_threads(self._evaluate, vectors, workers=self.workers))
+        made = self.problem.run_many(vectors, self.device, workers=self.workers)
+        return [self._counted(run, x) for run, x in zip(made, vectors, strict=True)]
 
     def run_many(
-        self, function: Callable[[np.ndarray], np.ndarray], vectors: Sequence[np.ndarray]
-    ) -> list[np.ndarray]:
-        """``function`` of each of ``vectors``, each one run, in parallel (counted)."""
+        self,
+        read: Callable[[Trajectory | None], Read],
+        vectors: Sequence[np.ndarray],
+        sample_times: np.ndarray | None = None,
+    ) -> list[Read]:
+        """``read`` of the run of each of ``vectors`` (None for one that cannot be made or
+        raised), sampled at ``sample_times`` [s from its start] or the record's times, the
+        runs in parallel or as one batch (counted)."""
+        if self.batch:
+            made = self.problem.run_many(vectors, self.device, sample_times, self.workers)
+            with self._lock:
+                self.count += len(made)
+            return [read(None if isinstance(run, CeltstoneError) else run) for run in made]
 
-        def counted(x: np.ndarray) -> np.ndarray:
-            result = function(x)
+        def counted(x: np.ndarray) -> Read:
+            try:
+                trajectory: Trajectory | None = self.problem.run(x, sample_times)
+            except CeltstoneError:  # a refused configuration
+                trajectory = None
+            result = read(trajectory)
             with self._lock:
                 self.count += 1
             return result
@@ -147,12 +208,16 @@ class Runs:
 
     def residuals(self, x: np.ndarray, columns: Sequence[int] = ()) -> np.ndarray:
         """Weighted residuals at ``x`` (kept for the Jacobian there), run beside the
-        Jacobian's first ``columns`` at ``x`` when speculating (one per idle thread)."""
+        Jacobian's first ``columns`` at ``x`` when speculating (one per idle thread; on
+        the GPU all of them)."""
         x = np.asarray(x, dtype=float)
         linear = self.problem.linear_columns
-        ahead = (
-            [j for j in columns if j not in linear][: self.workers - 1] if self.speculate else []
-        )
+        ahead = [j for j in columns if j not in linear] if self.speculate else []
+        if self.device == "cpu":  # as many as there are idle threads beside the residual
+            ahead = ahead[: self.workers - 1]
+        # on the GPU every column goes ahead: each run is a thread of the launch, so a
+        # batch of 8 runs takes about as long as a batch of 1, and a column run now is
+        # a launch fewer when the step is accepted (a rejected step wastes them all)
         steps, vectors = self._shifted(x, ahead)
         residuals, *shifted = self._map([x, *vectors])
         evaluated = _Evaluated(x.tobytes(), residuals)

@@ -18,6 +18,7 @@ from celtstone.fitting.nuisance import RELEASE_OFFSET, bias_name, sensor_reading
 from celtstone.fitting.problem import SLIP_NAMES, Problem
 from celtstone.fitting.runs import Runs
 from celtstone.fitting.series import SERIES
+from celtstone.simulation.trajectory import Trajectory
 
 __all__ = [
     "SCAN_STEP",
@@ -91,19 +92,17 @@ def _best_biases(problem: Problem, point: np.ndarray, residuals: np.ndarray) -> 
 
 def _release_runs(problem: Problem, points: list[np.ndarray], runs: Runs) -> list[np.ndarray]:
     """For each screened point: the model's series sampled every ``SCAN_STEP`` from the
-    release to the latest offset's end (one run each, in parallel)."""
+    release to the latest offset's end (one run each, in parallel or as one batch)."""
     j = problem.names.index(RELEASE_OFFSET)
     end = problem.upper[j] + float(problem.record.times[-1]) + SCAN_STEP
     grid = np.arange(0.0, end, SCAN_STEP)
 
-    def dense(x: np.ndarray) -> np.ndarray:
-        try:
-            trajectory = problem.run(x, sample_times=grid)
-        except Exception:  # a refused configuration: this point is not a start
+    def dense(trajectory: Trajectory | None) -> np.ndarray:
+        if trajectory is None:  # a refused configuration: this point is not a start
             return np.full((len(problem.record.series), 0), np.nan)
         return np.array([SERIES[name].model(trajectory.samples) for name in problem.record.series])
 
-    return runs.run_many(dense, points)
+    return runs.run_many(dense, points, sample_times=grid)
 
 
 def _moving(values: np.ndarray, window: int) -> np.ndarray:

@@ -33,6 +33,7 @@ from celtstone.errors import (
     IdentifiabilityWarning,
     ParameterError,
     PlausibilityWarning,
+    require_choice,
 )
 from celtstone.fitting.assess import assess
 from celtstone.fitting.diagnostics import Whiteness, correlation_length, whiteness
@@ -54,7 +55,7 @@ from celtstone.fitting.problem import (
 from celtstone.fitting.profile import profile_likelihood
 from celtstone.fitting.record import Record
 from celtstone.fitting.result import FitResult, StartOutcome
-from celtstone.fitting.runs import Runs
+from celtstone.fitting.runs import Runs, run_device
 from celtstone.fitting.search import draw_starts, screened_starts
 from celtstone.fitting.uncertainty import (
     JOINT_LEVEL,
@@ -63,6 +64,7 @@ from celtstone.fitting.uncertainty import (
     uncertainty,
 )
 from celtstone.simulation.trajectory import Trajectory
+from celtstone.sweep.devices import DEVICES
 
 __all__ = [
     "FIT_ATOL",
@@ -194,6 +196,7 @@ def fit(
     atol: float = FIT_ATOL,
     method: str | None = None,
     workers: int | None = None,
+    device: str = "cpu",
     progress: Callable[[int, float], None] | None = None,
 ) -> FitResult:
     """Fit the free numbers of a model of ``body`` to ``record`` by weighted least squares.
@@ -252,7 +255,12 @@ def fit(
     method : str or None
         Integrator, default the model's.
     workers : int or None
-        Threads for the runs (default: one per core), >= 1.
+        Threads for the runs on the CPU (default: one per core), >= 1.
+    device : str
+        Where the runs go: "cpu" (threads), "cuda" (a CUDA GPU: each batch of runs the
+        fit makes, a residual with the Jacobian's columns, the screening's points, an
+        interval's checks, as one launch, a thread per run; refused where there is no
+        GPU, before any run) or "auto" (the GPU where there is one, else the CPU).
     progress : callable or None
         Called after each residual evaluation with (runs so far, cost).
 
@@ -266,6 +274,7 @@ def fit(
     """
     began = time.perf_counter()
     _check_counts(starts, workers, seed)
+    require_choice("device", device, DEVICES)
     settings = Settings(
         bounds=bounds or {},
         start=start or {},
@@ -277,11 +286,9 @@ def fit(
         atol=atol,
         method=method,
     )
-    problem = make_problem(record, _body(body), model, free, settings)
-    if profile is not None and profile not in problem.names:
-        raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
+    problem, device = _checked_problem(record, _body(body), model, free, settings, profile, device)
     noise = dict(problem.sigma)  # the model-free noise estimates (or the given σ_s)
-    with warnings.catch_warnings(), Runs(problem, workers, progress) as runs:
+    with warnings.catch_warnings(), Runs(problem, workers, progress, device=device) as runs:
         # trial runs warn about nothing; the fitted run below warns once
         warnings.simplefilter("ignore", FrictionBoundWarning)
         warnings.simplefilter("ignore", PlausibilityWarning)
@@ -323,7 +330,39 @@ def fit(
         moved_by_profile=tuple(moved_from),
         warnings=(*spread.warnings(problem.names), *assessment.warnings),
         assessment=assessment,
+        device=_device_name(device),
     )
+
+
+def _checked_problem(
+    record: Record,
+    body: Body,
+    model: str,
+    free: Sequence[str],
+    settings: Settings,
+    profile: str | None,
+    device: str,
+) -> tuple[Problem, str]:
+    """The fit's :class:`Problem` and the device of its runs ("cpu" or "cuda"), every
+    refusal before the problem's warnings: a missing GPU is one line."""
+    with warnings.catch_warnings(record=True) as held:
+        warnings.simplefilter("always")
+        problem = make_problem(record, body, model, free, settings)
+    if profile is not None and profile not in problem.names:
+        raise ParameterError("profile", profile, "a free parameter: " + ", ".join(problem.names))
+    resolved = run_device(device, problem)
+    for warning in held:  # as make_problem warned them, at the caller of fit
+        warnings.warn(warning.message, warning.category, stacklevel=3)
+    return problem, resolved
+
+
+def _device_name(device: str) -> str:
+    """Where a fit's runs went, as its summary says it: "cpu", or the GPU's name."""
+    if device == "cpu":
+        return "cpu"
+    from celtstone.sweep.devices import describe_gpu
+
+    return describe_gpu()
 
 
 class _Optimum(NamedTuple):
