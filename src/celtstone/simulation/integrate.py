@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Sequence
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -32,6 +33,7 @@ from celtstone.simulation.models import (
 )
 from celtstone.simulation.models import InitialState as InitialState
 from celtstone.simulation.trajectory import RunEnding, Trajectory, sample_run
+from celtstone.solvers.devices import DEVICES, resolve_device
 
 __all__ = [
     "DEFAULT_ATOL",
@@ -210,63 +212,172 @@ def simulate(
         failure): ``status`` says why and the samples reach the stop time. Call
         ``raise_for_status()`` to turn that into an exception.
     """
-    _check_run_objects(model, body, initial_state)
-    if isinstance(model, RollingModel) and initial_state.is_sliding:
-        raise ParameterError(
-            "slip_velocity",
-            initial_state.slip_velocity,
-            "(0, 0) with the rolling model: its contact cannot slip",
-            "use the model 'sliding' for a record that starts sliding",
-        )
-    t_end = schema.check("t_end", t_end)
-    rtol = schema.check("rtol", rtol)
-    atol = schema.check("atol", atol)
-    max_steps = schema.check_count("max_steps", max_steps)
-    max_crossings = schema.check_count("max_crossings", max_crossings)
+    _check_run(model, body, initial_state)
+    settings = _RunSettings.checked(t_end, rtol, atol, max_steps, max_crossings)
     if progress is not None and not callable(progress):
         raise ParameterError("progress", progress, "None or a function of the time reached [s]")
-    method_name, stick_method_name = method_names(model, method, stick_method)
-    times = _sample_times(t_end, n_samples, sample_times)
+    methods = (method, stick_method)
+    run = _prepared_run(model, body, initial_state, settings, methods, n_samples, sample_times)
+    return _run_on_cpu(run, progress)
+
+
+class _RunSettings(NamedTuple):
+    """What every run of a ``simulate_many`` shares, checked: duration [s], tolerances,
+    step and crossing limits (:func:`simulate`'s parameters of those names)."""
+
+    t_end: float
+    rtol: float
+    atol: float
+    max_steps: int
+    max_crossings: int
+
+    @classmethod
+    def checked(
+        cls, t_end: object, rtol: object, atol: object, max_steps: object, max_crossings: object
+    ) -> _RunSettings:
+        """The settings checked (``schema.check``), each raising ``ParameterError``."""
+        return cls(
+            schema.check("t_end", t_end),
+            schema.check("rtol", rtol),
+            schema.check("atol", atol),
+            schema.check_count("max_steps", max_steps),
+            schema.check_count("max_crossings", max_crossings),
+        )
+
+
+@dataclass(frozen=True)
+class _PreparedRun:
+    """A run checked and turned into what its loop takes (kernel parameter record,
+    initial state vector, sample times) and what its ``Trajectory`` records: the one
+    preparation of :func:`simulate` and :func:`simulate_many` on either device."""
+
+    model: Model
+    settings: _RunSettings
+    params: np.record
+    initial_vector: np.ndarray
+    sample_times: np.ndarray
+    concerns: list[plausibility.Concern]
+    attrs: dict[str, Any]
+    method: str
+    stick_method: str | None  # the stick–slip contact's; None for the other models
+    capture_speed: float  # v_c of the stick–slip contact [m/s]; 0 for the other models
+
+
+def _prepared_run(
+    model: Model,
+    body: Body,
+    initial_state: InitialState,
+    settings: _RunSettings,
+    methods: tuple[str | None, str | None],
+    n_samples: int | None,
+    sample_times: object,
+) -> _PreparedRun:
+    """What the loop of a run checked by :func:`_check_run` takes (``methods``: the
+    method and the stick method as the user named them, or None); raises
+    ``ParameterError`` for what cannot run."""
+    method_name, stick_method_name = method_names(model, *methods)
+    times = _sample_times(settings.t_end, n_samples, sample_times)
     params = kernel_parameters(model, body)
     y0 = initial_vector(initial_state)
     concerns = plausibility.concerns(body, contact_settings(model))
+    attrs = _run_attributes(
+        model, body, initial_state, settings.t_end, method_name, settings.rtol, settings.atol
+    )
+    capture_speed = 0.0
+    if isinstance(model, HybridModel):
+        capture_speed = model.resolved_capture_speed(settings.atol)
+        attrs.update(capture_speed=capture_speed, stick_method=str(stick_method_name))
+    return _PreparedRun(
+        model,
+        settings,
+        params,
+        y0,
+        times,
+        concerns,
+        attrs,
+        method_name,
+        stick_method_name,
+        capture_speed,
+    )
+
+
+def _check_run(model: object, body: object, initial_state: object) -> None:
+    """The objects of a run (:func:`_check_run_objects`), and a rolling model's start
+    without slip."""
+    _check_run_objects(model, body, initial_state)
+    if isinstance(model, RollingModel) and isinstance(initial_state, InitialState):
+        if initial_state.is_sliding:
+            raise ParameterError(
+                "slip_velocity",
+                initial_state.slip_velocity,
+                "(0, 0) with the rolling model: its contact cannot slip",
+                "use the model 'sliding' for a record that starts sliding",
+            )
+
+
+def _warn_concerns(concerns: list[plausibility.Concern], stacklevel: int) -> None:
+    """Warn each plausibility concern of a run before it runs (``stacklevel`` as the
+    caller would give ``warnings.warn``)."""
     for concern in concerns:
-        warnings.warn(str(concern), PlausibilityWarning, stacklevel=2)
-    attrs = _run_attributes(model, body, initial_state, t_end, method_name, rtol, atol)
-    phase_data: dict[str, np.ndarray] = {}
+        warnings.warn(str(concern), PlausibilityWarning, stacklevel=stacklevel + 1)
+
+
+def _run_on_cpu(run: _PreparedRun, progress: Callable[[float], None] | None = None) -> Trajectory:
+    """``run`` on the CPU, warned before (its plausibility concerns) and after (the
+    friction bound), the warnings pointing at the caller of :func:`simulate` (in
+    :func:`simulate_many`, at the thread's call)."""
+    _warn_concerns(run.concerns, stacklevel=3)
+    trajectory = _trajectory(run, _solve(run, progress))
+    _warn_friction_bound(trajectory, stacklevel=4)
+    return trajectory
+
+
+def _solve(
+    run: _PreparedRun, progress: Callable[[float], None] | None = None
+) -> solvers.RawSolution:
+    """The run's compiled loop on the CPU: ``solvers.solve``, or ``solve_phases`` for the
+    stick–slip contact."""
+    settings = run.settings
     # what the run loop takes alike in one run and in a stick–slip run's phases
     loop_settings: dict[str, Any] = {
-        "rtol": rtol,
-        "atol": atol,
-        "sample_times": times,
-        "max_crossings": max_crossings,
-        "max_steps": max_steps,
+        "rtol": settings.rtol,
+        "atol": settings.atol,
+        "sample_times": run.sample_times,
+        "max_crossings": settings.max_crossings,
+        "max_steps": settings.max_steps,
         "progress": progress,
     }
-    if isinstance(model, HybridModel):
-        capture_speed = model.resolved_capture_speed(atol)
-        stick_name = str(stick_method_name)  # a stick–slip run always has one
-        solution = solvers.solve_phases(
-            params,
-            y0,
-            t_end,
-            slip_method=method_name,
-            stick_method=stick_name,
-            capture_speed=capture_speed,
+    if run.stick_method is not None:
+        return solvers.solve_phases(
+            run.params,
+            run.initial_vector,
+            settings.t_end,
+            slip_method=run.method,
+            stick_method=run.stick_method,
+            capture_speed=run.capture_speed,
             **loop_settings,
         )
-        attrs.update(capture_speed=capture_speed, stick_method=stick_name)
-        attrs["rejected_captures"] = solution.rejected_captures
+    return solvers.solve(
+        run.model.code, run.method, run.params, run.initial_vector, settings.t_end, **loop_settings
+    )
+
+
+def _trajectory(run: _PreparedRun, raw: solvers.RawSolution) -> Trajectory:
+    """The ``Trajectory`` of ``run`` from what its loop returned (``solvers.solve``'s,
+    ``solve_phases``' or a GPU thread's, ``batch_cuda.solve_runs``): one code for
+    :func:`simulate` and :func:`simulate_many` on either device."""
+    model, params, y0 = run.model, run.params, run.initial_vector
+    attrs = dict(run.attrs)
+    phase_data: dict[str, np.ndarray] = {}
+    if isinstance(raw, solvers.RawPhases):
+        attrs["rejected_captures"] = raw.rejected_captures
         phase_data = {
-            "phase": solution.sample_phase,
-            "phase_kind": solution.phase_kind.astype(np.int8),
-            "phase_start": solution.phase_start,
-            "phase_end": solution.phase_end,
-            "phase_energy_jump": solution.phase_energy_jump,
+            "phase": raw.sample_phase,
+            "phase_kind": raw.phase_kind.astype(np.int8),
+            "phase_start": raw.phase_start,
+            "phase_end": raw.phase_end,
+            "phase_energy_jump": raw.phase_energy_jump,
         }
-        raw: solvers.RawSolution = solution
-    else:
-        raw = solvers.solve(model.code, method_name, params, y0, t_end, **loop_settings)
     code, t_stop, min_normal = raw.status, raw.t_stop, raw.min_normal_force
     n_crossings = raw.n_crossings_total
     sample_times_out, samples, crossings = raw.sample_times, raw.samples, raw.crossings
@@ -274,14 +385,14 @@ def simulate(
     status = STATUS_NAMES.get(code, "failed")
     final_n = (samples if len(samples) else y0[None, :])[-1, layout.Y_N : layout.Y_N + 3]
     message = _status_message(status, code, t_stop, final_n)
-    if status != "success" and concerns:
-        names = ", ".join(dict.fromkeys(concern.parameter for concern in concerns))
+    if status != "success" and run.concerns:
+        names = ", ".join(dict.fromkeys(concern.parameter for concern in run.concerns))
         message += f"; look first at the implausible {names} (warned before the run)"
     attrs.update(status=status, message=message)
     run_samples = sample_run(
         model.code, params, sample_times_out, samples, crossings, attrs, **phase_data
     )
-    trajectory = Trajectory(
+    return Trajectory(
         samples=run_samples,
         status=status,
         message=message,
@@ -290,8 +401,6 @@ def simulate(
         ending=RunEnding(model.code, params, y0, samples, int(code), int(n_crossings)),
         statistics=statistics,
     )
-    _warn_friction_bound(trajectory)
-    return trajectory
 
 
 def _run_attributes(
@@ -348,11 +457,12 @@ def friction_bound_warning(trajectory: Trajectory) -> FrictionBoundWarning | Non
     return warning
 
 
-def _warn_friction_bound(trajectory: Trajectory) -> None:
-    """Warn :func:`friction_bound_warning`'s warning, if any, from :func:`simulate`."""
+def _warn_friction_bound(trajectory: Trajectory, stacklevel: int) -> None:
+    """Warn :func:`friction_bound_warning`'s warning, if any, from :func:`simulate`
+    (``stacklevel`` counted from here)."""
     warning = friction_bound_warning(trajectory)
     if warning is not None:
-        warnings.warn(warning, stacklevel=3)
+        warnings.warn(warning, stacklevel=stacklevel)
 
 
 def simulate_many(
@@ -382,63 +492,155 @@ def simulate_many(
         Duration of every run [s], > 0.
     device : str, default "cpu"
         "cpu": the runs on ``workers`` threads; "cuda": one GPU thread per run (the
-        same loops compiled for CUDA); "auto": the GPU where one can run them.
+        same loops compiled for CUDA, the same results), refused where no GPU can run
+        them; "auto": the GPU where one can run them, else the CPU.
     sample_times : numpy.ndarray, optional
         Output times [s]: shape (m,), the same for every run, or (len(runs), m), each
         run's own.
     method, stick_method, rtol, atol, n_samples, max_steps, max_crossings :
-        As :func:`simulate`.
+        As :func:`simulate`, for every run.
     workers : int, optional
         Threads on the CPU (default: one per core).
     errors : str, default "raise"
         "raise": a run that cannot be made (a ``CeltstoneError``: an implausible body or
-        contact, a bad setting) raises; "keep": its error takes its place in the list
-        and the other runs go on (a fit's batch of trial parameters).
+        contact, a bad setting of its own) raises; "keep": its error takes its place in
+        the list, it is not run, and the other runs go on (a fit's batch of trial
+        parameters). A setting of every run (``t_end``, ``method``, ``device``...) that
+        is bad raises either way.
 
     Returns
     -------
     list of Trajectory (or CeltstoneError, with ``errors="keep"``)
-        One per run, as :func:`simulate` returns it.
+        One per run, as :func:`simulate` returns it, warnings included.
     """
-    from celtstone._threads import map_in_threads
-
     require_choice("errors", errors, ("raise", "keep"))
-    require_choice("device", device, ("cpu", "cuda", "auto"))
-    if device == "cuda":  # the GPU's batch of runs is not built yet
-        raise ParameterError("device", device, "cpu or auto")
+    require_choice("device", device, DEVICES)
     runs = list(runs)
-    if not runs:
-        raise ParameterError("runs", runs, "one (model, body, initial_state) or more")
-    times = None if sample_times is None else np.asarray(sample_times, dtype=float)
-    per_run = times is not None and times.ndim == 2
-    if per_run and times is not None and times.shape[0] != len(runs):
-        raise ParameterError(
-            "sample_times", f"shape {times.shape}", f"(m,) or ({len(runs)}, m): a row per run"
-        )
+    models = _models_of_one_kind(runs)
+    settings = _RunSettings.checked(t_end, rtol, atol, max_steps, max_crossings)
+    methods = (method, stick_method)
+    names = method_names(models[0], *methods) if models else (str(method), None)
+    times = _batch_sample_times(settings.t_end, n_samples, sample_times, len(runs))
+    on = "cpu"
+    if models:
+        model = models[0]
+        is_hybrid = isinstance(model, HybridModel)
+        on = resolve_device(device, model.name, names[0], is_hybrid)
 
-    def one(index: int) -> Trajectory | CeltstoneError:
+    def prepared(index: int) -> _PreparedRun | CeltstoneError:
         model, body, state = runs[index]
         try:
-            return run(index, model, body, state)
+            _check_run(model, body, state)
+            run_times = times[index] if times.shape[0] > 1 else times[0]
+            return _prepared_run(model, body, state, settings, methods, None, run_times)
         except CeltstoneError as error:
             if errors == "raise":
                 raise
             return error
 
-    def run(index: int, model: Model, body: Body, state: InitialState) -> Trajectory:
-        return simulate(
-            model,
-            body,
-            state,
-            t_end,
-            method=method,
-            stick_method=stick_method,
-            rtol=rtol,
-            atol=atol,
-            n_samples=n_samples,
-            sample_times=None if times is None else (times[index] if per_run else times),
-            max_steps=max_steps,
-            max_crossings=max_crossings,
-        )
+    if on == "cuda":
+        return _simulate_on_gpu([prepared(index) for index in range(len(runs))])
+
+    from celtstone._threads import map_in_threads
+
+    def one(index: int) -> Trajectory | CeltstoneError:
+        run = prepared(index)
+        return run if isinstance(run, CeltstoneError) else _run_on_cpu(run)
 
     return list(map_in_threads(one, range(len(runs)), workers=workers))
+
+
+def _models_of_one_kind(runs: list[Any]) -> list[Model]:
+    """The models of ``runs``, checked to be of one kind (rolling, sliding without stick
+    phases, or the stick–slip contact), and each run a (model, body, initial_state);
+    a run's model that is no model at all is left to its own run's checks."""
+    if not runs:
+        raise ParameterError("runs", runs, "one (model, body, initial_state) or more")
+    for run in runs:
+        if not isinstance(run, tuple | list) or len(run) != 3:
+            raise ParameterError("runs", run, "a (model, body, initial_state) for each run")
+    models = [run[0] for run in runs if isinstance(run[0], RollingModel | SlidingModel)]
+    kinds = dict.fromkeys(_kind(model) for model in models)
+    if len(kinds) > 1:
+        raise ParameterError(
+            "runs",
+            f"models of the kinds {', '.join(kinds)}",
+            "models of one kind: all rolling, all sliding or all stick–slip",
+            "run each kind in a simulate_many of its own",
+        )
+    return models
+
+
+def _kind(model: Model) -> str:
+    """The kind of ``model`` that a batch of runs shares: its name, or "stick–slip"."""
+    return "stick–slip" if isinstance(model, HybridModel) else model.name
+
+
+def _batch_sample_times(
+    t_end: float, n_samples: int | None, sample_times: object, n_runs: int
+) -> np.ndarray:
+    """The sample times of a batch of ``n_runs`` runs, checked: shape (1, m), every
+    run's, or (n_runs, m), each run's own (each row checked as :func:`simulate` checks
+    its times, where its run is made)."""
+    if sample_times is not None and not isinstance(sample_times, str | bytes):
+        given = np.asarray(sample_times, dtype=object)
+        if given.ndim == 2:
+            if given.shape[0] != n_runs:
+                raise ParameterError(
+                    "sample_times",
+                    f"an array of shape {given.shape}",
+                    f"shape (m,) or ({n_runs}, m): a row of times for each run",
+                )
+            return np.asarray(sample_times)
+        if given.ndim != 1:
+            raise ParameterError(
+                "sample_times",
+                f"an array of shape {given.shape}",
+                f"shape (m,) or ({n_runs}, m): the times of every run, or of each",
+            )
+    return _sample_times(t_end, n_samples, sample_times)[None, :]
+
+
+def _simulate_on_gpu(
+    runs: list[_PreparedRun | CeltstoneError],
+) -> list[Trajectory | CeltstoneError]:
+    """The prepared ``runs`` on the GPU, one thread each (``batch_cuda.solve_runs``),
+    each warned as :func:`simulate` warns; an error stays in its place, not launched."""
+    from celtstone.solvers import batch_cuda
+    from celtstone.solvers.devices import announce_first_launch
+
+    launched = [run for run in runs if isinstance(run, _PreparedRun)]
+    for run in launched:
+        _warn_concerns(run.concerns, stacklevel=3)
+    raws: list[solvers.RawSolution] = []
+    if launched:
+        first = launched[0]
+        times = np.stack([run.sample_times for run in launched])
+        if np.all(times == times[0]):
+            times = times[:1]
+        settings = first.settings
+        announce_first_launch("running a batch of runs")
+        raws = batch_cuda.solve_runs(
+            first.model.code,
+            first.method,
+            np.array([run.params for run in launched]),
+            np.stack([run.initial_vector for run in launched]),
+            settings.t_end,
+            rtol=settings.rtol,
+            atol=settings.atol,
+            sample_times=times,
+            max_crossings=settings.max_crossings,
+            max_steps=settings.max_steps,
+            capture_speeds=np.array([run.capture_speed for run in launched]),
+            stick_method_name=first.stick_method or STICK_METHOD,
+        )
+    solved = iter(raws)
+    results: list[Trajectory | CeltstoneError] = []
+    for prepared in runs:
+        if isinstance(prepared, CeltstoneError):
+            results.append(prepared)
+            continue
+        trajectory = _trajectory(prepared, next(solved))
+        _warn_friction_bound(trajectory, stacklevel=4)
+        results.append(trajectory)
+    return results

@@ -22,6 +22,16 @@ equation, method, loop or reduction is written twice:
 * the reduction ``batch._reduce`` (reversals with their band and rocking window, final
   spin, energy lost, tilt, normal force, energy budget).
 
+``solve_runs`` (``run_whole``) is ``solvers.solve`` (``solve_phases`` for the stick–slip
+contact) of many runs, one thread each, for ``simulation.integrate.simulate_many``: the
+same launch with ``Run.keeps_runs`` set keeps each point's whole run instead of reducing
+it, each point sampled at its own times (``Buffers.sample_times`` of a row per point; a
+sweep's one row serves all), its crossings, phase log and how it ended (``RunEnds``: the
+``RunEnd``, the counters, the final state, phases logged, rejected captures) in global
+arrays, turned into the CPU's ``RawSolution`` or ``RawPhases`` on the host by the CPU's
+own functions (``run.raw_solution``, ``run.raw_phases``). The flag is read at run time,
+so one kernel of a model and method serves a sweep and a batch of runs.
+
 ``driver.run_loop`` allocates nothing: ``driver.integrate`` allocates its arrays, a thread takes
 them from its local memory and from the launch's global arrays (``_thread_arrays``:
 each point's samples, averaged spin and crossings, Radau's scalars and ``auto``'s
@@ -77,7 +87,7 @@ from celtstone.solvers import _auto, _dop853, _radau, _stop, _system, _vern9, ph
 from celtstone.solvers import _events as events
 from celtstone.solvers import _methods as methods
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._structures import Controls, HybridSettings, Output, PhaseLog
+from celtstone.solvers._structures import Controls, HybridSettings, Output, PhaseLog, RunEnd
 from celtstone.solvers.batch import N_FIELDS, Points, _reduce
 from celtstone.solvers.codes import (
     DEFAULT_MAX_PHASES,
@@ -87,6 +97,7 @@ from celtstone.solvers.codes import (
     N_STATS,
 )
 from celtstone.solvers.driver import LoopArrays, copy_into, run_loop
+from celtstone.solvers.run import RawSolution, raw_phases, raw_solution
 
 __all__ = [
     "CUDA_METHODS",
@@ -99,6 +110,7 @@ __all__ = [
     "Launch",
     "PhaseArrays",
     "Run",
+    "RunEnds",
     "bytes_per_point",
     "cuda_unavailable_reason",
     "device_name",
@@ -106,6 +118,8 @@ __all__ = [
     "launch_inputs",
     "launch_points",
     "run_points",
+    "run_whole",
+    "solve_runs",
 ]
 
 CUDA_MODELS = (int(ModelCode.ROLLING), int(ModelCode.SLIDING))
@@ -153,13 +167,15 @@ SOURCE_KEY = _source_key()
 
 class Run(NamedTuple):
     """What every thread of a launch shares: the duration [s], the controls
-    (``_structures.Controls``: tolerances, step limit), and in numba's simulator the
+    (``_structures.Controls``: tolerances, step limit), in numba's simulator the
     right-hand side's link (``_system.rhs_link``; (0, 0) on a GPU, where the kernels are
-    called directly)."""
+    called directly), and whether each point's whole run is kept (``Buffers.ends``, for
+    :func:`run_whole`) rather than reduced into its result fields (a sweep's)."""
 
     t_end: float
     controls: Controls
     rhs_link: tuple[int, int]
+    keeps_runs: bool
 
 
 class Buffers(NamedTuple):
@@ -172,17 +188,21 @@ class Buffers(NamedTuple):
     reversal_bands : each point's hysteresis half-width [rad/s], shape (k,)
     reversal_windows : each point's rocking window [s], shape (k,)
     table : the run's events (``_events.event_table``)
-    sample_times : [s], shape (m,)
+    sample_times : [s], shape (1, m): every point's (a sweep's), or (k, m): each point's
     samples : each point's states at the sample times, shape (k, m, N_STATE)
-    spins, averaged, cumulative : each point's ``_reduce`` buffers, shape (k, m)
+    spins, averaged, cumulative : each point's ``_reduce`` buffers, shape (k, m); one
+        row, unread, where the runs are kept
     crossings : each point's spin zero crossing times [s], shape (k, capacity)
-    results : each point's result fields (``batch.FIELDS``), shape (k, N_FIELDS)
+    results : each point's result fields (``batch.FIELDS``), shape (k, N_FIELDS); one
+        row, unread, where the runs are kept
     radau_memory : each point's Radau scalars (``_radau.MEMORY``), shape (k, 1)
     radau_start : Radau's scalars as ``_radau.workspace`` sets them before a run or a
         phase, shape (1,)
     switching : each point's ``auto`` switching record (``_auto.RECORD``), shape (k, 1)
     phases : the stick–slip contact's arrays (:class:`PhaseArrays`; one row, unread,
         in a launch without stick phases)
+    ends : how each point's run ended (:class:`RunEnds`; one row, unread, in a sweep's
+        launch)
     """
 
     params: Any
@@ -201,6 +221,46 @@ class Buffers(NamedTuple):
     radau_start: Any
     switching: Any
     phases: Any
+    ends: Any
+
+
+class RunEnds(NamedTuple):
+    """How each of a launch's k runs ended, kept where the runs are (``Run.keeps_runs``):
+    what ``solvers.solve`` and ``solve_phases`` read of a run besides its samples.
+
+    Parameters
+    ----------
+    status, n_samples, n_crossings : each run's ``RunEnd`` fields of those names (int64),
+        shape (k,)
+    t_stop, min_normal_force, t_min_normal_force : its ``RunEnd`` fields [s], [N], [s],
+        shape (k,)
+    statistics : its counters (``codes.STAT_*``, int64), shape (k, N_STATS)
+    final_states : the state where it stopped, shape (k, N_STATE)
+    phases_logged, rejected_captures : the stick–slip contact's phases logged and
+        captures rejected (int64; 0 without stick phases), shape (k,)
+    """
+
+    status: Any
+    n_samples: Any
+    n_crossings: Any
+    t_stop: Any
+    min_normal_force: Any
+    t_min_normal_force: Any
+    statistics: Any
+    final_states: Any
+    phases_logged: Any
+    rejected_captures: Any
+
+
+def _end_shapes(k: int) -> dict[str, tuple[tuple[int, ...], Any]]:
+    """The shape and type of each array of :class:`RunEnds` for k runs."""
+    counts = ("status", "n_samples", "n_crossings", "phases_logged", "rejected_captures")
+    shapes: dict[str, tuple[tuple[int, ...], Any]] = {name: ((k,), np.int64) for name in counts}
+    for name in ("t_stop", "min_normal_force", "t_min_normal_force"):
+        shapes[name] = ((k,), np.float64)
+    shapes["statistics"] = ((k, N_STATS), np.int64)
+    shapes["final_states"] = ((k, N_STATE), np.float64)
+    return shapes
 
 
 class PhaseArrays(NamedTuple):
@@ -324,11 +384,12 @@ def _phase_on_thread(integrator, kind, model, method, params, y, t_end, controls
 
 
 def _thread(model, method, stick_method, point, run, buffers):
-    """Integrate and reduce point ``point`` of the launch into ``buffers.results[point]``
-    with the CPU's loops (``driver.run_loop``; with a ``stick_method``, the stick–slip
-    contact's ``phases.phase_loop``) and reduction (``batch._reduce``) (a CUDA device
-    function; ``model``, ``method`` and ``stick_method`` are compile-time constants, so
-    only their branches are compiled)."""
+    """Integrate point ``point`` of the launch with the CPU's loops (``driver.run_loop``;
+    with a ``stick_method``, the stick–slip contact's ``phases.phase_loop``) and reduce it
+    into ``buffers.results[point]`` (``batch._reduce``), or, where the launch keeps the
+    runs (``run.keeps_runs``), keep how it ended in ``buffers.ends`` (its samples and
+    crossings are in place already) (a CUDA device function; ``model``, ``method`` and
+    ``stick_method`` are compile-time constants, so only their branches are compiled)."""
     y = cuda.local.array(N_STATE, float64)
     final_state = cuda.local.array(N_STATE, float64)
     stats = cuda.local.array(N_STATS, int64)
@@ -338,22 +399,25 @@ def _thread(model, method, stick_method, point, run, buffers):
     y0 = buffers.initial_states[point]
     copy_into(y, y0)
     params = buffers.params[point]
-    output = Output(
-        buffers.sample_times, buffers.samples[point], buffers.crossings[point], stats, final_state
-    )
+    times = buffers.sample_times[point if buffers.sample_times.shape[0] > 1 else 0]
+    output = Output(times, buffers.samples[point], buffers.crossings[point], stats, final_state)
     arrays = _arrays_device(buffers.radau_memory[point], buffers.switching[point])
     system = _system_device(params, run)
-    times = buffers.sample_times
+    phases_logged = 0
+    rejected = 0
     if stick_method == ONE_MODEL:
         _fresh_workspaces(method, arrays.work, buffers.radau_start)
         end = run_loop(
             model, method, system, y, run.t_end, run.controls, buffers.table, output, arrays
         )
     else:
-        end = _phases_device(
+        end, phases_logged, rejected = _phases_device(
             method, stick_method, point, params, system, y, run, buffers, output, arrays
         )
         times = buffers.phases.log_sample_times[point]
+    if run.keeps_runs:
+        _keep_end(buffers.ends, point, end, (phases_logged, rejected), stats, final_state)
+        return
     reversal = (
         buffers.reversal_bands[point],
         buffers.reversal_windows[point],
@@ -374,11 +438,30 @@ def _thread(model, method, stick_method, point, run, buffers):
     )
 
 
+@inlined
+def _keep_end(ends, point, end, counts, stats, final_state):
+    """How run ``point`` ended into its row of ``ends`` (:class:`RunEnds`): its ``RunEnd``
+    ``end``, ``counts`` (phases logged, rejected captures), its counters ``stats`` and
+    its ``final_state`` (inlined into the thread)."""
+    ends.status[point] = end.status
+    ends.n_samples[point] = end.n_samples
+    ends.n_crossings[point] = end.n_crossings
+    ends.t_stop[point] = end.t_stop
+    ends.min_normal_force[point] = end.min_normal_force
+    ends.t_min_normal_force[point] = end.t_min_normal_force
+    ends.phases_logged[point] = counts[0]
+    ends.rejected_captures[point] = counts[1]
+    for j in range(stats.shape[0]):
+        ends.statistics[point, j] = stats[j]
+    for j in range(final_state.shape[0]):
+        ends.final_states[point, j] = final_state[j]
+
+
 def _phases(method, stick_method, point, params, system, y, run, buffers, output, arrays):
     """The stick–slip contact's run of point ``point`` from ``y`` (its initial state) by
     the CPU's phase loop ``phases.phase_loop``, slip with ``method``, stick with
-    ``stick_method``, into ``output`` and the point's phase log; returns the ``RunEnd``
-    (a CUDA device function)."""
+    ``stick_method``, into ``output`` and the point's phase log; returns (the ``RunEnd``,
+    phases logged, captures rejected) (a CUDA device function)."""
     captured = cuda.local.array(N_STATE, float64)
     spare_crossings = cuda.local.array(1, float64)
     arrays_of = buffers.phases
@@ -400,10 +483,9 @@ def _phases(method, stick_method, point, params, system, y, run, buffers, output
         arrays_of.stick_table,
     )
     integrator = (arrays, system, buffers.radau_start)
-    end, _, _ = phases.phase_loop(
+    return phases.phase_loop(
         params, run.t_end, hybrid, run.controls, output, log, phase_buffers, integrator
     )
-    return end
 
 
 def _system_in_simulator(params, run):
@@ -637,23 +719,32 @@ def device_name() -> str:
     return name.decode() if isinstance(name, bytes) else str(name)
 
 
-def launch_points(n_samples: int, crossing_capacity: int, phase_capacity: int = 0) -> int:
+def launch_points(
+    n_samples: int, crossing_capacity: int, phase_capacity: int = 0, keeps_runs: bool = False
+) -> int:
     """Points in one launch: what ``MEMORY_FRACTION`` of the GPU's free memory holds
     (``bytes_per_point``), at most ``MAX_LAUNCH_POINTS`` (``SIMULATOR_LAUNCH_POINTS`` in
     the simulator)."""
     if in_simulator():
         return SIMULATOR_LAUNCH_POINTS
     free, _ = cuda.current_context().get_memory_info()
-    size = bytes_per_point(n_samples, crossing_capacity, phase_capacity)
+    size = bytes_per_point(n_samples, crossing_capacity, phase_capacity, keeps_runs)
     fitting = int(MEMORY_FRACTION * free) // size
     return max(1, min(MAX_LAUNCH_POINTS, fitting))
 
 
-def bytes_per_point(n_samples: int, crossing_capacity: int, phase_capacity: int = 0) -> int:
+def bytes_per_point(
+    n_samples: int, crossing_capacity: int, phase_capacity: int = 0, keeps_runs: bool = False
+) -> int:
     """GPU memory [bytes] a point of a launch takes: its samples, its ``_reduce``
     buffers, its crossings, its inputs, its method's records and its results; with a
-    ``phase_capacity`` (the stick–slip contact), its phase log (:class:`PhaseArrays`)."""
+    ``phase_capacity`` (the stick–slip contact), its phase log (:class:`PhaseArrays`).
+    Where the launch ``keeps_runs``, a point has its own sample times and its run's end
+    (:class:`RunEnds`) in place of the ``_reduce`` buffers and the results."""
     floats = n_samples * (N_STATE + 3) + crossing_capacity + N_STATE + 2 + N_FIELDS
+    if keeps_runs:  # its sample times, its RunEnds row
+        ends = sum(int(np.prod(shape)) for shape, _ in _end_shapes(1).values())
+        floats = n_samples * (N_STATE + 1) + crossing_capacity + N_STATE + 2 + ends
     records = _radau.MEMORY.itemsize + _auto.RECORD.itemsize
     if phase_capacity > 0:  # phase times, the log's times and kinds; its phases; v_c
         floats += 2 * n_samples + 3 * phase_capacity + 1
@@ -699,6 +790,8 @@ class Launch(NamedTuple):
     shapes : the arrays of :class:`Buffers` the threads fill, by name: their shapes
     phase_inputs, phase_shapes : the same of :class:`PhaseArrays`, the shapes with
         their types
+    end_shapes : the shapes and types of :class:`RunEnds`
+    max_crossings : the crossings a kept run returns at most
     """
 
     kernel: tuple[int, int, int]
@@ -707,6 +800,8 @@ class Launch(NamedTuple):
     shapes: dict[str, tuple[int, ...]]
     phase_inputs: dict[str, np.ndarray]
     phase_shapes: dict[str, tuple[tuple[int, ...], Any]]
+    end_shapes: dict[str, tuple[tuple[int, ...], Any]]
+    max_crossings: int
 
     def host_buffers(self) -> Buffers:
         """:class:`Buffers` of host arrays, those the threads fill zeroed."""
@@ -714,8 +809,26 @@ class Launch(NamedTuple):
             **self.phase_inputs,
             **{name: np.zeros(*shape) for name, shape in self.phase_shapes.items()},
         )
+        ends = RunEnds(**{name: np.zeros(*shape) for name, shape in self.end_shapes.items()})
         filled = {name: np.zeros(shape) for name, shape in self.shapes.items()}
-        return Buffers(**self.inputs, **filled, phases=phase_arrays)
+        return Buffers(**self.inputs, **filled, phases=phase_arrays, ends=ends)
+
+    def device_buffers(self) -> Buffers:
+        """:class:`Buffers` of device arrays: the inputs copied to the GPU, the others
+        allocated there."""
+        phase_arrays = PhaseArrays(
+            **{name: cuda.to_device(values) for name, values in self.phase_inputs.items()},
+            **{name: cuda.device_array(*shape) for name, shape in self.phase_shapes.items()},
+        )
+        ends = RunEnds(
+            **{name: cuda.device_array(*shape) for name, shape in self.end_shapes.items()}
+        )
+        return Buffers(
+            **{name: cuda.to_device(values) for name, values in self.inputs.items()},
+            **{name: cuda.device_array(shape) for name, shape in self.shapes.items()},
+            phases=phase_arrays,
+            ends=ends,
+        )
 
 
 def launch_inputs(
@@ -727,12 +840,16 @@ def launch_inputs(
     sample_times: np.ndarray,
     max_crossings: int,
     max_phases: int = DEFAULT_MAX_PHASES,
+    keeps_runs: bool = False,
 ) -> Launch:
     """What :func:`run_points` launches, made on the host: ``points`` run with ``model``
     (one of ``CUDA_MODELS``) and the methods ``methods_of_phases`` (of slip, of stick; of
-    ``CUDA_METHODS``) to ``t_end`` [s] with ``controls``, sampled at ``sample_times`` [s],
-    with ``max_crossings`` crossing times and ``max_phases`` phases a point kept; raises
-    ``ValueError`` for a model, method or mix of points no thread runs."""
+    ``CUDA_METHODS``) to ``t_end`` [s] with ``controls``, sampled at ``sample_times`` [s]
+    (shape (m,), or (k, m): each point's), with ``max_crossings`` crossing times and
+    ``max_phases`` phases a point kept; raises ``ValueError`` for a model, method or mix
+    of points no thread runs. With ``keeps_runs``, what :func:`run_whole` launches: each
+    point keeps its whole run (its samples, ``max_crossings`` crossings, its end), and
+    is not reduced."""
     method, stick_method = methods_of_phases
     if model not in CUDA_MODELS or method not in CUDA_METHODS.values():
         raise ValueError(f"no CUDA thread for model {model} with method code {method}")
@@ -743,9 +860,13 @@ def launch_inputs(
     if is_hybrid and stick_method not in CUDA_METHODS.values():
         raise ValueError(f"no CUDA thread for the stick method code {stick_method}")
     k = len(points.params)
-    times = np.ascontiguousarray(sample_times, dtype=np.float64)
-    capacity = max(1, int(max_crossings)) if np.any(points.reversal_windows <= 0.0) else 1
-    m = times.shape[0]
+    times = np.ascontiguousarray(np.atleast_2d(sample_times), dtype=np.float64)
+    if times.ndim != 2 or times.shape[0] not in (1, k):
+        raise ValueError(f"sample times of shape {times.shape}: (m,) or ({k}, m)")
+    kept = keeps_runs or np.any(points.reversal_windows <= 0.0)  # the crossing times read
+    capacity = max(1, int(max_crossings)) if kept else 1
+    m = times.shape[1]
+    reduced = 1 if keeps_runs else k  # points with ``_reduce``'s buffers and results
     params = np.ascontiguousarray(points.params)
     inputs = {
         "params": params,
@@ -762,17 +883,20 @@ def launch_inputs(
     }
     shapes = {
         "samples": (k, m, N_STATE),
-        "spins": (k, m),
-        "averaged": (k, m),
-        "cumulative": (k, m),
+        "spins": (reduced, m),
+        "averaged": (reduced, m),
+        "cumulative": (reduced, m),
         "crossings": (k, capacity),
-        "results": (k, N_FIELDS),
+        "results": (reduced, N_FIELDS),
     }
     phase_inputs, phase_shapes = _phase_arrays(points, m, max_phases, is_hybrid)
     link = _system.rhs_link(params[0]) if in_simulator() and k > 0 else (0, 0)
     kernel = (model, method, stick_method if is_hybrid else ONE_MODEL)
-    run = Run(float(t_end), controls, link)
-    return Launch(kernel, run, inputs, shapes, phase_inputs, phase_shapes)
+    run = Run(float(t_end), controls, link, bool(keeps_runs))
+    end_shapes = _end_shapes(k if keeps_runs else 1)
+    return Launch(
+        kernel, run, inputs, shapes, phase_inputs, phase_shapes, end_shapes, int(max_crossings)
+    )
 
 
 def run_points(launch: Launch) -> np.ndarray:
@@ -787,9 +911,146 @@ def run_points(launch: Launch) -> np.ndarray:
     is kept, as the CPU reduction reads no more. The caller sizes a launch by
     ``bytes_per_point``.
     """
+    if len(launch.inputs["params"]) == 0:
+        return np.empty((0, N_FIELDS))
+    return _on_host(_launched(launch).results)
+
+
+def run_whole(launch: Launch) -> list[RawSolution]:
+    """``solvers.solve`` (or, for the stick–slip contact, ``solve_phases``) of each
+    point of ``launch`` (:func:`launch_inputs` with ``keeps_runs``), one thread each: the
+    same results, trimmed to what each thread filled by the same functions
+    (``run.raw_solution``, ``run.raw_phases``). Of each run's crossings and phase log
+    only what it filled comes back from the GPU (:func:`_filled_rows`)."""
     k = len(launch.inputs["params"])
     if k == 0:
-        return np.empty((0, N_FIELDS))
+        return []
+    buffers = _launched(launch)
+    ends = RunEnds(*(_on_host(values) for values in buffers.ends))
+    times = _on_host(buffers.sample_times)
+    samples = _on_host(buffers.samples)
+    stored = np.minimum(ends.n_crossings, buffers.crossings.shape[1])
+    crossings = _filled_rows(buffers.crossings, stored)
+    is_hybrid = launch.kernel[2] != ONE_MODEL
+    arrays = buffers.phases  # their log of each run: its samples' times and phases, its phases
+    sample_times = _on_host(arrays.log_sample_times) if is_hybrid else times
+    sample_phase = _on_host(arrays.log_sample_phase) if is_hybrid else times
+    log_rows = (arrays.log_kind, arrays.log_start, arrays.log_end, arrays.log_energy_jump)
+    logged = [_filled_rows(rows, ends.phases_logged) for rows in log_rows] if is_hybrid else []
+    solutions: list[RawSolution] = []
+    for point in range(k):
+        output = Output(
+            times[point if times.shape[0] > 1 else 0],
+            samples[point],
+            crossings[point],
+            ends.statistics[point],
+            ends.final_states[point],
+        )
+        end = RunEnd(
+            int(ends.status[point]),
+            int(ends.n_samples[point]),
+            int(ends.n_crossings[point]),
+            float(ends.t_stop[point]),
+            float(ends.min_normal_force[point]),
+            float(ends.t_min_normal_force[point]),
+        )
+        if not is_hybrid:
+            solutions.append(raw_solution(end, output))
+            continue
+        log = PhaseLog(sample_times[point], sample_phase[point], *(rows[point] for rows in logged))
+        counts = (end, int(ends.phases_logged[point]), int(ends.rejected_captures[point]))
+        solutions.append(raw_phases(counts, output, log, launch.max_crossings))
+    return solutions
+
+
+def _filled_rows(values: Any, lengths: np.ndarray) -> list[np.ndarray]:
+    """Each row's first ``lengths[i]`` entries of a launch's array of rows (k, capacity),
+    on the host: the whole array copied where they fill half of it or more, else row by
+    row (a run's crossings and phase log fill a few of their capacity's places, 100 000
+    by default: 3.3 MB a stick–slip run)."""
+    if isinstance(values, np.ndarray) or 2 * int(np.sum(lengths)) >= values.size:
+        host = _on_host(values)
+        return [host[point, :length] for point, length in enumerate(lengths)]
+    return [
+        values[point, :length].copy_to_host() if length > 0 else np.empty(0, values.dtype)
+        for point, length in enumerate(lengths)
+    ]
+
+
+def solve_runs(
+    model: int,
+    method_name: str,
+    params: np.ndarray,
+    y0: np.ndarray,
+    t_end: float,
+    *,
+    rtol: float,
+    atol: float,
+    sample_times: np.ndarray,
+    max_crossings: int,
+    max_steps: int,
+    capture_speeds: np.ndarray | None = None,
+    stick_method_name: str = "dop853",
+    max_phases: int = DEFAULT_MAX_PHASES,
+) -> list[RawSolution]:
+    """``solvers.solve`` of each row of ``params``/``y0`` on the GPU, one thread each
+    (:func:`run_whole`), in launches of as many runs as the GPU's memory holds
+    (:func:`launch_points`); with ``capture_speeds`` > 0, ``solvers.solve_phases`` of
+    each (the stick–slip contact). The same results as theirs, in order.
+
+    Parameters
+    ----------
+    model : kernel model code (``kernels.layout``) of ``CUDA_MODELS``; the sliding
+        model for the stick–slip contact
+    method_name : a key of ``CUDA_METHODS`` (of the slip phases in the stick–slip contact)
+    params : kernel parameter records, one per run, shape (k,)
+    y0 : initial states, shape (k, N_STATE)
+    t_end : duration [s]
+    rtol, atol, max_crossings, max_steps : as ``solvers.solve`` takes them
+    sample_times : [s], shape (m,) or (1, m): every run's; (k, m): each run's own
+    capture_speeds : each run's v_c [m/s] > 0 for the stick–slip contact, shape (k,);
+        None for runs of ``model`` alone
+    stick_method_name : method of the stick phases
+    max_phases : phase-log capacity of each stick–slip run
+    """
+    times = np.atleast_2d(np.asarray(sample_times, dtype=np.float64))
+    k = len(params)
+    speeds = np.zeros(k) if capture_speeds is None else np.asarray(capture_speeds, dtype=float)
+    points = Points(
+        np.array(params),
+        np.array(y0, dtype=np.float64, order="C"),
+        np.zeros(k),  # no reduction: no reversal band or window read
+        np.zeros(k),
+        speeds,
+    )
+    controls = Controls(float(rtol), float(atol), 0.0, 0.0, int(max_steps), True)
+    methods_of_phases = (CUDA_METHODS[method_name], CUDA_METHODS[stick_method_name])
+    is_hybrid = bool(np.any(speeds > 0.0))
+    size = launch_points(
+        times.shape[1], max(1, int(max_crossings)), max_phases if is_hybrid else 0, True
+    )
+    solutions: list[RawSolution] = []
+    for start in range(0, k, size):
+        part = slice(start, start + size)
+        launch = launch_inputs(
+            model,
+            methods_of_phases,
+            Points(*(values[part] for values in points)),
+            float(t_end),
+            controls,
+            times if times.shape[0] == 1 else times[part],
+            max_crossings,
+            max_phases,
+            keeps_runs=True,
+        )
+        solutions.extend(run_whole(launch))
+    return solutions
+
+
+def _launched(launch: Launch) -> Buffers:
+    """The buffers of ``launch`` (at least one point) after its kernel ran: host arrays
+    in numba's simulator, else device arrays."""
+    k = len(launch.inputs["params"])
     kernel = _kernel(*launch.kernel)
     is_hybrid = launch.kernel[2] != ONE_MODEL
     blocks = (k + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
@@ -797,17 +1058,14 @@ def run_points(launch: Launch) -> np.ndarray:
         buffers = launch.host_buffers()
         with _phases_on_thread() if is_hybrid else contextlib.nullcontext():
             kernel[blocks, min(THREADS_PER_BLOCK, k)](launch.run, buffers)
-        return np.asarray(buffers.results)
-    phase_arrays = PhaseArrays(
-        **{name: cuda.to_device(values) for name, values in launch.phase_inputs.items()},
-        **{name: cuda.device_array(*shape) for name, shape in launch.phase_shapes.items()},
-    )
-    device = Buffers(
-        **{name: cuda.to_device(values) for name, values in launch.inputs.items()},
-        **{name: cuda.device_array(s) for name, s in launch.shapes.items()},
-        phases=phase_arrays,
-    )
+        return buffers
+    device = launch.device_buffers()
     with direct_rhs():  # the first launch compiles the kernel (or loads it from the cache)
         kernel[blocks, THREADS_PER_BLOCK](launch.run, device)
     cuda.synchronize()
-    return device.results.copy_to_host()
+    return device
+
+
+def _on_host(values: Any) -> np.ndarray:
+    """A launch's array on the host: a device array copied there."""
+    return np.asarray(values) if isinstance(values, np.ndarray) else values.copy_to_host()

@@ -25,6 +25,7 @@ from celtstone.solvers._structures import (
     Controls,
     HybridSettings,
     Output,
+    PhaseLog,
     RunEnd,
     new_output,
     new_phase_log,
@@ -179,6 +180,35 @@ def _trimmed(end: RunEnd, output: Output) -> dict[str, Any]:
     }
 
 
+def raw_solution(end: RunEnd, output: Output) -> RawSolution:
+    """The :class:`RawSolution` of a run of ``driver.run_loop`` that ended with ``end``
+    into ``output``: :func:`solve`'s, and a GPU thread's (``batch_cuda.run_whole``)."""
+    return RawSolution(**_trimmed(end, output))
+
+
+def raw_phases(
+    ended: tuple[RunEnd, int, int], output: Output, log: PhaseLog, max_crossings: int
+) -> RawPhases:
+    """The :class:`RawPhases` of a run of ``phases.phase_loop`` that ended with ``ended``
+    (its ``RunEnd``, phases logged, rejected captures) into ``output`` and ``log``, at
+    most ``max_crossings`` crossings kept: :func:`solve_phases`'s, and a GPU thread's
+    (``batch_cuda.run_whole``)."""
+    end, n_phases, rejected = ended
+    n_phases = int(n_phases)
+    fields = _trimmed(end, output)
+    fields["sample_times"] = log.sample_times[: end.n_samples].copy()
+    fields["crossings"] = fields["crossings"][:max_crossings]
+    return RawPhases(
+        **fields,
+        sample_phase=log.sample_phase[: end.n_samples].copy(),
+        phase_kind=log.kind[:n_phases].copy(),
+        phase_start=log.start[:n_phases].copy(),
+        phase_end=log.end[:n_phases].copy(),
+        phase_energy_jump=log.energy_jump[:n_phases].copy(),
+        rejected_captures=int(rejected),
+    )
+
+
 def solve(
     model: int,
     method_name: str,
@@ -217,7 +247,7 @@ def solve(
     arguments = (int(model), method, params, y0, float(t_end), controls, table, output)
     link, to_rhs = integrate_link(arguments)  # compiled for this model and method
     end = _run(integrate_at, (link, (*arguments, to_rhs)), output, progress)
-    return RawSolution(**_trimmed(end, output))
+    return raw_solution(end, output)
 
 
 def solve_phases(
@@ -251,18 +281,7 @@ def solve_phases(
     links = integrate_links(params, hybrid, controls, output)
     arguments = (params, y0, float(t_end), hybrid, controls, output, log, links)
     end, n_phases, rejected = _run(run_phases, arguments, output, progress)
-    fields = _trimmed(end, output)
-    fields["sample_times"] = log.sample_times[: end.n_samples].copy()
-    fields["crossings"] = fields["crossings"][:max_crossings]
-    return RawPhases(
-        **fields,
-        sample_phase=log.sample_phase[: end.n_samples].copy(),
-        phase_kind=log.kind[:n_phases].copy(),
-        phase_start=log.start[:n_phases].copy(),
-        phase_end=log.end[:n_phases].copy(),
-        phase_energy_jump=log.energy_jump[:n_phases].copy(),
-        rejected_captures=int(rejected),
-    )
+    return raw_phases((end, n_phases, rejected), output, log, max_crossings)
 
 
 _POLL_INTERVAL = 0.1  # s between progress reports

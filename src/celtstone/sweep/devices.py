@@ -1,11 +1,9 @@
 """Where a sweep computes: the CPU (threads or a Dask cluster) or a CUDA GPU.
 
-``resolve_device`` turns the user's ``device`` ("cpu", "cuda" or "auto") into the one
-that runs, and refuses "cuda" in one line where the GPU cannot run the sweep: no CUDA
-GPU here, or a model or method that has no GPU thread. A sweep asked to run on the GPU
-never falls back to the CPU; "auto" takes the GPU where it can and says nothing. The GPU
-runs the rolling and the sliding model, the stick–slip contact included, with every
-method.
+``resolve_device`` (``solvers.devices``, which ``simulate_many`` reads too) turns the
+user's ``device`` ("cpu", "cuda" or "auto") into the one that runs, and refuses "cuda" in
+one line where the GPU cannot run the sweep. A sweep asked to run on the GPU never falls
+back to the CPU; "auto" takes the GPU where it can and says nothing.
 
 ``CudaPool`` gathers the runner's tasks (blocks of points) into launches of
 ``solvers.batch.run_batch`` on the GPU (``device="cuda"``), one thread per point, as
@@ -16,53 +14,16 @@ sweep's.
 
 from __future__ import annotations
 
-import sys
 from collections import deque
 from typing import Any
 
 import numpy as np
 
-from celtstone.errors import ParameterError
+from celtstone.solvers.devices import DEVICES as DEVICES
+from celtstone.solvers.devices import announce_first_launch
+from celtstone.solvers.devices import resolve_device as resolve_device
 
 __all__ = ["DEVICES", "CudaPool", "describe_gpu", "resolve_device"]
-
-DEVICES = ("cpu", "cuda", "auto")
-"""The values of ``Sweep(device=...)`` and ``celtstone sweep --device``."""
-
-
-def _gpu_refusal(model: str, method: str, is_hybrid: bool) -> str | None:
-    """Why the GPU cannot run this sweep (of the stick–slip contact if ``is_hybrid``), or
-    None."""
-    from celtstone.solvers import batch_cuda
-
-    if model not in batch_cuda.CUDA_MODEL_NAMES:
-        return f"the GPU runs the {' and '.join(batch_cuda.CUDA_MODEL_NAMES)} models, not {model}"
-    if method not in batch_cuda.CUDA_METHODS:
-        return f"the GPU runs {' or '.join(batch_cuda.CUDA_METHODS)}, not {method}"
-    return batch_cuda.cuda_unavailable_reason()
-
-
-def resolve_device(device: object, model: str, method: str, is_hybrid: bool) -> str:
-    """The device that runs a sweep of ``model`` with ``method``: "cpu" or "cuda".
-
-    Raises
-    ------
-    ParameterError
-        for a ``device`` not in ``DEVICES``, and for "cuda" where the GPU cannot run the
-        sweep (the reason as the hint).
-    """
-    if device not in DEVICES:
-        raise ParameterError("device", device, "one of: " + ", ".join(DEVICES))
-    if device == "cpu":
-        return "cpu"
-    refusal = _gpu_refusal(model, method, is_hybrid)
-    if refusal is None:
-        return "cuda"
-    if device == "auto":
-        return "cpu"
-    raise ParameterError(
-        "device", device, "cpu, or auto to use a GPU where one can run it", refusal
-    )
 
 
 def describe_gpu() -> str:
@@ -90,7 +51,6 @@ class CudaPool:
         self.slots = max(1, self.points_per_launch // (4 * task_points))
         self._waiting: list[tuple[int, tuple[Any, ...], dict[str, Any]]] = []
         self._done: deque[tuple[int, np.ndarray]] = deque()
-        self._announced = False
 
     def submit(self, key: int, *args: Any, **kwargs: Any) -> None:
         self._waiting.append((key, args, kwargs))
@@ -131,8 +91,7 @@ class CudaPool:
         }
         params = np.concatenate([args[2] for _, args, _ in tasks])
         states = np.concatenate([args[3] for _, args, _ in tasks])
-        if not self._announced:
-            self._announce()
+        announce_first_launch("sweeping")
         # as many as fit at once; points whose rocking window is 0 keep their crossing
         # times, and fewer of them fit, as do points with a phase log
         kept = bool(np.any(per_point["reversal_windows"] <= 0.0))
@@ -152,19 +111,3 @@ class CudaPool:
         for (key, _, _), n in zip(tasks, counts, strict=True):
             self._done.append((key, results[first : first + n]))
             first += n
-
-    def _announce(self) -> None:
-        """Say on a terminal that the first launch may compile the kernel (numba's cache
-        serves later processes)."""
-        self._announced = True
-        try:
-            terminal = sys.stderr is not None and sys.stderr.isatty()
-        except (ValueError, OSError):
-            terminal = False
-        if terminal:
-            print(
-                f"celtstone: sweeping on {describe_gpu()}; the first sweep of a model and "
-                "method on this machine compiles its CUDA kernel (tens of seconds, once)",
-                file=sys.stderr,
-                flush=True,
-            )
