@@ -27,7 +27,12 @@ from celtstone.contact.ellipse_table import (
     small_slip_stiffness,
 )
 from celtstone.kernels.friction import contact_friction, pade_friction
-from celtstone.kernels.friction_ellipse import ASPECT_MIN, COEFFICIENTS, elliptic_contact_friction
+from celtstone.kernels.friction_ellipse import (
+    ASPECT_MIN,
+    COEFFICIENTS,
+    TABLE_ADDRESS,
+    elliptic_contact_friction,
+)
 from celtstone.kernels.layout import ContactPressure, FrictionLaw
 
 NORMAL = (0.0, 0.0, 1.0)
@@ -48,7 +53,7 @@ INTERPOLATION_MOMENT_ERROR = 7.3e-4
 
 def elliptic_pade(*arguments: object) -> tuple[tuple[float, float, float], float]:
     """:func:`elliptic_contact_friction` with Zhuravlev's Padé law (its other arguments)."""
-    return elliptic_contact_friction(*arguments, FrictionLaw.PADE.value)
+    return elliptic_contact_friction(*arguments, FrictionLaw.PADE.value, TABLE_ADDRESS)
 
 
 def random_points(count: int, seed: int = 20240613) -> list[tuple[float, float, float]]:
@@ -287,7 +292,7 @@ def test_exact_disk_law_corrected_is_the_exact_elliptic_law() -> None:
         slip = (u * math.cos(direction), u * math.sin(direction), 0.0)
         exact_force, exact_moment = elliptic_friction_functions(u, direction, aspect)
         force, moment = elliptic_contact_friction(
-            slip, 1.0, NORMAL, MAJOR, 1.0, aspect, 0.0, FrictionLaw.EXACT.value
+            slip, 1.0, NORMAL, MAJOR, 1.0, aspect, 0.0, FrictionLaw.EXACT.value, TABLE_ADDRESS
         )
         assert float(np.hypot(*(np.array(force[:2]) - exact_force))) <= INTERPOLATION_FORCE_ERROR
         assert abs(moment - exact_moment) <= INTERPOLATION_MOMENT_ERROR
@@ -295,12 +300,16 @@ def test_exact_disk_law_corrected_is_the_exact_elliptic_law() -> None:
 
 def test_equal_axes_give_the_exact_disk_law_and_unknown_laws_nan() -> None:
     slip, spin = (2e-4, -1e-4, 0.0), 0.7
-    force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 1e-3, 1e-9, 1)
+    force, moment = elliptic_contact_friction(
+        slip, spin, NORMAL, MAJOR, 1e-3, 1e-3, 1e-9, 1, TABLE_ADDRESS
+    )
     disk_force, disk_moment = contact_friction(
         slip, spin, 1e-3, 1e-9, FrictionLaw.EXACT.value, ContactPressure.HERTZ.value
     )
     assert force == disk_force and moment == disk_moment
-    force, moment = elliptic_contact_friction(slip, spin, NORMAL, MAJOR, 1e-3, 5e-4, 1e-9, 7)
+    force, moment = elliptic_contact_friction(
+        slip, spin, NORMAL, MAJOR, 1e-3, 5e-4, 1e-9, 7, TABLE_ADDRESS
+    )
     assert math.isnan(moment) and all(math.isnan(f) for f in force)
 
 

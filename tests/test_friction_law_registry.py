@@ -35,6 +35,8 @@ from celtstone.kernels.layout import ContactPressure, FrictionLaw, ModelCode
 from celtstone.plotting.friction import friction_law_figure
 from celtstone.simulation.models import kernel_parameters
 
+TABLE = friction_ellipse.TABLE_ADDRESS  # the elliptic law's table in this process
+
 ROOT = Path(__file__).resolve().parents[1]
 PRESSURES = [pressure.value for pressure in ContactPressure]
 SPEEDS = [(0.0, 1.0), (1e-3, 1.0), (0.5, 1.0), (1.0, 1.0), (1.0, 0.5), (1.0, 1e-3), (1.0, 0.0)]
@@ -147,14 +149,14 @@ def test_the_elliptic_contact_corrects_the_entrys_disk_law(name: str) -> None:
     for slip, spin in SLIPS:
         disk = friction.contact_friction(slip, spin, 2e-3, 1e-9, code, hertz)
         circle = friction_ellipse.elliptic_contact_friction(
-            slip, spin, normal, axis, 2e-3, 2e-3, 1e-9, code
+            slip, spin, normal, axis, 2e-3, 2e-3, 1e-9, code, TABLE
         )
         assert circle == disk
         ellipse = friction_ellipse.elliptic_contact_friction(
-            slip, spin, normal, axis, 2e-3, 5e-4, 1e-9, code
+            slip, spin, normal, axis, 2e-3, 5e-4, 1e-9, code, TABLE
         )
         corrected = friction_ellipse.elliptic_correction(
-            *disk, slip, spin, normal, axis, 2e-3, 5e-4
+            *disk, slip, spin, normal, axis, 2e-3, 5e-4, TABLE
         )
         assert ellipse == corrected
 
@@ -199,14 +201,14 @@ def test_without_its_kernel_branch_the_kernels_give_nan(throwaway: FrictionLawEn
     force, moment = friction.contact_friction((1e-3, 0.0, 0.0), 2.0, 1e-3, 0.0, code, hertz)
     assert all(math.isnan(x) for x in (*force, moment))
     force, moment = friction_ellipse.elliptic_contact_friction(
-        (1e-3, 0.0, 0.0), 2.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 2e-3, 5e-4, 0.0, code
+        (1e-3, 0.0, 0.0), 2.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 2e-3, 5e-4, 0.0, code, TABLE
     )
     assert all(math.isnan(x) for x in (*force, moment))
     assert math.isnan(stick.limit_moment(0.0, code, hertz))
     assert math.isnan(stick.stick_margin_of(0.0, 0.0, 9.81, 0.3, 1e-3, code, hertz))
     # the elliptic stick margin says "no stick" (-1) where its law has no value
     margin = stick_ellipse.elliptic_stick_margin(
-        (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 2e-3, 5e-4, 1.0, code
+        (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 2e-3, 5e-4, 1.0, code, TABLE
     )
     assert margin == -1.0
 

@@ -47,6 +47,7 @@ STATE = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
 N = (0.1, -0.2, 0.97)  # a tilted upward vertical [1]
 N_RATE = (0.3, 0.1, 0.05)  # [1/s]
 SLIP = (1e-3, -2e-3, 0.0)  # [m/s]
+TABLE = friction_ellipse.TABLE_ADDRESS  # the elliptic law's table in this process
 
 
 def _bodies() -> dict[ShapeCode, cs.Body]:
@@ -113,7 +114,7 @@ def test_record_fields_are_the_table() -> None:
     fields = layout.PARAMETER_FIELDS
     names = [f.name for f in fields]
     assert list(layout.PARAMETERS.names) == names and len(set(names)) == len(names)
-    integer_data = {"term_count", "term_exponents", "level_function"}
+    integer_data = {"term_count", "term_exponents", "level_function", "ellipse_table"}
     for f in fields:
         dtype = layout.PARAMETERS.fields[f.name][0]
         assert (dtype.base, dtype.shape) == (np.dtype(f.kind), f.shape)
@@ -206,11 +207,11 @@ def test_every_law_has_an_elliptic_contact_and_its_stick_limit(law: FrictionLaw)
     assert friction.has_friction_law(law.value)
     n, axis, semi_major, semi_minor = ELLIPSE
     force, moment = friction_ellipse.elliptic_contact_friction(
-        SLIP, 2.0, n, axis, semi_major, semi_minor, 1e-6, law.value
+        SLIP, 2.0, n, axis, semi_major, semi_minor, 1e-6, law.value, TABLE
     )
     assert _finite(force, moment) and moment < 0.0
     margin = stick_ellipse.elliptic_stick_margin(
-        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, law.value
+        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, law.value, TABLE
     )
     assert _finite(margin)
 
@@ -268,11 +269,11 @@ def test_unknown_law_is_nan_in_the_elliptic_contact(code: int) -> None:
     for semi_minor_axis in (semi_minor, semi_major):  # an ellipse, and the disk A = B
         assert _all_nan(
             *friction_ellipse.elliptic_contact_friction(
-                SLIP, 2.0, n, axis, semi_major, semi_minor_axis, 1e-6, code
+                SLIP, 2.0, n, axis, semi_major, semi_minor_axis, 1e-6, code, TABLE
             )
         )
     margin = stick_ellipse.elliptic_stick_margin(
-        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, code
+        (0.1, 0.0, 0.0), 1e-4, n, axis, semi_major, semi_minor, 1.0, code, TABLE
     )
     assert margin == -1.0
 

@@ -7,9 +7,11 @@ in s = [atan(u/k) + atan(u)]/π, β = [α + atan2(k sin α, cos α)]/2 and q = l
 (``docs/decisions.md`` §24, "Fast form"), computed with ``contact.ellipse`` (the
 elliptic law, the exact entry's ``elliptic_reference`` in ``contact.laws.LAWS``) and
 ``kernels.friction_exact`` (the disk's closed forms). The ratios correct every law's
-disk law alike. The kernel module reads the file at import and fits its B-spline; after
-regenerating it, delete ``src/celtstone/kernels/__pycache__/*.nbi|*.nbc``: numba's cache
-keys on the source files, not on the data frozen into the compiled code (§15's caveat).
+disk law alike. The kernel module reads the file at import and fits its B-spline, whose
+coefficients the kernels read at run time; after regenerating it with other node counts
+or ``ASPECT_MIN``, delete ``src/celtstone/kernels/__pycache__/*.nbi|*.nbc``: numba's cache
+keys on the source files, not on those numbers, which it freezes into the compiled code
+(§15's caveat).
 
 Nodes where the exact law is not evaluated, in closed form:
 - u = 0 (s = 0): F = −f N (C_xx u cos α, C_yy u sin α) + O(u³) with
@@ -39,6 +41,7 @@ from scipy import optimize, special
 from celtstone.contact.ellipse import elliptic_friction_functions, zero_slip_moment
 from celtstone.contact.laws import law_code, unit_speeds
 from celtstone.kernels.friction_ellipse import (
+    TABLE_ADDRESS,
     TABLE_FILE,
     direction_coordinate,
     elliptic_contact_friction,
@@ -80,7 +83,7 @@ def fast_friction_functions(
     slip = (slip_speed * math.cos(direction), slip_speed * math.sin(direction), 0.0)
     force, moment = elliptic_contact_friction(
         slip, spin_rate, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0,
-        code,
+        code, TABLE_ADDRESS,
     )  # fmt: skip
     return np.array(force[:2]), moment
 

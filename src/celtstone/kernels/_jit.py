@@ -8,7 +8,10 @@ A user's shape function reaches the compiled, cached kernels as a C function
 pointer stored in the int64 field ``level_function`` of the parameter record:
 ``compile_level_function`` compiles F, ∇F and the Hessian into one C callback,
 ``call_level_function`` calls it from inside a kernel (docs/decisions.md section 18);
-such shapes need the JIT (not ``NUMBA_DISABLE_JIT``).
+such shapes need the JIT (not ``NUMBA_DISABLE_JIT``). A table of numbers reaches them the
+same way, as the address of its float64 array in an int64 field, read by
+``table_entry`` (the elliptic contact's spline table, ``friction_ellipse``): numba
+would freeze a global array into every compiled function that reads it.
 
 The first run of a model and method after installation compiles what it calls (tens of
 seconds on a 2-core machine; numba's on-disk cache serves every later process). So that
@@ -22,6 +25,7 @@ inside :func:`compiling` (the run loop names its model and method), else
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import sys
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
@@ -29,7 +33,7 @@ from typing import Any, TypeVar
 import numpy as np
 from llvmlite import ir
 from numba import cfunc, njit, types
-from numba.core import cgutils, event
+from numba.core import cgutils, config, event
 from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 
@@ -185,6 +189,38 @@ def call_level_function(typingctx, address, x0, x1, x2):
         return context.make_tuple(builder, result, values)
 
     return signature, codegen
+
+
+def _table_entry_in_python(address: int, index: int) -> float:
+    """``table_entry`` run as Python (``NUMBA_DISABLE_JIT=1``)."""
+    return ctypes.c_double.from_address(address + 8 * index).value
+
+
+@intrinsic
+def _table_entry_compiled(typingctx, address, index):
+    """``table_entry`` in compiled code: a load through the address, for numba's CPU and
+    CUDA targets alike."""
+    if not (isinstance(address, types.Integer) and isinstance(index, types.Integer)):
+        return None
+    signature = types.float64(types.int64, types.int64)
+
+    def codegen(context, builder, sig, args):
+        address, index = args
+        start = builder.inttoptr(address, ir.DoubleType().as_pointer())
+        value = builder.load(builder.gep(start, [index]))
+        # the table never changes while a kernel runs: LLVM may reuse a load, and CUDA
+        # may read it through the read-only cache
+        value.set_metadata("invariant.load", builder.module.add_metadata([]))
+        return value
+
+    return signature, codegen
+
+
+_PYTHON = bool(getattr(config, "DISABLE_JIT", 0))  # NUMBA_DISABLE_JIT=1: no compiled code
+table_entry: Any = _table_entry_in_python if _PYTHON else _table_entry_compiled
+"""``table_entry(address, index)``: the float64 at ``index`` (int64) of the C array at
+``address`` (int64), a host address on the CPU, a device one on a GPU. The caller keeps
+the array alive and the index inside it, and never passes the address 0."""
 
 
 def jit_user_function(function: Callable[..., Any], parameter: str) -> Any:

@@ -195,7 +195,8 @@ def friction_per_unit_load(
     ``contact_radius`` (fixed or Hertz's). Ellipse: the Hertz ellipse of the principal
     radii of curvature at the contact point of n (:func:`contact_ellipse`) and the law
     of ``params`` (Padé or exact) of the disk of radius A corrected to it
-    (``friction_ellipse.elliptic_contact_friction``). An unknown shape code gives NaN.
+    (``friction_ellipse.elliptic_contact_friction``, its table at ``ellipse_table``). An
+    unknown shape code gives NaN.
     """
     shape = params.contact_shape
     if shape == ContactShape.CIRCLE:
@@ -218,6 +219,7 @@ def friction_per_unit_load(
             semi_minor,
             params.regularisation_speed,
             params.friction_law,
+            params.ellipse_table,
         )
     return NAN3, math.nan
 

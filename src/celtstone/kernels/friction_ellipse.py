@@ -32,8 +32,12 @@ k, so that both scales of the law are inside the grid for every k: u ≈ k with 
 narrow window |α − π/2| ≲ k/u (the centre of sliding crosses the thin ellipse), and
 u ≈ 1 with α of order 1 (the disk's scale). The node values are generated from the
 exact law by ``python -m celtstone.contact.ellipse_table`` into
-``friction_ellipse_table.npz`` beside this module, read here at import and frozen into
-the compiled code by numba.
+``friction_ellipse_table.npz`` beside this module and read here at import into
+:data:`COEFFICIENTS`. The kernels read the coefficients through the array's address
+(``table``, an int64: :data:`TABLE_ADDRESS` in this process, the parameter record's
+``ellipse_table``, a device copy's on a GPU), not as a global array, which numba would
+freeze into the code of every function that reads it, each sliding kernel of the cache
+and of a GPU's included (docs/decisions.md, "GPU sweeps"). An address of 0 gives NaN.
 """
 
 from __future__ import annotations
@@ -43,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from celtstone.kernels._jit import kernel
+from celtstone.kernels._jit import kernel, table_entry
 from celtstone.kernels.friction import contact_friction
 from celtstone.kernels.friction_exact import complete_elliptic_integrals
 from celtstone.kernels.layout import ContactPressure
@@ -99,16 +103,23 @@ def spline_coefficients(ratios: np.ndarray) -> np.ndarray:
 
 def _load_table() -> tuple[np.ndarray, float]:
     with np.load(TABLE_FILE, allow_pickle=False) as data:
-        return spline_coefficients(np.asarray(data["ratios"], dtype=float)), float(
-            data["aspect_min"]
-        )
+        coefficients = spline_coefficients(np.asarray(data["ratios"], dtype=float))
+        return np.ascontiguousarray(coefficients), float(data["aspect_min"])
 
 
 COEFFICIENTS, ASPECT_MIN = _load_table()
+COEFFICIENTS.flags.writeable = False  # the kernels read it at its address, from any thread
+TABLE_ADDRESS: int = COEFFICIENTS.ctypes.data
+"""The address of :data:`COEFFICIENTS` (C order) in this process, which keeps the array
+for its lifetime: the kernels' ``table`` argument, the records' ``ellipse_table``."""
 SLIP_NODES = COEFFICIENTS.shape[0] - 2
 DIRECTION_NODES = COEFFICIENTS.shape[1] - 2
 ASPECT_NODES = COEFFICIENTS.shape[2] - 2
 LOG_ASPECT_MIN = math.log(ASPECT_MIN)
+# steps of the flat C-order index of (i, j, m, quantity) in the table
+SLIP_STEP = COEFFICIENTS.strides[0] // COEFFICIENTS.itemsize
+DIRECTION_STEP = COEFFICIENTS.strides[1] // COEFFICIENTS.itemsize
+ASPECT_STEP = COEFFICIENTS.strides[2] // COEFFICIENTS.itemsize
 
 
 @kernel
@@ -143,7 +154,7 @@ def _cubic_bspline(position: float, nodes: int) -> tuple[int, float, float, floa
 
 @kernel
 def elliptic_ratios(
-    slip_major: float, slip_minor: float, pivot_speed: float, aspect: float
+    slip_major: float, slip_minor: float, pivot_speed: float, aspect: float, table: int
 ) -> tuple[float, float, float]:
     """(d_par, r_perp, d_M) [1] of the elliptic law relative to the disk's, from the table.
 
@@ -152,6 +163,8 @@ def elliptic_ratios(
     slip_major, slip_minor : V·a, V·(n × a), the slip along the major and minor axes [m/s]
     pivot_speed : A|Ω_n| [m/s]
     aspect : k = B/A [1], in [ASPECT_MIN, 1]; NaN outside (no extrapolation)
+    table : address of the spline coefficients, laid out as :data:`COEFFICIENTS`
+        (:data:`TABLE_ADDRESS`, or a device copy's on a GPU); 0 gives NaN
 
     Returns
     -------
@@ -160,7 +173,7 @@ def elliptic_ratios(
     d_M : (M / M₁) π / (2 E(e)) − 1
     """
     log_aspect = math.log(aspect)
-    if not (LOG_ASPECT_MIN <= log_aspect <= 0.0):
+    if table == 0 or not (LOG_ASPECT_MIN <= log_aspect <= 0.0):
         return math.nan, math.nan, math.nan
     slip_speed = math.hypot(slip_major, slip_minor)
     s = slip_coordinate(slip_speed, pivot_speed, aspect) * (SLIP_NODES - 1)
@@ -182,9 +195,10 @@ def elliptic_ratios(
             weight = slip_weights[di] * direction_weights[dj]
             for dm in range(4):
                 w = weight * aspect_weights[dm]
-                parallel += w * COEFFICIENTS[i + di, j + dj, m + dm, 0]
-                across += w * COEFFICIENTS[i + di, j + dj, m + dm, 1]
-                moment += w * COEFFICIENTS[i + di, j + dj, m + dm, 2]
+                at = (i + di) * SLIP_STEP + (j + dj) * DIRECTION_STEP + (m + dm) * ASPECT_STEP
+                parallel += w * table_entry(table, at)
+                across += w * table_entry(table, at + 1)
+                moment += w * table_entry(table, at + 2)
     # r_perp is odd in α about 0 and π/2: its sign is that of V_x V_y
     if slip_major * slip_minor < 0.0:
         across = -across
@@ -201,15 +215,16 @@ def elliptic_correction(
     major_axis: Vec,
     semi_major_axis: float,
     semi_minor_axis: float,
+    table: int,
 ) -> tuple[Vec, float]:
     """A disk law of radius A (force ∥ V1, moment about n) turned into the ellipse's.
 
     F = (1 + d_par) F_disk + r_perp n × F_disk, M = M_disk (2E(e)/π)(1 + d_M), with
     d_par, r_perp, d_M from :func:`elliptic_ratios` at the tangential slip and A|Ω_n|;
     arguments as :func:`elliptic_contact_friction`. A = B returns the disk law unchanged;
-    B/A < ASPECT_MIN, B > A or a NaN returns NaN.
+    B/A < ASPECT_MIN, B > A, a NaN or the ``table`` 0 returns NaN.
     """
-    if not (0.0 < semi_minor_axis <= semi_major_axis):
+    if table == 0 or not (0.0 < semi_minor_axis <= semi_major_axis):
         return NAN3, math.nan
     if semi_minor_axis == semi_major_axis:
         return disk_force, disk_moment
@@ -220,6 +235,7 @@ def elliptic_correction(
         dot(slip_velocity, minor_axis),
         semi_major_axis * abs(spin_rate),
         aspect,
+        table,
     )
     turned = cross(normal, disk_force)
     along = 1.0 + parallel
@@ -243,6 +259,7 @@ def elliptic_contact_friction(
     semi_minor_axis: float,
     regularisation_speed: float,
     law: int,
+    table: int,
 ) -> tuple[Vec, float]:
     """Coulomb–Contensou friction over an elliptic Hertz contact, per unit f N.
 
@@ -259,6 +276,8 @@ def elliptic_contact_friction(
         (``friction.contact_friction``) is corrected; for the exact law the result is
         the exact elliptic law to the table's interpolation error, for Padé's
         Zhuravlev's law of the disk (paper eq. 10, 12) corrected
+    table : address of the ratios' spline coefficients (:func:`elliptic_ratios`):
+        :data:`TABLE_ADDRESS`, the parameter record's ``ellipse_table``; 0 gives NaN
 
     Returns
     -------
@@ -297,4 +316,5 @@ def elliptic_contact_friction(
         major_axis,
         semi_major_axis,
         semi_minor_axis,
+        table,
     )

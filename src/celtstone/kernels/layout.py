@@ -49,6 +49,7 @@ __all__ = [
     "ModelCode",
     "ParameterField",
     "ShapeCode",
+    "ellipse_table_address",
     "parameter_record",
     "unknown_codes",
 ]
@@ -221,6 +222,13 @@ PARAMETER_FIELDS: tuple[ParameterField, ...] = (
         "Pa",
         "E* of the Hertz contact radius; 0: the fixed contact_radius",
     ),
+    _field(
+        "ellipse_table",
+        "",
+        "address of the elliptic contact's spline coefficients (friction_ellipse; a device "
+        "copy on a GPU), valid in one process only (ellipse_table_address); 0: none",
+        kind="i8",
+    ),
 )
 
 # aligned struct (np.dtype((np.record, ...), align=True) would drop the flag, and numba
@@ -230,13 +238,27 @@ PARAMETERS = np.dtype(
 )
 
 
+def ellipse_table_address() -> int:
+    """The address of the elliptic contact's table in this process
+    (``friction_ellipse.TABLE_ADDRESS``), for the records' ``ellipse_table``.
+
+    An address means nothing in another process: whatever runs records that it did not
+    make in this process (a sweep's batch, from a Dask worker's pickle) sets the field
+    again first."""
+    from celtstone.kernels.friction_ellipse import TABLE_ADDRESS  # it imports this module
+
+    return TABLE_ADDRESS
+
+
 def parameter_record(**values: Any) -> np.record:
-    """A parameter record with the given fields set, all others zero.
+    """A parameter record with the given fields set, ``ellipse_table`` at this process's
+    table (:func:`ellipse_table_address`) unless given, all others zero.
 
     Subarray fields take anything that broadcasts to their shape. The record is a
     view of a fresh one-element array, so it can be modified and passed to kernels.
     """
     records = np.zeros(1, dtype=PARAMETERS)
+    records["ellipse_table"] = ellipse_table_address()
     for name, value in values.items():
         records[name][0] = value
     record: np.record = records[0]

@@ -208,6 +208,7 @@ def stick_margin(n: Vec, omega: Vec, r: Vec, r_rate: Vec, params) -> float:
             semi_minor,
             params.friction_coefficient * friction_normal,
             params.friction_law,
+            params.ellipse_table,
         )
     return stick_margin_of(
         math.sqrt(dot(friction_force, friction_force)),

@@ -35,29 +35,33 @@ SMALLEST_FORCE = 1e-14  # |F_s| per unit f N treated as zero: the moment is M0
 
 
 @kernel
-def law_at(x: float, direction: float, aspect: float, law: int) -> tuple[float, float, float]:
+def law_at(
+    x: float, direction: float, aspect: float, law: int, table: int
+) -> tuple[float, float, float]:
     """(F_x, F_y) per unit f N in the ellipse's axes and |M| per unit f N A at the slip state
-    x = u/(u + b), α = ``direction`` [rad], for Ω_n > 0, δ = 0 (a kernel of unit size)."""
+    x = u/(u + b), α = ``direction`` [rad], for Ω_n > 0, δ = 0 (a kernel of unit size);
+    ``table`` the address of the elliptic law's table (``friction_ellipse``)."""
     u = PADE_B * x / (1.0 - x)
     slip = (u * math.cos(direction), u * math.sin(direction), 0.0)
     force, moment = elliptic_contact_friction(
-        slip, 1.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0, law
+        slip, 1.0, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), 1.0, aspect, 0.0, law, table
     )
     return force[0], force[1], abs(moment)
 
 
 @kernel
-def limit_moment_at(force_x: float, force_y: float, aspect: float, law: int) -> float:
+def limit_moment_at(force_x: float, force_y: float, aspect: float, law: int, table: int) -> float:
     """|M| per unit f N A of the slip state whose force is (force_x, force_y) per unit f N
-    (|F| < 1), in the ellipse's axes [1]; NaN if the law has no value (B/A out of range)."""
-    _, _, zero_slip = law_at(0.0, 0.0, aspect, law)
+    (|F| < 1), in the ellipse's axes [1], ``table`` as :func:`law_at`; NaN if the law has no
+    value (B/A out of range, the table 0)."""
+    _, _, zero_slip = law_at(0.0, 0.0, aspect, law, table)
     magnitude = math.hypot(force_x, force_y)
     if magnitude <= SMALLEST_FORCE or math.isnan(zero_slip):
         return zero_slip
     # start: the disk's Padé inverse (|F| = x), slip opposite the force
     x = min(magnitude, LARGEST_X)
     direction = math.atan2(force_y, force_x) + math.pi
-    fx, fy, moment = law_at(x, direction, aspect, law)
+    fx, fy, moment = law_at(x, direction, aspect, law, table)
     rx, ry = fx - force_x, fy - force_y
     residual = math.hypot(rx, ry)
     difference = DIFFERENCE_STEP
@@ -66,11 +70,11 @@ def limit_moment_at(force_x: float, force_y: float, aspect: float, law: int) -> 
             break
         hx = difference * max(min(x, 1.0 - x), 1e-6)
         upper, lower = min(x + hx, LARGEST_X), max(x - hx, 0.0)
-        ax, ay, _ = law_at(upper, direction, aspect, law)
-        bx, by, _ = law_at(lower, direction, aspect, law)
+        ax, ay, _ = law_at(upper, direction, aspect, law, table)
+        bx, by, _ = law_at(lower, direction, aspect, law, table)
         j11, j21 = (ax - bx) / (upper - lower), (ay - by) / (upper - lower)
-        cx, cy, _ = law_at(x, direction + difference, aspect, law)
-        dx, dy, _ = law_at(x, direction - difference, aspect, law)
+        cx, cy, _ = law_at(x, direction + difference, aspect, law, table)
+        dx, dy, _ = law_at(x, direction - difference, aspect, law, table)
         j12, j22 = (cx - dx) / (2.0 * difference), (cy - dy) / (2.0 * difference)
         determinant = j11 * j22 - j12 * j21
         if determinant == 0.0 or not math.isfinite(determinant):
@@ -88,7 +92,7 @@ def limit_moment_at(force_x: float, force_y: float, aspect: float, law: int) -> 
         for _ in range(40):
             trial_x = x - scale * step_x
             trial_direction = direction - scale * step_direction
-            tx, ty, tm = law_at(trial_x, trial_direction, aspect, law)
+            tx, ty, tm = law_at(trial_x, trial_direction, aspect, law, table)
             trial = math.hypot(tx - force_x, ty - force_y)
             if trial < residual:
                 x, direction, moment = trial_x, trial_direction, tm
@@ -117,6 +121,7 @@ def elliptic_stick_margin(
     semi_minor_axis: float,
     capacity: float,
     law: int,
+    table: int,
 ) -> float:
     """Distance of the friction stick needs inside the elliptic law's limit set [1].
 
@@ -128,11 +133,13 @@ def elliptic_stick_margin(
     semi_major_axis, semi_minor_axis : A >= B [m] of the Hertz ellipse
     capacity : f N of the friction law [N]
     law : ``layout.FrictionLaw`` of the disk law the ellipse's corrects
+    table : address of the elliptic law's table (``friction_ellipse.elliptic_ratios``)
 
     Returns
     -------
     g >= 0 while stick is admissible (module docstring); −1 without friction (f N <= 0)
-    and with an ellipse out of the law's range (the slip law then reports it).
+    and with an ellipse out of the law's range or the table 0 (the slip law then reports
+    it).
     """
     if not capacity > 0.0:
         return -1.0
@@ -140,13 +147,13 @@ def elliptic_stick_margin(
     force_x = dot(friction_force, major_axis) / capacity
     force_y = dot(friction_force, cross(n, major_axis)) / capacity
     moment = abs(pivot_moment) / (capacity * semi_major_axis)
-    _, _, zero_slip = law_at(0.0, 0.0, aspect, law)
+    _, _, zero_slip = law_at(0.0, 0.0, aspect, law, table)
     if not zero_slip > 0.0:
         return -1.0
     magnitude = math.hypot(force_x, force_y)
     if magnitude >= 1.0:
         return -moment / zero_slip - (magnitude - 1.0)
-    largest = limit_moment_at(force_x, force_y, aspect, law)
+    largest = limit_moment_at(force_x, force_y, aspect, law, table)
     if math.isnan(largest):
         return -1.0
     return (largest - moment) / zero_slip

@@ -21,7 +21,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from celtstone.kernels._jit import kernel
-from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK
+from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, Y_WORK, ellipse_table_address
 from celtstone.kernels.reversal import count_reversals, rocking_average_into
 from celtstone.kernels.system import energy
 from celtstone.simulation.outcome import OUTCOMES, SWEPT
@@ -315,7 +315,8 @@ def run_batch(
         contact
     method_name : a key of ``solvers.METHODS`` (of the slip phases in the hybrid contact)
     params : kernel parameter records, one per point, shape (k,) (``params[i]`` is one
-        point's record)
+        point's record); their ``ellipse_table`` is set to this process's table, since
+        records may come from another process (a Dask worker's task)
     y0 : initial states, shape (k, N_STATE)
     t_end : duration [s]
     rtol, atol : local error tolerances
@@ -350,8 +351,10 @@ def run_batch(
     def per_point(values: Any) -> np.ndarray:
         return np.array(np.broadcast_to(values, (n_points,)), dtype=np.float64)
 
+    records = np.array(params)
+    records["ellipse_table"] = ellipse_table_address()  # an address of another process crashes
     points = Points(
-        np.array(params),
+        records,
         np.array(y0, dtype=np.float64, order="C"),
         per_point(reversal_bands),
         per_point(reversal_windows),

@@ -47,11 +47,13 @@ of a GPU thread, reads False, and its array copies are loops. numba's simulator 
 CPU's compiled code, and there the thread passes the CPU's system, link included;
 there the phase loop's integrator is replaced for the launch alone (``_phases_on_thread``).
 
-The sliding model's kernels choose the contact shape at run time, so every sliding
-kernel holds the elliptic contact's table (``kernels.friction_ellipse``, 1.18 MB), which
-numba freezes into the code. The CUDA target would put it into constant memory (64 kB);
-``declare_for_cuda`` has it put every frozen array above ``CONSTANT_MEMORY_LIMIT`` into
-global memory instead, read-only, so the kernel assembles and both contact shapes run.
+The sliding model's kernels read the elliptic contact's spline table
+(``kernels.friction_ellipse``, 396 kB) at the address in each point's parameter record
+(``ellipse_table``): a launch on a GPU copies the table to the device once per process
+and device (``_device_table``) and writes that copy's address into the records it sends
+(``_with_device_table``); in the simulator the host's address stays, as the CPU's compiled
+code reads it. No large array is frozen into a kernel, so the methods' small tableaux are
+all that numba-cuda puts in constant memory.
 
 numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``, no GPU) runs the thread's Python
 with the kernels as their compiled CPU code: there the fields equal the CPU sweep's to the
@@ -134,7 +136,6 @@ MAX_LAUNCH_POINTS = 262_144  # threads of one launch: more than fill a GPU (§44
 SIMULATOR_LAUNCH_POINTS = 64  # numba's simulator runs a Python thread per GPU thread
 MEMORY_FRACTION = 0.5  # of the GPU's free memory, for one launch's arrays
 THREADS_PER_BLOCK = 64  # 32 to 256 made no difference (docs/decisions.md §44)
-CONSTANT_MEMORY_LIMIT = 16_384  # [bytes]: a larger frozen array goes to global memory
 KEPT_CROSSINGS = 100_000  # crossing times a point keeps where they time reversals, as on the CPU
 MAX_EVENT_ROWS = 3  # lift-off, phase change, spin crossing (``_events.event_table``)
 ONE_MODEL = -1  # the stick method of a launch without stick phases (``_kernel``)
@@ -657,38 +658,24 @@ def declare_for_cuda() -> None:
             overload(function, target="cuda")(implementation)
         except Exception:  # another numba's CUDA target: its own serves
             pass
-    _large_constants_in_global_memory()
 
 
-def _large_constants_in_global_memory() -> None:
-    """Make numba's CUDA target put a frozen array larger than ``CONSTANT_MEMORY_LIMIT``
-    into global memory rather than constant memory: the elliptic contact's table
-    (``kernels.friction_ellipse``, 1.18 MB) is part of every sliding kernel, since the
-    contact shape is chosen at run time, and a GPU has 64 kB of constant memory, which
-    ptxas refuses to exceed. The array stays read-only and initialised in the module; a
-    smaller one (the methods' tableaux) stays in constant memory."""
-    try:
-        from numba.cuda import target
-        from numba.cuda.cudadrv import nvvm
-    except ImportError:  # pragma: no cover - a numba without a CUDA target
-        return
-    context = target.CUDATargetContext
-    original = context.make_constant_array
-    if getattr(original, "celtstone_global", False):
-        return
+@functools.cache
+def _device_table(device_id: int) -> Any:
+    """The elliptic contact's table (``friction_ellipse.COEFFICIENTS``) on the GPU
+    ``device_id``, copied once per process and kept for it (the records hold its address)."""
+    from celtstone.kernels.friction_ellipse import COEFFICIENTS
 
-    def make_constant_array(self, builder, aryty, arr):
-        if np.asarray(arr).nbytes <= CONSTANT_MEMORY_LIMIT:
-            return original(self, builder, aryty, arr)
-        constant = nvvm.ADDRSPACE_CONSTANT  # read by the original as it emits the global
-        nvvm.ADDRSPACE_CONSTANT = nvvm.ADDRSPACE_GLOBAL
-        try:
-            return original(self, builder, aryty, arr)
-        finally:
-            nvvm.ADDRSPACE_CONSTANT = constant
+    return cuda.to_device(COEFFICIENTS)
 
-    make_constant_array.celtstone_global = True  # type: ignore[attr-defined]
-    context.make_constant_array = make_constant_array  # type: ignore[method-assign]
+
+def _with_device_table(params: np.ndarray) -> np.ndarray:
+    """A copy of the records ``params`` whose ``ellipse_table`` is the address of the
+    table on the current GPU, where the threads read it."""
+    table = _device_table(cuda.get_current_device().id)
+    records = np.array(params)
+    records["ellipse_table"] = table.__cuda_array_interface__["data"][0]
+    return records
 
 
 def in_simulator() -> bool:
@@ -823,8 +810,10 @@ class Launch(NamedTuple):
         ends = RunEnds(
             **{name: cuda.device_array(*shape) for name, shape in self.end_shapes.items()}
         )
+        # the records carry the device's copy of the elliptic table, not the host's
+        inputs = dict(self.inputs, params=_with_device_table(self.inputs["params"]))
         return Buffers(
-            **{name: cuda.to_device(values) for name, values in self.inputs.items()},
+            **{name: cuda.to_device(values) for name, values in inputs.items()},
             **{name: cuda.device_array(shape) for name, shape in self.shapes.items()},
             phases=phase_arrays,
             ends=ends,
