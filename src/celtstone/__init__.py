@@ -48,6 +48,7 @@ if TYPE_CHECKING:  # the names below are imported on first use (__getattr__)
     from celtstone.precompile import CompileReport as CompileReport
     from celtstone.precompile import compile_solvers as compile_solvers
     from celtstone.simulation.integrate import simulate as simulate
+    from celtstone.simulation.integrate import simulate_many as simulate_many
     from celtstone.simulation.models import MODELS as MODELS
     from celtstone.simulation.models import HybridModel as HybridModel
     from celtstone.simulation.models import InitialState as InitialState
@@ -101,6 +102,7 @@ __all__ = [
     "read_record",
     "reversal_times",
     "simulate",
+    "simulate_many",
     "spin_stability",
     "version",
 ]
@@ -123,6 +125,7 @@ _LAZY = {
     "explore": "celtstone.explorer",
     "load_body": "celtstone.bodies",
     "simulate": "celtstone.simulation.integrate",
+    "simulate_many": "celtstone.simulation.integrate",
     "FitResult": "celtstone.fitting",
     "Record": "celtstone.fitting",
     "fit": "celtstone.fitting",
