@@ -6,8 +6,7 @@ be set before numba is imported, hence a process of its own). Writes to DIR
 ``report.json``: each fit's values, standard errors, cost, residuals, runs and device,
 and each design's long-run numbers, from ``device="cpu"`` (threads) and
 ``device="cuda"`` (each batch of runs as one launch on the simulated GPU). Exits 77
-where the simulator is unavailable and 78 where ``simulate_many`` refuses "cuda" (its
-GPU path is not built in this tree), saying why.
+where the simulator is unavailable, saying why.
 
 The fit: f and ε from a spin record of 0.3 s (31 samples) of the sliding model from
 Kane & Levinson's start, one start; a record of one series has every physical number's
@@ -21,14 +20,11 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
 import sys
 import warnings
 from pathlib import Path
 from typing import Any
 
-SKIPPED = 77  # the simulator is unavailable
-NOT_BUILT = 78  # simulate_many has no CUDA path in this tree
 DURATION = 0.3  # s of the record
 LONG_RUN = 1.0  # s of the atlas's long runs
 DESIGNS = (  # tests/test_atlas_search.py's; the first one's runs reverse within 1 s
@@ -51,31 +47,14 @@ DESIGNS = (  # tests/test_atlas_search.py's; the first one's runs reverse within
 
 def main() -> int:
     directory = Path(sys.argv[1])
-    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
-        print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
-        return 2
-    try:
-        from numba import cuda
+    from sweep_cuda_sample import start_simulator
 
-        if not cuda.is_available():
-            raise RuntimeError("numba.cuda.is_available() is False")
-    except Exception as error:
-        print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
-        return SKIPPED
-    from sweep_cuda_sample import calm_simulator
-
-    calm_simulator()
-    from celtstone.errors import ParameterError
-
+    refused = start_simulator()
+    if refused is not None:
+        return refused
     report: dict[str, Any] = {}
-    try:
-        for device in ("cuda", "cpu"):  # the GPU first: refused at once where not built
-            report[device] = {"fit": _fit(device), "long_runs": _long_runs(device)}
-    except ParameterError as error:
-        if "device = 'cuda' is not allowed: expected cpu or auto" in str(error):
-            print(f"simulate_many has no CUDA path here: {error}", file=sys.stderr)
-            return NOT_BUILT
-        raise
+    for device in ("cuda", "cpu"):
+        report[device] = {"fit": _fit(device), "long_runs": _long_runs(device)}
     (directory / "report.json").write_text(json.dumps(report))
     return 0
 

@@ -29,7 +29,6 @@ over 1 s or less:
 
 from __future__ import annotations
 
-import os
 import pickle
 import sys
 import warnings
@@ -132,20 +131,11 @@ def record(made: Any, caught: list[warnings.WarningMessage]) -> dict[str, Any]:
 
 def main() -> int:
     directory, case = Path(sys.argv[1]), sys.argv[2]
-    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
-        print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
-        return 2
-    try:
-        from numba import cuda
+    from sweep_cuda_sample import start_simulator
 
-        if not cuda.is_available():
-            raise RuntimeError("numba.cuda.is_available() is False")
-    except Exception as error:
-        print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
-        return 77
-    from sweep_cuda_sample import calm_simulator
-
-    calm_simulator()
+    refused = start_simulator()
+    if refused is not None:
+        return refused
     import celtstone as cs
     from celtstone.errors import CeltstoneError
     from celtstone.simulation.integrate import simulate_many

@@ -74,18 +74,9 @@ SHORT_PHASE_LOG = 4  # phases: the stick–slip points of more stop with status 
 
 def main() -> int:
     directory, model, method = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
-    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
-        print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
-        return 2
-    try:
-        from numba import cuda
-
-        if not cuda.is_available():
-            raise RuntimeError("numba.cuda.is_available() is False")
-    except Exception as error:
-        print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
-        return 77
-    calm_simulator()
+    refused = start_simulator()
+    if refused is not None:
+        return refused
     from celtstone.errors import ParameterError
     from celtstone.sweep import Sweep
 
@@ -123,6 +114,25 @@ def main() -> int:
         _short_phase_log(gpu, directory)
     (directory / "report.json").write_text(json.dumps(report))
     return 0
+
+
+def start_simulator() -> int | None:
+    """Calm numba's CUDA simulator for this process (:func:`calm_simulator`), or the exit
+    status of a sample that cannot run: 2 without ``NUMBA_ENABLE_CUDASIM=1``, 77 where
+    the simulator is unavailable (its test skips)."""
+    if os.environ.get("NUMBA_ENABLE_CUDASIM") != "1":
+        print("NUMBA_ENABLE_CUDASIM=1 must be set", file=sys.stderr)
+        return 2
+    try:
+        from numba import cuda
+
+        if not cuda.is_available():
+            raise RuntimeError("numba.cuda.is_available() is False")
+    except Exception as error:
+        print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
+        return 77
+    calm_simulator()
+    return None
 
 
 def calm_simulator() -> None:
