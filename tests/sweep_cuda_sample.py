@@ -34,6 +34,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from processes import SIMULATOR_UNAVAILABLE  # this folder is the script's first on sys.path
+
 SWEEPS = {
     "rolling": {
         "points": {
@@ -130,7 +132,7 @@ def start_simulator() -> int | None:
             raise RuntimeError("numba.cuda.is_available() is False")
     except Exception as error:
         print(f"numba's CUDA simulator is unavailable: {error}", file=sys.stderr)
-        return 77
+        return SIMULATOR_UNAVAILABLE
     calm_simulator()
     return None
 

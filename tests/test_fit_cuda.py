@@ -13,33 +13,22 @@ refuses "cuda"), saying so.
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.processes import sample_in_cuda_simulator
 
 # one worker runs the simulator's tests in turn (tests/test_sweep_cuda.py)
 pytestmark = pytest.mark.xdist_group("cuda_simulator")
 
 SAMPLE = Path(__file__).resolve().parent / "fit_cuda_sample.py"
-SKIPPED = 77  # the sample's exit status where the simulator is unavailable
 
 
 def test_a_fit_and_the_atlas_long_runs_on_the_gpu_are_the_cpus_in_the_simulator(
     tmp_path: Path,
 ) -> None:
-    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
-    done = subprocess.run(
-        [sys.executable, str(SAMPLE), str(tmp_path)],
-        env=environment,
-        capture_output=True,
-        text=True,
-    )
-    if done.returncode == SKIPPED:
-        pytest.skip(done.stderr.strip())
-    assert done.returncode == 0, done.stdout + done.stderr
+    sample_in_cuda_simulator(SAMPLE, str(tmp_path))
     report = json.loads((tmp_path / "report.json").read_text())
     cpu, gpu = report["cpu"], report["cuda"]
     assert cpu["fit"]["device"] == "cpu"

@@ -12,10 +12,7 @@ for one is a one-line error, never a run on the CPU, and "auto" runs on the CPU.
 
 from __future__ import annotations
 
-import os
 import pickle
-import subprocess
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -25,13 +22,13 @@ import pytest
 import celtstone as cs
 from celtstone.errors import ParameterError
 from celtstone.simulation.integrate import simulate_many
+from tests.processes import sample_in_cuda_simulator
 
 # the simulator's tests run on one worker, in turn: each process then loads the thread
 # code that an earlier one compiled into numba's cache (``tests/test_sweep_cuda.py``)
 pytestmark = pytest.mark.xdist_group("cuda_simulator")
 
 SAMPLE = Path(__file__).resolve().parent / "simulate_cuda_sample.py"
-SKIPPED = 77  # the sample's exit status where the simulator is unavailable
 # what each case of the sample covers, read from the CPU's runs before the GPU's are
 # compared: each run's status (None: a run that cannot be made, kept in its place), and
 # the phases of the stick–slip runs
@@ -53,16 +50,7 @@ def _gpu_here() -> bool:
 
 @pytest.mark.parametrize("case", list(COVERAGE))
 def test_gpu_threads_give_simulates_runs_in_the_simulator(tmp_path: Path, case: str) -> None:
-    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
-    done = subprocess.run(
-        [sys.executable, str(SAMPLE), str(tmp_path), case],
-        env=environment,
-        capture_output=True,
-        text=True,
-    )
-    if done.returncode == SKIPPED:
-        pytest.skip(done.stderr.strip())
-    assert done.returncode == 0, done.stdout + done.stderr
+    sample_in_cuda_simulator(SAMPLE, str(tmp_path), case)
     report = pickle.loads((tmp_path / "runs.pickle").read_bytes())
     cpu, gpu = report["cpu"], report["gpu"]
     assert [run.get("status") for run in cpu] == COVERAGE[case]

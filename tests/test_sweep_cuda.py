@@ -27,13 +27,13 @@ import pytest
 from celtstone.cli.main import main
 from celtstone.errors import ParameterError
 from celtstone.sweep import Sweep, open_sweep
+from tests.processes import sample_in_cuda_simulator
 
 # one worker runs them in turn: each simulator process then loads the thread code that an
 # earlier one compiled into numba's cache, where two at once would both compile it
 pytestmark = pytest.mark.xdist_group("cuda_simulator")
 
 SAMPLE = Path(__file__).resolve().parent / "sweep_cuda_sample.py"
-SKIPPED = 77  # the sample's exit status where the simulator is unavailable
 CALMED = "--calmed"  # the sample's option that runs another script in the calmed simulator
 # what each of the sample's sweeps covers, so that the comparison reads every branch of the
 # loop and the reduction (from the CPU sweep, checked before the GPU's is compared):
@@ -72,16 +72,7 @@ def _gpu_here() -> bool:
 def test_gpu_thread_gives_the_cpu_sweeps_fields_in_the_simulator(
     tmp_path: Path, sweep: str, method: str
 ) -> None:
-    environment = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1"}
-    done = subprocess.run(
-        [sys.executable, str(SAMPLE), str(tmp_path), sweep, method],
-        env=environment,
-        capture_output=True,
-        text=True,
-    )
-    if done.returncode == SKIPPED:
-        pytest.skip(done.stderr.strip())
-    assert done.returncode == 0, done.stdout + done.stderr
+    sample_in_cuda_simulator(SAMPLE, str(tmp_path), sweep, method)
     report = json.loads((tmp_path / "report.json").read_text())
     assert report["device"] == "cuda"
     cpu, gpu = open_sweep(tmp_path / "cpu.zarr"), open_sweep(tmp_path / "cuda.zarr")
