@@ -9,8 +9,8 @@ run). Rows:
 - first sliding run: ``--model sliding --t-end 1`` (Zhuravlev's Padé law, the disk, auto);
 - first stick–slip run with the realistic contact: ``--contact hybrid``, the Hertz
   ellipse (E = 3 GPa, ν = 0.35), the exact law, a rolling-friction length of 1e-5 m;
-- ``celtstone compile``: every driver a run, a stick–slip run and a sweep call (its
-  cached row loads them).
+- ``celtstone compile``: every driver a run, a stick–slip run and a sweep call, and the
+  rolling model's own loop for vern9 (its cached row loads them).
 
 Printed per row: CPU time (user + system, of the process and its children, which load on
 the shared machine disturbs far less than wall time), wall time, and the load average

@@ -17,6 +17,8 @@ import numba
 import pytest
 
 from celtstone.kernels import _jit
+from celtstone.solvers.codes import METHODS
+from celtstone.solvers.driver import MODEL_AND_METHOD
 from tests.processes import python_in_new_process
 
 _LISTING = """
@@ -191,6 +193,50 @@ compiled.append(["inside evaluate", inside])
     inside = next(types for name, types in compiled if name == "inside evaluate")
     assert "celtstone.kernels.geometry.ellipsoid_contact" in inside, inside
     assert not [name for name in inside if name.startswith(OTHER_SHAPES)], inside
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not MODEL_AND_METHOD, reason="numba's own compiler: one loop for all")
+def test_after_celtstone_compile_a_rolling_run_takes_its_own_loop_or_compiles_nothing(
+    tmp_path: Path,
+) -> None:
+    """On an empty cache, ``celtstone compile`` compiles the loop for every code and the
+    rolling model's own loop for vern9. Then a rolling run with vern9 takes its own loop
+    (faster warm), and one with dop853, whose own loop is not compiled, takes the loop
+    for every code (``driver.integrate_link``): neither compiles anything."""
+    code = """
+import celtstone as cs
+from celtstone.solvers import _linking, driver
+from celtstone.solvers import run as solver_run
+
+cs.compile_solvers()
+compiled.clear()  # what the runs below compile
+taken = []
+real = solver_run.integrate_link
+
+
+def spy(arguments, *rest, **options):
+    link, to_rhs = real(arguments, *rest, **options)
+    every_code = _linking.cached_link_to(driver.integrate, (*arguments, _linking.NO_LINK))
+    own = _linking.made_link(
+        driver.integrate, (*arguments, _linking.NO_LINK), driver.MODEL_AND_METHOD
+    )
+    taken.append([int(arguments[1]), link == own, link == every_code])
+    return link, to_rhs
+
+
+solver_run.integrate_link = spy
+body = cs.load_body("kane_levinson_1982")
+state = cs.InitialState((0.0, 0.0, -5.0), (0.5, 0.5))
+for method in ("vern9", "dop853"):
+    cs.simulate(cs.RollingModel(), body, state, 0.01, method=method, n_samples=3).summary()
+compiled.append(["taken", taken])
+"""
+    compiled = _compiled_in_new_process(code, tmp_path)
+    taken = compiled.pop()
+    assert compiled == [], "a run after celtstone compile compiled"
+    vern9, dop853 = METHODS["vern9"], METHODS["dop853"]
+    assert taken == ["taken", [[vern9, True, False], [dop853, False, True]]]
 
 
 class _Terminal(io.StringIO):

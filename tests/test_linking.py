@@ -10,13 +10,15 @@ from typing import Any
 import numpy as np
 import pytest
 from numba import types as numba_types
+from numba.core import event
 
 import celtstone as cs
 from celtstone.kernels import layout
 from celtstone.simulation import models
-from celtstone.solvers import _linking, batch, driver, phases
+from celtstone.solvers import _linking, _system, batch, driver, phases
 from celtstone.solvers import _structures as structures
 from celtstone.solvers import run as solver_run
+from celtstone.solvers.codes import METHODS
 from celtstone.sweep import Sweep
 
 KL_START = cs.InitialState(omega=(0.0, 0.0, -5.0), euler_angles=(0.5, 0.5))
@@ -199,3 +201,91 @@ def test_a_record_and_its_coded_version_never_convert() -> None:
         assert typing.can_convert(source, target) is None, (source, target)
     assert coded != other and coded.fields.keys() == record.fields.keys()
     assert plain_type(coded) == record  # a link's key: the same at both ends
+
+
+class _Compiles(event.Listener):
+    """The functions numba compiles (its "numba:compile" event fires on a cache miss only)."""
+
+    def __init__(self) -> None:
+        self.names: list[str] = []
+
+    def on_start(self, event: event.Event) -> None:
+        self.names.append(event.data["dispatcher"].py_func.__qualname__)
+
+    def on_end(self, event: event.Event) -> None:
+        pass
+
+
+def _rolling_run_arguments(monkeypatch: pytest.MonkeyPatch) -> tuple[Any, ...]:
+    """``integrate``'s arguments (without ``rhs_link``) of a short rolling vern9 run of
+    Kane & Levinson's stone, as ``solvers.run.solve`` makes them."""
+    captured: list[tuple[Any, ...]] = []
+    real = driver.integrate_link
+
+    def spy(arguments: tuple[Any, ...], *rest: Any, **options: Any) -> Any:
+        captured.append(arguments)
+        return real(arguments, *rest, **options)
+
+    with monkeypatch.context() as patch:
+        patch.setattr(solver_run, "integrate_link", spy)
+        cs.simulate(cs.RollingModel(), cs.load_body("kane_levinson_1982"), KL_START, 0.01)
+    assert [int(arguments[1]) for arguments in captured] == [METHODS["vern9"]]
+    return captured[0]
+
+
+@pytest.mark.skipif(not driver.MODEL_AND_METHOD, reason="numba's own compiler: one loop")
+def test_a_run_takes_its_own_loop_where_it_is_compiled_beside_the_loop_for_every_code(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Where the loop for every code is compiled (``celtstone compile``, a stick–slip
+    run), a rolling run still takes the loop compiled for its model and method, and its
+    right-hand side for the record's codes, where those are compiled too: it runs
+    faster (``driver.integrate_link``)."""
+    cs.compile_solvers()
+    arguments = _rolling_run_arguments(monkeypatch)
+    placeholder = (*arguments, _linking.NO_LINK)
+    every_code = _linking.cached_link_to(driver.integrate, placeholder)
+    assert every_code is not None, "compile_solvers compiles the loop for every code"
+    own = _linking.link_to(driver.integrate, placeholder, driver.MODEL_AND_METHOD)
+    own_rhs = _system.rhs_link(arguments[2], layout.MODEL_ROLLING, codes=True)
+    assert own != every_code
+    assert driver.integrate_link(arguments) == (own, own_rhs)
+
+
+@pytest.mark.skipif(not driver.MODEL_AND_METHOD, reason="numba's own compiler: one loop")
+def test_a_run_whose_own_right_hand_side_is_not_compiled_takes_the_loop_for_every_code(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The run's own loop is compiled but not its right-hand side for the record's codes
+    (a body shape no run had: here a code no run can have, so that no cache holds it):
+    the run takes the loop for every code, which is compiled, and compiles nothing."""
+    cs.compile_solvers()
+    arguments = _rolling_run_arguments(monkeypatch)
+    placeholder = (*arguments, _linking.NO_LINK)
+    _linking.link_to(driver.integrate, placeholder, driver.MODEL_AND_METHOD)  # compiled
+    params = arguments[2].copy()
+    params["shape_code"] = 99  # in no ShapeCode
+    other = (*arguments[:2], params, *arguments[3:])
+    every_code = _linking.cached_link_to(driver.integrate, (*other, _linking.NO_LINK))
+    assert every_code is not None, "compile_solvers compiles the loop for every code"
+    compiles = _Compiles()
+    with event.install_listener("numba:compile", compiles):
+        links = driver.integrate_link(other)
+        assert _system.cached_rhs_link(params, layout.MODEL_ROLLING, codes=True) is None
+    assert compiles.names == []
+    assert links == (every_code, _system.rhs_link(params))
+
+
+def test_a_link_to_a_version_in_no_cache_is_none_and_compiles_nothing() -> None:
+    """``cached_link_to`` with constants and coded record fields finds the version that
+    ``link_to`` made for them, and None for one that no cache holds, compiling nothing."""
+    params = models.kernel_parameters(cs.RollingModel(), cs.load_body("kane_levinson_1982"))
+    made = _system.rhs_link(params, layout.MODEL_ROLLING, codes=True)
+    assert _system.cached_rhs_link(params, layout.MODEL_ROLLING, codes=True) == made
+    unknown = params.copy()
+    unknown["friction_law"] = 99  # in no FrictionLaw: no cache holds its version
+    compiles = _Compiles()
+    with event.install_listener("numba:compile", compiles):
+        assert _system.cached_rhs_link(unknown, layout.MODEL_ROLLING, codes=True) is None
+        assert _system.cached_rhs_link(unknown, layout.MODEL_ROLLING, codes=True) is None
+    assert compiles.names == []

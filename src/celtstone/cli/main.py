@@ -60,7 +60,7 @@ SUBCOMMANDS = {
         Command("fit", "fit friction, contact size, damping or initial state to a measured record"),
         Command(
             "compile",
-            "compile the solvers into numba's cache now (about 35 s, once per install)",
+            "compile the solvers into numba's cache now (about 45 s, once per install)",
         ),
         Command("serve", "start the live explorer in the browser (the explore extra)"),
     )

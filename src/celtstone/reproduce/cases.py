@@ -173,8 +173,9 @@ def compile_run_loop(study: Study) -> None:
     """Compile the run loop for every model and method (or load it from numba's cache)
     with a short stick–slip run of ``study``'s body, before a reproduction's runs start.
 
-    Every run of a reproduction takes that loop once it is compiled
-    (``solvers.driver.integrate_link``), and its stick–slip runs need it anyway (their
+    Every run of a reproduction takes that loop once it is compiled, unless a loop of
+    its own is compiled already (``solvers.driver.integrate_link``: never compiled once
+    that one is), and its stick–slip runs need it anyway (their
     phases call one loop). A rolling or sliding run that starts first, on an empty
     cache, compiles a loop of its own for its model, which the other models cannot use:
     a reproduction's first rolling run, computed ahead on the other core from its first

@@ -138,21 +138,24 @@ def made_link(
     return None if fingerprint is None else _LINKS.get(fingerprint)
 
 
-def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, int] | None:
-    """``link_to(dispatcher, arguments)`` if that version is compiled in this process or
-    in numba's on-disk cache (then loaded), else None: nothing is compiled."""
+def cached_link_to(
+    dispatcher: Any,
+    arguments: tuple[Any, ...],
+    constants: tuple[int, ...] = (),
+    fields: tuple[str, ...] = (),
+) -> tuple[int, int] | None:
+    """``link_to(dispatcher, arguments, constants, fields)`` if that version is compiled
+    in this process or in numba's on-disk cache (then loaded), else None: nothing is
+    compiled."""
     if _PYTHON:
         return NO_LINK
-    try:
-        fingerprint = (dispatcher, compute_fingerprint(arguments), (), ((), ()))
-    except NotImplementedError:
-        fingerprint = None
+    fingerprint, codes = _link_key(dispatcher, arguments, constants, fields)
     link = _LINKS.get(fingerprint) if fingerprint is not None else None
     if link is not None:
         return link
     if fingerprint is not None and _MISSES.get(fingerprint) == len(dispatcher.overloads):
         return None  # not in the cache, and nothing compiled since: typed once
-    argument_types = tuple(typeof(value, Purpose.argument) for value in arguments)
+    argument_types = _argument_types(arguments, constants, codes)
     if argument_types not in dispatcher.overloads:
         with global_compiler_lock:  # as numba's own load, in ``Dispatcher.compile``
             loaded = dispatcher._cache.load_overload(argument_types, dispatcher.targetctx)
@@ -164,7 +167,22 @@ def cached_link_to(dispatcher: Any, arguments: tuple[Any, ...]) -> tuple[int, in
                 loaded.entry_point, loaded.fndesc, [loaded.library]
             )
             dispatcher.add_overload(loaded)
-    return link_to(dispatcher, arguments)
+    return link_to(dispatcher, arguments, constants, fields)
+
+
+def _argument_types(
+    arguments: tuple[Any, ...], constants: tuple[int, ...], codes: tuple[Any, ...]
+) -> tuple[Any, ...]:
+    """The numba types of ``arguments`` for a link: those at the positions ``constants``
+    as literals, a record with ``codes`` (``_record_codes``) as a ``CodedRecord``."""
+    return tuple(
+        types.literal(int(value))
+        if position in constants
+        else CodedRecord(typeof(value, Purpose.argument), codes[position])
+        if codes and codes[position]
+        else typeof(value, Purpose.argument)
+        for position, value in enumerate(arguments)
+    )
 
 
 def _new_link(
@@ -173,14 +191,7 @@ def _new_link(
     constants: tuple[int, ...],
     codes: tuple[Any, ...],
 ) -> tuple[int, int]:
-    argument_types = tuple(
-        types.literal(int(value))
-        if position in constants
-        else CodedRecord(typeof(value, Purpose.argument), codes[position])
-        if codes and codes[position]
-        else typeof(value, Purpose.argument)
-        for position, value in enumerate(arguments)
-    )
+    argument_types = _argument_types(arguments, constants, codes)
     overload = _overload(dispatcher, argument_types)
     address = overload.library.get_pointer_to_function(overload.fndesc.llvm_func_name)
     if not address:

@@ -28,7 +28,7 @@ from numba import types
 from celtstone.kernels import system as physics
 from celtstone.kernels.layout import N_STATE, Y_N, Y_OMEGA, ModelCode
 from celtstone.solvers._compile import inlined
-from celtstone.solvers._linking import address_call, link_to, made_link
+from celtstone.solvers._linking import address_call, cached_link_to, link_to, made_link
 
 # ``evaluate``'s return type in numba: (status, normal force, friction power, friction
 # force). Given, typing a call compiles nothing: a call site passes the model code as a
@@ -53,12 +53,25 @@ def rhs_link(params: Any, model: int | None = None, codes: bool = False) -> tupl
     model), or for every model code (None); with ``codes``, ``params``' ``RUN_CODES``
     as constants too (a loop for one model). Python side, compiles it or loads it from
     numba's cache."""
+    return link_to(physics.evaluate, *_rhs_version(params, model, codes))
+
+
+def cached_rhs_link(
+    params: Any, model: int | None = None, codes: bool = False
+) -> tuple[int, int] | None:
+    """:func:`rhs_link` if that version is compiled in this process or in numba's cache,
+    else None: nothing is compiled."""
+    return cached_link_to(physics.evaluate, *_rhs_version(params, model, codes))
+
+
+def _rhs_version(
+    params: Any, model: int | None, codes: bool
+) -> tuple[tuple[Any, ...], tuple[int, ...], tuple[str, ...]]:
+    """(arguments, constants, fields) of :func:`rhs_link`'s version of ``evaluate``."""
     state = np.zeros(N_STATE)
     if model is None:
-        return link_to(physics.evaluate, (0, state, params, state))
-    fields = RUN_CODES if codes else ()
-    arguments = (int(model), state, params, state)
-    return link_to(physics.evaluate, arguments, constants=(0,), fields=fields)
+        return (0, state, params, state), (), ()
+    return (int(model), state, params, state), (0,), RUN_CODES if codes else ()
 
 
 def samples_rhs_link(params: Any, model: int) -> tuple[int, int]:

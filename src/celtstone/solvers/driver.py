@@ -38,7 +38,7 @@ from celtstone.solvers._linking import NO_LINK, address_call, cached_link_to, li
 from celtstone.solvers._step_control import initial_step
 from celtstone.solvers._stop import stop_requested
 from celtstone.solvers._structures import RunEnd
-from celtstone.solvers._system import rhs, rhs_link, spin_and_normal_force
+from celtstone.solvers._system import cached_rhs_link, rhs, rhs_link, spin_and_normal_force
 from celtstone.solvers.codes import (
     METHOD_AUTO,
     METHOD_ENTRIES,
@@ -416,18 +416,20 @@ MODEL_AND_METHOD = () if internals_changed() else (0, 1)
 call_integrate = address_call(integrate, returns=RUN_END_TYPE)  # see ``solvers._linking``
 
 
-# The methods whose run loops are compiled for a model and method as constants when the
-# loop for every code is not compiled yet (a first rolling run with vern9: about 12 s of
-# CPU on a 2-core machine, empty cache). A loop of auto or radau5 holds most of the code
-# of every method and compiles nearly as long as the model's loop with the method a
-# value, which serves every method of that model: those runs compile that one (the
-# sliding model: about 26 s; the loop for every code, with every model's branches and
-# right-hand side, about 34 s). The registry's entries say which (``own_loop``).
+# The methods whose run loops are compiled for a model and method as constants (a first
+# rolling run with vern9: about 12 s of CPU on a 2-core machine, empty cache), taken
+# wherever they are compiled, and compiled where the loop for every code is not. A loop
+# of auto or radau5 holds most of the code of every method and compiles nearly as long
+# as the model's loop with the method a value, which serves every method of that model:
+# those runs compile that one (the sliding model: about 26 s; the loop for every code,
+# with every model's branches and right-hand side, about 34 s). The registry's entries
+# say which (``own_loop``).
 OWN_LOOP_METHODS = tuple(entry.code for entry in METHOD_ENTRIES.values() if entry.own_loop)
 # CPU seconds of a first compile on the 2-core machine (benchmarks/bench_cold_start.py)
 OWN_LOOP_SECONDS = 13.0
 MODEL_LOOP_SECONDS = 28.0
 EVERY_CODE_SECONDS = 36.0
+RHS_SECONDS = 3.0  # a right-hand side alone, for new codes: rolling 1 s, sliding 3 s
 
 
 def integrate_link(
@@ -437,35 +439,55 @@ def integrate_link(
     ``integrate`` is called with ``(*arguments, rhs_link)`` (Python side; loads or
     compiles it, saying so on a terminal when it compiles).
 
-    The loop for every model and method code if it is compiled (in this process or
-    numba's cache: ``celtstone compile``, or an earlier run); else, with ``own_loop``,
-    the loop compiled for ``arguments``' model as a constant and, for a method of
-    ``OWN_LOOP_METHODS``, its method too (``MODEL_AND_METHOD``), which compiles only
-    their branches; else the loop for every code, compiled now (the stick–slip loop's
-    two phases call one loop). Each calls the right-hand side at ``rhs_link``
-    (``_system``), compiled for the model as a constant in a loop for one model, and
-    the record's codes (``_system.RUN_CODES``) too unless ``codes_vary`` (a sweep whose
-    points differ in one).
+    With ``own_loop``, the loop compiled for ``arguments``' model as a constant and,
+    for a method of ``OWN_LOOP_METHODS``, its method too (``MODEL_AND_METHOD``), which
+    holds only their branches, if it and its right-hand side are compiled (in this
+    process or numba's cache); else the loop for every model and method code if it is
+    compiled (``celtstone compile``, a stick–slip run); else, with ``own_loop``, the
+    run's own loop, compiled now; else the loop for every code, compiled now (the
+    stick–slip loop's two phases call one loop). Each calls the right-hand side at
+    ``rhs_link`` (``_system``), compiled for the model as a constant in a loop for one
+    model, and the record's codes (``_system.RUN_CODES``) too unless ``codes_vary`` (a
+    sweep whose points differ in one).
+
+    A run's own loop is faster than the loop for every code; where its right-hand side
+    for the record's codes is not compiled (a body shape or law no run had), the loop
+    for every code serves, compiling nothing, wherever it is compiled.
     """
     placeholder = (*arguments, NO_LINK)  # for the argument types
+    model, method = int(arguments[0]), int(arguments[1])
+    own = own_loop and bool(MODEL_AND_METHOD)
+    constants = MODEL_AND_METHOD if method in OWN_LOOP_METHODS else MODEL_AND_METHOD[:1]
+    own_link = None
+    if own:
+        own_link = cached_link_to(integrate, placeholder, constants)
+        if own_link is not None:
+            to_rhs = cached_rhs_link(arguments[2], model, codes=not codes_vary)
+            if to_rhs is not None:
+                return own_link, to_rhs
     every_code = cached_link_to(integrate, placeholder)
     if every_code is not None:
         return every_code, rhs_link(arguments[2])
-    model, method = int(arguments[0]), int(arguments[1])
-    names = {code: name for name, code in METHODS.items()}
-    if own_loop and MODEL_AND_METHOD:
-        model_names = {int(code): code.name.lower() for code in ModelCode}
-        subject = f"the {model_names.get(model, model)} model with {names.get(method, method)}"
-        constants: tuple[int, ...] = MODEL_AND_METHOD
-        seconds = OWN_LOOP_SECONDS
-        if method not in OWN_LOOP_METHODS:  # the model's loop, for every method
-            constants, seconds = MODEL_AND_METHOD[:1], MODEL_LOOP_SECONDS
-        with compiling(subject, seconds):
+    if own:
+        seconds = RHS_SECONDS if own_link is not None else _own_loop_seconds(constants)
+        with compiling(_own_loop_subject(model, method), seconds):
             to_rhs = rhs_link(arguments[2], model, codes=not codes_vary)
             return link_to(integrate, placeholder, constants), to_rhs
     with compiling("the run loop of every model and method", EVERY_CODE_SECONDS):
         to_rhs = rhs_link(arguments[2])
         return link_to(integrate, placeholder), to_rhs
+
+
+def _own_loop_subject(model: int, method: int) -> str:
+    """What a compile of the run's own loop says it compiles."""
+    model_names = {int(code): code.name.lower() for code in ModelCode}
+    method_names = {code: name for name, code in METHODS.items()}
+    return f"the {model_names.get(model, model)} model with {method_names.get(method, method)}"
+
+
+def _own_loop_seconds(constants: tuple[int, ...]) -> float:
+    """About how long the loop for these constants compiles [s of CPU]."""
+    return OWN_LOOP_SECONDS if constants == MODEL_AND_METHOD else MODEL_LOOP_SECONDS
 
 
 @kernel
