@@ -497,8 +497,15 @@ def simulate_many(
     sample_times : numpy.ndarray, optional
         Output times [s]: shape (m,), the same for every run, or (len(runs), m), each
         run's own.
-    method, stick_method, rtol, atol, n_samples, max_steps, max_crossings :
-        As :func:`simulate`, for every run.
+    method, stick_method : str, optional
+        Integrators, as :func:`simulate`'s, for every run.
+    rtol, atol : float, optional
+        Relative and absolute local error tolerances of every run.
+    n_samples : int, optional
+        Equally spaced output samples of every run (without ``sample_times``; default
+        200 per second).
+    max_steps, max_crossings : int, optional
+        Largest number of steps, and of spin zero crossings stored, of each run.
     workers : int, optional
         Threads on the CPU (default: one per core).
     errors : str, default "raise"
