@@ -339,3 +339,36 @@ def test_ctrl_c_while_the_sweep_store_is_built_leaves_nothing(
     assert "interrupted" in capsys.readouterr().err
     written.wait(WAIT)  # the slow write has ended, one way or the other
     assert list(tmp_path.iterdir()) == []
+
+
+HALF_MADE = """
+import sys
+from celtstone.cli import bodies, main as cli
+
+class HalfMade:  # as asyncio's event loop, which Zarr makes while a sweep writes
+    def __init__(self):
+        raise cli.Terminated  # what the SIGTERM handler raises, landing in the constructor
+        self.handlers = {}
+
+    def __del__(self):  # as the loop's close(): its attribute was never set
+        self.handlers.clear()
+
+def handle(args):
+    HalfMade()
+    return 0
+
+bodies.handle = handle
+sys.exit(cli.main(["bodies"]))
+"""
+
+
+def test_a_signal_inside_a_constructor_leaves_no_finalizer_error(tmp_path: Path) -> None:
+    """The object a signal left half made is freed as the command unwinds, after its one
+    line; the error of its finalizer is not printed (run as the ``celtstone`` command)."""
+    script = tmp_path / "celtstone"  # the command's name: ``is_the_command``
+    script.write_text(HALF_MADE, encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=WAIT
+    )
+    assert done.stderr == "celtstone: terminated; no partial output was written\n"
+    assert done.returncode == 143

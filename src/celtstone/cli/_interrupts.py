@@ -167,7 +167,9 @@ def unwinding() -> Iterator[Signals]:
     try:
         yield signals
     finally:
-        sys.unraisablehook = hook
+        if not (is_the_command() and signals.lost() is not None):
+            # a stopped command keeps its finalizers quiet (``main._stopped``)
+            sys.unraisablehook = hook
         if is_the_command():
             stop_at_once()
         else:

@@ -17,7 +17,13 @@ from types import ModuleType
 from typing import Any
 
 from celtstone._about import version
-from celtstone.cli._interrupts import Signals, quiet_abandoned_writes, stop_at_once, unwinding
+from celtstone.cli._interrupts import (
+    Signals,
+    is_the_command,
+    quiet_abandoned_writes,
+    stop_at_once,
+    unwinding,
+)
 from celtstone.cli._interrupts import Terminated as Terminated
 from celtstone.errors import CeltstoneError, CeltstoneWarning
 
@@ -213,9 +219,13 @@ def _stopped(stop: KeyboardInterrupt) -> int:
     stop_at_once()  # a second signal while this is said: no traceback
     quiet_abandoned_writes()
     # a signal during a compile leaves LLVM objects half made, whose finalizers complain
-    # as the interpreter exits ("Exception ignored in ... ObjectRef.__del__"): the one
-    # line below has said what happened
+    # as the interpreter exits ("Exception ignored in ... ObjectRef.__del__"), and one
+    # inside a constructor an object whose finalizer fails as soon as the unwinding frees
+    # it (an asyncio event loop that Zarr was making: "no attribute '_signal_handlers'"):
+    # the one line below has said what happened
     atexit.register(_quiet_finalizers)
+    if is_the_command():  # in-process callers keep their hook until they exit
+        _quiet_finalizers()
     if isinstance(stop, Terminated):
         _say("celtstone: terminated; no partial output was written")
         return EXIT_TERMINATED
